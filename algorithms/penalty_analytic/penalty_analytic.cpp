@@ -1,0 +1,223 @@
+#include "algorithms/penalty_analytic/penalty_analytic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "algorithms/penalty_analytic/primitive_contacts.h"
+#include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/dynamic_proxy.h"
+#include "algorithms/proxy/proxy_settings.h"
+#include "algorithms/proxy/quasi_static.h"
+
+namespace hb {
+
+namespace {
+
+// Planes found by the slow contact loop, on their way to the haptic step.
+struct PlaneSet : SlowLoop::Result {
+  std::vector<PrimitiveContact> planes;
+};
+
+// A fixed set of linearised planes evaluated at whatever state is asked.
+class PlaneForces : public ForceModel {
+ public:
+  PlaneForces(const std::vector<PrimitiveContact>& planes, const PenaltyGains& gains)
+      : planes_(planes), gains_(gains) {}
+  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
+    ForceEvaluation total;
+    for (const PrimitiveContact& contact : planes_)
+      total += evaluate_penalty_contact(contact.plane, gains_, state, with_jacobians);
+    return total;
+  }
+
+ private:
+  const std::vector<PrimitiveContact>& planes_;
+  PenaltyGains gains_;
+};
+
+// Contacts found afresh at every state asked, for the quasi-static solver
+// when contacts are found on the haptic loop.
+class FreshContactForces : public ForceModel {
+ public:
+  FreshContactForces(const PrimitiveContactFinder& finder, const PenaltyGains& gains,
+                     WorkCounters& work)
+      : finder_(finder), gains_(gains), work_(work) {}
+  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
+    planes_.clear();
+    finder_.find(state, 0, planes_, work_);
+    return PlaneForces(planes_, gains_).evaluate(state, with_jacobians);
+  }
+
+ private:
+  const PrimitiveContactFinder& finder_;
+  PenaltyGains gains_;
+  WorkCounters& work_;
+  std::vector<PrimitiveContact> planes_;
+};
+
+// How far beyond the surface the slow loop keeps planes, as a fraction of
+// the tool's radius: a point that starts penetrating between two slow
+// updates still meets its plane.
+constexpr double kSlowMarginPerToolRadius = 0.1;
+
+struct PenaltyAnalyticSettings {
+  bool quasi_static = false;   ///< "proxy": "quasi_static" (massless) or "dynamic"
+  bool slow_contacts = false;  ///< "contact_loop": "slow" or "haptic"
+  ProxySettings proxy;         ///< dynamic proxy only
+  PenaltyGains gains;          ///< damping 0 for the quasi-static proxy (springs only)
+};
+
+// Reads only what the chosen proxy uses, so a parameter that would be
+// ignored is reported as unknown.
+PenaltyAnalyticSettings read_settings(const RenderContext& context, const ParamSet& params) {
+  PenaltyAnalyticSettings settings;
+  settings.quasi_static =
+      params.choice("proxy", "dynamic", {"dynamic", "quasi_static"}) == "quasi_static";
+  settings.slow_contacts = params.choice("contact_loop", "haptic", {"haptic", "slow"}) == "slow";
+  if (settings.quasi_static) {
+    settings.gains = PenaltyGains{read_contact_stiffness(params), 0};
+  } else {
+    settings.proxy = read_proxy_settings(params, context.tool);
+    settings.gains = read_penalty_gains(params);
+  }
+  return settings;
+}
+
+class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
+ public:
+  PenaltyAnalyticRenderer(const RenderContext& context, const PenaltyAnalyticSettings& settings)
+      : limits_(context.device),
+        dt_s_(context.dt_s),
+        slow_contacts_(settings.slow_contacts),
+        body_(settings.quasi_static
+                  ? contact_frame(context.tool)
+                  : proxy_body(context.tool, settings.proxy.proxy_mass_kg, context.gravity)),
+        gains_(settings.gains),
+        finder_(context.scene, context.tool, body_) {
+    if (settings.quasi_static) {
+      QuasiStaticOptions options;
+      options.length_scale_m = std::max(finder_.tool_radius_m(), 1e-3);
+      quasi_static_proxy_.emplace(body_, context.coupling, dt_s_, options);
+    } else {
+      dynamic_proxy_.emplace(body_, context.coupling, settings.proxy.integrator, dt_s_);
+    }
+  }
+
+  void reset(const Pose& start) override {
+    if (dynamic_proxy_) dynamic_proxy_->reset(start);
+    if (quasi_static_proxy_) quasi_static_proxy_->reset(start);
+    planes_.clear();
+    contacts_.clear();
+    slow_result_installed_ = false;
+  }
+
+  TickResult step(const DeviceSample& device) override {
+    TickResult result;
+    if (slow_result_installed_) result.flags |= kFlagSlowResultInstalled;
+    slow_result_installed_ = false;
+
+    Wrench raw;
+    if (quasi_static_proxy_) {
+      raw = step_quasi_static(device, result);
+    } else {
+      raw = step_dynamic(device, result);
+    }
+    result.display = device_output(raw, limits_, result.flags);
+    result.proxy = tool_pose(body_, state());
+    result.contacts = contacts_;
+    return result;
+  }
+
+  SlowLoop* slow_loop() override { return slow_contacts_ ? this : nullptr; }
+
+  std::unique_ptr<Result> run_slow_update() override {
+    auto result = std::make_unique<PlaneSet>();
+    WorkCounters work;  // the slow loop's own cost is timed by the caller
+    finder_.find(state(), kSlowMarginPerToolRadius * finder_.tool_radius_m(), result->planes, work);
+    return result;
+  }
+
+  void install_slow_result(std::unique_ptr<Result> result) override {
+    auto* planes = dynamic_cast<PlaneSet*>(result.get());
+    if (!planes) throw std::invalid_argument("penalty_analytic: foreign slow-loop result");
+    planes_ = std::move(planes->planes);
+    slow_result_installed_ = true;
+  }
+
+ private:
+  // The massless proxy's frame: only the point the wrenches are taken about matters.
+  static RigidBody contact_frame(const Tool& tool) {
+    RigidBody frame;
+    frame.centre_of_mass = tool.mass.centre_of_mass;
+    return frame;
+  }
+
+  const RigidBodyState& state() const {
+    return dynamic_proxy_ ? dynamic_proxy_->state() : quasi_static_proxy_->state();
+  }
+
+  Wrench step_dynamic(const DeviceSample& device, TickResult& result) {
+    if (!slow_contacts_) {
+      // Planes for every point that may reach the surface within this tick.
+      const RigidBodyState& now = state();
+      const double reach = dt_s_ * (now.v.norm() + now.w.norm() * finder_.tool_radius_m());
+      planes_.clear();
+      if (is_finite(now)) finder_.find(now, std::isfinite(reach) ? reach : 0, planes_, result.work);
+    } else {
+      result.work.points_tested += static_cast<int64_t>(planes_.size());
+    }
+    PlaneForces contacts(planes_, gains_);
+    const Wrench raw = dynamic_proxy_->advance(device, &contacts, result.flags);
+    report_active(planes_);
+    return raw;
+  }
+
+  Wrench step_quasi_static(const DeviceSample& device, TickResult& result) {
+    if (slow_contacts_) {
+      result.work.points_tested += static_cast<int64_t>(planes_.size());
+      PlaneForces contacts(planes_, gains_);
+      const Wrench raw = quasi_static_proxy_->advance(device, &contacts, result.flags, result.work);
+      report_active(planes_);
+      return raw;
+    }
+    FreshContactForces contacts(finder_, gains_, result.work);
+    const Wrench raw = quasi_static_proxy_->advance(device, &contacts, result.flags, result.work);
+    std::vector<PrimitiveContact> final_planes;
+    finder_.find(state(), 0, final_planes, result.work);
+    report_active(final_planes);
+    return raw;
+  }
+
+  // Contacts at the proxy pose the tick reports, from the planes that acted.
+  void report_active(const std::vector<PrimitiveContact>& planes) {
+    contacts_.clear();
+    for (const PrimitiveContact& plane : planes) {
+      const Contact contact = PrimitiveContactFinder::report(plane, state());
+      if (contact.depth > 0) contacts_.push_back(contact);
+    }
+  }
+
+  DeviceLimits limits_;
+  double dt_s_;
+  bool slow_contacts_;
+  RigidBody body_;
+  PenaltyGains gains_;
+  PrimitiveContactFinder finder_;
+  std::optional<DynamicProxy> dynamic_proxy_;
+  std::optional<QuasiStaticProxy> quasi_static_proxy_;
+  std::vector<PrimitiveContact> planes_;  ///< the planes the haptic step evaluates
+  std::vector<Contact> contacts_;         ///< reported by the last step
+  bool slow_result_installed_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Renderer> create_penalty_analytic(const RenderContext& context,
+                                                  const ParamSet& params) {
+  return std::make_unique<PenaltyAnalyticRenderer>(context, read_settings(context, params));
+}
+
+}  // namespace hb

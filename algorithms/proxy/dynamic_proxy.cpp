@@ -1,0 +1,43 @@
+#include "algorithms/proxy/dynamic_proxy.h"
+
+#include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/virtual_coupling.h"
+
+namespace hb {
+
+namespace {
+// Coupling plus an algorithm's contact forces, as one model for the integrator.
+class CoupledForces : public ForceModel {
+ public:
+  CoupledForces(CouplingForce coupling, ForceModel* contacts)
+      : coupling_(std::move(coupling)), contacts_(contacts) {}
+  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
+    ForceEvaluation total = coupling_.evaluate(state, with_jacobians);
+    if (contacts_) total += contacts_->evaluate(state, with_jacobians);
+    return total;
+  }
+
+ private:
+  CouplingForce coupling_;
+  ForceModel* contacts_;
+};
+}  // namespace
+
+DynamicProxy::DynamicProxy(const RigidBody& body, const CouplingGains& gains,
+                           IntegratorKind integrator, double dt_s)
+    : body_(body), gains_(gains), integrator_(integrator), dt_s_(dt_s) {}
+
+void DynamicProxy::reset(const Pose& pose) { state_ = state_at_rest(body_, pose); }
+
+Wrench DynamicProxy::advance(const DeviceSample& device, ForceModel* contacts, uint32_t& flags) {
+  if (!is_finite(device)) {
+    flags |= kFlagNonFiniteZeroed;
+    return Wrench{};
+  }
+  CoupledForces forces(CouplingForce(gains_, body_, device.pose, device.twist), contacts);
+  state_ = integrate_step(integrator_, body_, state_, forces, dt_s_);
+  reset_non_finite_proxy(body_, device.pose, state_, flags);
+  return evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
+}
+
+}  // namespace hb

@@ -1,0 +1,46 @@
+// The proxy with mass of the generic proxy model: a rigid body pulled by the
+// virtual coupling towards the device and pushed by whatever contact forces
+// an algorithm supplies, advanced once per haptic tick by either integrator.
+#pragma once
+
+#include <cstdint>
+
+#include "algorithms/core/scene.h"
+#include "algorithms/proxy/force_model.h"
+#include "algorithms/proxy/integrator.h"
+#include "algorithms/proxy/renderer.h"
+#include "algorithms/proxy/rigid_body.h"
+
+namespace hb {
+
+class DynamicProxy {
+ public:
+  /// dt_s: tick length (s).
+  DynamicProxy(const RigidBody& body, const CouplingGains& gains, IntegratorKind integrator,
+               double dt_s);
+
+  /// Puts the proxy's tool frame at `pose`, at rest.
+  void reset(const Pose& pose);
+
+  /// Advances one tick under coupling to `device` plus `contacts` (nullptr:
+  /// none) and returns the raw displayed wrench, the coupling's reaction at
+  /// the new state (N, N·m about the tool-frame origin, world). A non-finite
+  /// device sample leaves the proxy where it is and returns a zero wrench
+  /// with kFlagNonFiniteZeroed; a state that became non-finite is reset to
+  /// the device pose (kFlagProxyReset).
+  Wrench advance(const DeviceSample& device, ForceModel* contacts, uint32_t& flags);
+
+  const RigidBody& body() const { return body_; }
+  const RigidBodyState& state() const { return state_; }
+  /// The proxy's tool frame in the world.
+  Pose tool_pose() const { return hb::tool_pose(body_, state_); }
+
+ private:
+  RigidBody body_;
+  CouplingGains gains_;
+  IntegratorKind integrator_;
+  double dt_s_;
+  RigidBodyState state_;
+};
+
+}  // namespace hb

@@ -1,0 +1,49 @@
+#include "algorithms/proxy/penalty_contact.h"
+
+namespace hb {
+
+double contact_depth(const ContactPlane& plane, const RigidBodyState& state) {
+  return plane.normal.dot(plane.plane_point - contact_tool_point_world(plane, state));
+}
+
+Vec3 contact_tool_point_world(const ContactPlane& plane, const RigidBodyState& state) {
+  return state.x + state.q * plane.tool_point;
+}
+
+ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const PenaltyGains& gains,
+                                         const RigidBodyState& state, bool with_jacobians) {
+  ForceEvaluation result;
+  const Vec3 lever = state.q * plane.tool_point;  // R r
+  const Vec3& n = plane.normal;
+  const double depth = n.dot(plane.plane_point - (state.x + lever));
+  if (!(depth > 0)) return result;
+
+  const Vec3 point_velocity = state.v + state.w.cross(lever);
+  const Vec3 force = (gains.stiffness * depth - gains.damping * n.dot(point_velocity)) * n;
+  result.wrench = Wrench{force, lever.cross(force)};
+  if (!with_jacobians) return result;
+
+  // Perturbations (force_model.h): lever' = exp(δθ) lever  =>  ∂lever/∂δθ = −[s]×, s = R r;
+  // ∂d/∂x = −nᵀ, ∂d/∂δθ = nᵀ[s]×; ∂v_r/∂δθ = −[ω]×[s]×, ∂v_r/∂ω = −[s]×.
+  const Mat3 nn = n * n.transpose();
+  const Mat3 skew_s = skew(lever);
+  const Mat3 dforce_dx = -gains.stiffness * nn;
+  const Mat3 dforce_dtheta =
+      gains.stiffness * nn * skew_s + gains.damping * nn * skew(state.w) * skew_s;
+  const Mat3 dforce_dv = -gains.damping * nn;
+  const Mat3 dforce_dw = gains.damping * nn * skew_s;
+
+  Mat6& k = result.stiffness;
+  k.block<3, 3>(0, 0) = dforce_dx;
+  k.block<3, 3>(0, 3) = dforce_dtheta;
+  k.block<3, 3>(3, 0) = skew_s * dforce_dx;
+  k.block<3, 3>(3, 3) = skew_s * dforce_dtheta + skew(force) * skew_s;
+  Mat6& d = result.damping;
+  d.block<3, 3>(0, 0) = dforce_dv;
+  d.block<3, 3>(0, 3) = dforce_dw;
+  d.block<3, 3>(3, 0) = skew_s * dforce_dv;
+  d.block<3, 3>(3, 3) = skew_s * dforce_dw;
+  return result;
+}
+
+}  // namespace hb

@@ -1,0 +1,41 @@
+// A linearised point contact for penalty-based proxies: a point fixed on
+// the tool against a plane fixed in the world. Every penalty algorithm
+// reduces its contacts to these, so they share one force law and one set
+// of Jacobians for implicit integration (lecture notes, Otaduy & Lin:
+// F_p = −kN(x + Rr − p₀) − kdn − bN(v + ω × r), T_p = (Rr) × F_p, N = n nᵀ):
+//   depth d = n·(p₀ − (x + R r))
+//   F = k d n − b (n·v_r) n,  v_r = v + ω × (R r),  torque (R r) × F about the COM
+// applied only while d > 0.
+#pragma once
+
+#include "algorithms/core/pose.h"
+#include "algorithms/proxy/force_model.h"
+#include "algorithms/proxy/rigid_body.h"
+
+namespace hb {
+
+/// One tool point against one plane.
+struct ContactPlane {
+  Vec3 tool_point = Vec3::Zero();   ///< r: m, body (tool) axes, relative to the centre of mass
+  Vec3 plane_point = Vec3::Zero();  ///< p₀: m, world frame, on the surface
+  Vec3 normal = Vec3::UnitZ();      ///< n: world frame, unit length, pushes the tool out
+};
+
+/// Penalty gains shared by the contacts of one algorithm.
+struct PenaltyGains {
+  double stiffness = 3000;  ///< k, N/m
+  double damping = 2;       ///< b, N·s/m
+};
+
+/// Penetration depth d = n·(p₀ − (x + R r)) of the tool point (m); > 0 when penetrating.
+double contact_depth(const ContactPlane& plane, const RigidBodyState& state);
+
+/// World position x + R r of the contact's tool point (m).
+Vec3 contact_tool_point_world(const ContactPlane& plane, const RigidBodyState& state);
+
+/// Penalty wrench of one contact about the centre of mass and, when asked,
+/// its Jacobians (force_model.h coordinates). Zero when d ≤ 0.
+ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const PenaltyGains& gains,
+                                         const RigidBodyState& state, bool with_jacobians);
+
+}  // namespace hb

@@ -1,0 +1,82 @@
+// The plug-in point: every rendering algorithm is a Renderer. The replay
+// loop calls step() once per 1 ms tick; only step() is timed.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "algorithms/core/pose.h"
+
+namespace hb {
+
+/// One device reading at a tick of the 1 kHz clock.
+struct DeviceSample {
+  int64_t tick = 0;  ///< tick index, 1 ms apart
+  int64_t t_ns = 0;  ///< tick * 1'000'000
+  Pose pose;         ///< device's tool frame in the world (m, qw,qx,qy,qz)
+  Twist twist;       ///< velocity of the tool frame origin, world frame
+};
+
+/// A contact an algorithm reports, for the oracle to check.
+struct Contact {
+  Vec3 point;    ///< m, world frame
+  Vec3 normal;   ///< world frame, unit length, pushes the tool out of the scene
+  double depth;  ///< m, penetration along the normal (>= 0 when penetrating)
+};
+
+/// What a tick did, so run time can be explained.
+struct WorkCounters {
+  int64_t points_tested = 0;
+  int64_t bv_tests = 0;
+  int64_t ccd_queries = 0;
+  int64_t qp_iterations = 0;
+  int64_t solver_iterations = 0;
+};
+
+/// Bits of TickResult::flags.
+enum TickFlag : uint32_t {
+  kFlagNonFiniteZeroed = 1u << 0,      ///< a non-finite wrench was replaced by zero
+  kFlagForceSaturated = 1u << 1,       ///< force clipped to the device's limit
+  kFlagTorqueSaturated = 1u << 2,      ///< torque clipped to the device's limit
+  kFlagProxyReset = 1u << 3,           ///< proxy state became non-finite and was reset
+  kFlagSlowResultInstalled = 1u << 4,  ///< a slow-loop result was installed this tick
+};
+
+struct TickResult {
+  Wrench display;  ///< what the device displays: N and N·m about the tool frame origin, world
+  Pose proxy;      ///< proxy's tool frame in the world
+  std::span<const Contact> contacts;  ///< valid until the next step()/reset()
+  WorkCounters work;
+  uint32_t flags = 0;
+};
+
+/// The slow part of a multi-rate algorithm (contact queries, god-object
+/// update). The replay loop emulates its thread in virtual time: an update
+/// started at tick k sees the renderer's state after step(k) and its result
+/// is installed before step(k + L).
+class SlowLoop {
+ public:
+  virtual ~SlowLoop() = default;
+  /// Opaque result of one slow update.
+  struct Result {
+    virtual ~Result() = default;
+  };
+  /// Runs one slow update on the current state (timed by the caller).
+  virtual std::unique_ptr<Result> run_slow_update() = 0;
+  /// Makes a finished update's result visible to the next step().
+  virtual void install_slow_result(std::unique_ptr<Result> result) = 0;
+};
+
+class Renderer {
+ public:
+  virtual ~Renderer() = default;
+  /// Puts the proxy at rest at the start pose and clears all state.
+  virtual void reset(const Pose& start) = 0;
+  /// One haptic tick; dt = 1 ms fixed by the clock.
+  virtual TickResult step(const DeviceSample& device) = 0;
+  /// The slow loop of a multi-rate algorithm, or nullptr.
+  virtual SlowLoop* slow_loop() { return nullptr; }
+};
+
+}  // namespace hb

@@ -1,0 +1,37 @@
+#include "algorithms/registry.h"
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/coupling_only/coupling_only.h"
+#include "algorithms/penalty_analytic/penalty_analytic.h"
+
+namespace hb {
+
+namespace {
+// Read it like a collision table: one row per algorithm.
+constexpr AlgorithmEntry kAlgorithms[] = {
+    {"coupling_only", "baseline: dynamic proxy on the virtual coupling, no contacts (transparency)",
+     &create_coupling_only},
+    {"penalty_analytic",
+     "baseline: penalty contact against exact primitive shapes, explicit or implicit Euler",
+     &create_penalty_analytic},
+};
+}  // namespace
+
+std::span<const AlgorithmEntry> algorithm_table() { return kAlgorithms; }
+
+std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderContext& context,
+                                          const ParamSet& params, const std::string& field) {
+  for (const AlgorithmEntry& entry : kAlgorithms) {
+    if (entry.name == name) {
+      std::unique_ptr<Renderer> renderer = entry.create(context, params);
+      params.reject_unknown();
+      return renderer;
+    }
+  }
+  std::string known;
+  for (const AlgorithmEntry& entry : kAlgorithms)
+    known += (known.empty() ? "" : ", ") + std::string(entry.name);
+  throw InputError("", field, "unknown algorithm \"" + name + "\" (known: " + known + ")");
+}
+
+}  // namespace hb

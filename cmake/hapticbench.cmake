@@ -1,0 +1,39 @@
+# Helpers shared by every folder: one call adds a library, one call adds a test.
+
+set(HAPTICBENCH_WARNINGS -Wall -Wextra -Wpedantic)
+if(HAPTICBENCH_WERROR)
+  list(APPEND HAPTICBENCH_WARNINGS -Werror)
+endif()
+
+# hb_library(NAME SOURCES ... DEPENDS ...): a static library for one source folder.
+function(hb_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS;PRIVATE_DEPENDS" ${ARGN})
+  if(NOT ARG_SOURCES)  # a folder of headers only
+    add_library(${name} INTERFACE)
+    target_include_directories(${name} INTERFACE ${PROJECT_SOURCE_DIR})
+    target_link_libraries(${name} INTERFACE ${ARG_DEPENDS})
+    return()
+  endif()
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_compile_options(${name} PRIVATE ${HAPTICBENCH_WARNINGS})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPENDS} PRIVATE ${ARG_PRIVATE_DEPENDS})
+endfunction()
+
+# hb_test(SOURCE DEPENDS ...): one Catch2 executable per test source file,
+# named after its path under tests/, registered with CTest case by case.
+function(hb_test source)
+  cmake_parse_arguments(ARG "" "" "DEPENDS" ${ARGN})
+  file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/tests ${source})
+  string(REGEX REPLACE "\\.cpp$" "" rel "${rel}")
+  string(REPLACE "/" "_" target "test_${rel}")
+  add_executable(${target} ${source})
+  target_compile_options(${target} PRIVATE ${HAPTICBENCH_WARNINGS})
+  target_link_libraries(${target} PRIVATE hb_test_main ${ARG_DEPENDS})
+  target_compile_definitions(${target} PRIVATE
+    HAPTICBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    HAPTICBENCH_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
+    HAPTICBENCH_BIN="$<TARGET_FILE:hapticbench>")
+  add_dependencies(${target} hapticbench)
+  catch_discover_tests(${target} TEST_PREFIX "${rel}: ")
+endfunction()

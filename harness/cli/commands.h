@@ -1,0 +1,18 @@
+// The subcommands of `hapticbench`. Each takes the arguments after its name
+// and returns the process exit code: 0 ok / within budget, 1 a budget or
+// regression failed, 2 bad input or usage, 3 internal error.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace hb {
+
+enum ExitCode : int { kExitOk = 0, kExitBudgetFailed = 1, kExitBadInput = 2, kExitInternal = 3 };
+
+int run_command(const std::vector<std::string>& args);       ///< hapticbench run
+int validate_command(const std::vector<std::string>& args);  ///< hapticbench validate
+int list_command(const std::vector<std::string>& args);      ///< hapticbench list
+int generate_command(const std::vector<std::string>& args);  ///< hapticbench generate
+
+}  // namespace hb

@@ -1,0 +1,135 @@
+// `hapticbench generate`: runs a synthetic trace generator and writes the
+// trace as hapticbench CSV with its JSON sidecar.
+#include <charconv>
+#include <cstdint>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/param_set.h"
+#include "harness/cli/commands.h"
+#include "harness/trace/generators.h"
+#include "harness/trace/trace.h"
+
+namespace hb {
+
+namespace {
+
+constexpr const char* kGenerateUsage =
+    "usage: hapticbench generate NAME --duration S [--seed N] [--param key=value]... --out "
+    "FILE.csv\n"
+    "  value: a number, comma-separated numbers (e.g. 0,0,0.03), true/false, or a string\n";
+
+/// A usage mistake on the command line.
+struct UsageError {
+  std::string message;
+};
+
+bool parse_double(std::string_view text, double& value) {
+  if (text.empty()) return false;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return error == std::errc() && end == text.data() + text.size();
+}
+
+/// "0.5" -> number, "0,0,0.03" -> list, "true"/"false" -> flag, else string.
+ParamValue parse_param_value(const std::string& text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  double number = 0;
+  if (parse_double(text, number)) return number;
+  if (text.find(',') != std::string::npos) {
+    std::vector<double> list;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t end = text.find(',', start);
+      const std::string_view item =
+          std::string_view(text).substr(start, end == std::string::npos ? std::string::npos
+                                                                       : end - start);
+      if (!parse_double(item, number)) return text;
+      list.push_back(number);
+      if (end == std::string::npos) return list;
+      start = end + 1;
+    }
+  }
+  return text;
+}
+
+struct GenerateOptions {
+  std::string generator;
+  std::string out;
+  GeneratorRequest request{1.0, 1, ParamSet("--param")};
+  bool has_duration = false;
+};
+
+GenerateOptions parse_generate_options(const std::vector<std::string>& args) {
+  GenerateOptions options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
+      return args[++i];
+    };
+    if (arg == "--duration") {
+      const std::string& text = value();
+      if (!parse_double(text, options.request.duration_s) || !(options.request.duration_s > 0))
+        throw UsageError{"--duration: expected a positive number of seconds, got \"" + text +
+                         "\""};
+      options.has_duration = true;
+    } else if (arg == "--seed") {
+      const std::string& text = value();
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(),
+                                                options.request.seed);
+      if (text.empty() || error != std::errc() || end != text.data() + text.size())
+        throw UsageError{"--seed: expected a whole number >= 0, got \"" + text + "\""};
+    } else if (arg == "--param") {
+      const std::string& text = value();
+      const std::size_t equals = text.find('=');
+      if (equals == std::string::npos || equals == 0)
+        throw UsageError{"--param: expected key=value, got \"" + text + "\""};
+      const std::string key = text.substr(0, equals);
+      if (options.request.params.has(key))
+        throw UsageError{"--param: " + key + " given more than once"};
+      options.request.params.set(key, parse_param_value(text.substr(equals + 1)));
+    } else if (arg == "--out") {
+      options.out = value();
+    } else if (arg.rfind("--", 0) == 0) {
+      throw UsageError{"unknown option " + arg};
+    } else if (options.generator.empty()) {
+      options.generator = arg;
+    } else {
+      throw UsageError{"unexpected argument \"" + arg + "\" (the generator is \"" +
+                       options.generator + "\")"};
+    }
+  }
+  if (options.generator.empty()) throw UsageError{"missing the generator NAME"};
+  if (!options.has_duration) throw UsageError{"missing --duration S"};
+  if (options.out.empty()) throw UsageError{"missing --out FILE.csv"};
+  return options;
+}
+
+}  // namespace
+
+int generate_command(const std::vector<std::string>& args) {
+  try {
+    const GenerateOptions options = parse_generate_options(args);
+    const Trace trace = generate_trace(options.generator, options.request, "generator");
+    write_trace_file(options.out, trace);
+    std::cout << "wrote " << options.out << " (" << trace.samples.size() << " samples, "
+              << trace.info.source << ", seed " << options.request.seed << ")\n";
+    return kExitOk;
+  } catch (const UsageError& error) {
+    std::cerr << "hapticbench generate: " << error.message << "\n" << kGenerateUsage;
+    return kExitBadInput;
+  } catch (const InputError& error) {
+    std::cerr << "hapticbench generate: " << error.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "hapticbench generate: internal error: " << error.what() << "\n";
+    return kExitInternal;
+  }
+}
+
+}  // namespace hb

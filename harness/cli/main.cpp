@@ -1,0 +1,45 @@
+// hapticbench: benchmarks and validates 6-DOF haptic rendering algorithms.
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+
+namespace {
+constexpr const char* kUsage =
+    "usage: hapticbench COMMAND [ARGS]\n"
+    "  run SCENARIO... [--algo NAME] [--out DIR]   replay scenarios, write run folders\n"
+    "  validate FILE...                            check a scenario, mesh or trace file\n"
+    "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
+    "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
+    "exit codes: 0 ok, 1 a budget failed, 2 bad input or usage, 3 internal error\n";
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr << kUsage;
+    return hb::kExitBadInput;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  try {
+    if (command == "run") return hb::run_command(args);
+    if (command == "validate") return hb::validate_command(args);
+    if (command == "list") return hb::list_command(args);
+    if (command == "generate") return hb::generate_command(args);
+    if (command == "-h" || command == "--help" || command == "help") {
+      std::cout << kUsage;
+      return hb::kExitOk;
+    }
+    std::cerr << "error: unknown command \"" << command << "\"\n" << kUsage;
+    return hb::kExitBadInput;
+  } catch (const hb::InputError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return hb::kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "internal error: " << error.what() << "\n";
+    return hb::kExitInternal;
+  }
+}

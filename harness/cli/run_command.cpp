@@ -1,0 +1,109 @@
+// hapticbench run SCENARIO... [--algo NAME] [--out DIR]
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/cli/run_table.h"
+#include "harness/cli/scenario_runner.h"
+#include "harness/output/run_folder.h"
+#include "harness/scenario/scenario.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr const char* kRunUsage =
+    "usage: hapticbench run SCENARIO.json... [--algo NAME] [--out DIR]\n"
+    "  --algo NAME  run only the algorithm with this name or label\n"
+    "  --out DIR    run folder (one scenario) or parent of <scenario name>/ (several);\n"
+    "               default out/<scenario name>/\n";
+
+struct RunArguments {
+  std::vector<std::string> scenarios;
+  std::optional<std::string> algo;
+  std::optional<std::string> out;
+};
+
+// Returns nullopt after printing a usage error.
+std::optional<RunArguments> parse_run_arguments(const std::vector<std::string>& args) {
+  RunArguments parsed;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--algo" || a == "--out") {
+      if (i + 1 >= args.size()) {
+        std::cerr << "error: " << a << " needs a value\n" << kRunUsage;
+        return std::nullopt;
+      }
+      (a == "--algo" ? parsed.algo : parsed.out) = args[++i];
+    } else if (a == "-h" || a == "--help") {
+      std::cout << kRunUsage;
+      return std::nullopt;
+    } else if (a.rfind("--", 0) == 0) {
+      std::cerr << "error: unknown option " << a << "\n" << kRunUsage;
+      return std::nullopt;
+    } else {
+      parsed.scenarios.push_back(a);
+    }
+  }
+  if (parsed.scenarios.empty()) {
+    std::cerr << "error: no scenario given\n" << kRunUsage;
+    return std::nullopt;
+  }
+  return parsed;
+}
+
+fs::path run_folder_for(const RunArguments& args, const Scenario& scenario) {
+  if (!args.out) return fs::path("out") / scenario.name;
+  if (args.scenarios.size() == 1) return fs::path(*args.out);
+  return fs::path(*args.out) / scenario.name;
+}
+}  // namespace
+
+int run_command(const std::vector<std::string>& args) {
+  const std::optional<RunArguments> parsed = parse_run_arguments(args);
+  if (!parsed) return kExitBadInput;
+
+  // Load and build everything first: bad input anywhere stops the command
+  // before any run folder is written.
+  std::vector<Scenario> scenarios;
+  std::vector<std::vector<PreparedAlgorithm>> prepared;
+  try {
+    for (const std::string& path : parsed->scenarios) {
+      scenarios.push_back(load_scenario(path));
+      for (std::size_t i = 0; i + 1 < scenarios.size(); ++i)
+        if (scenarios[i].name == scenarios.back().name)
+          throw InputError(path, "/name",
+                           "scenario name \"" + scenarios.back().name + "\" is also used by " +
+                               scenarios[i].path + "; run folders would collide");
+    }
+    for (const Scenario& scenario : scenarios)
+      prepared.push_back(prepare_algorithms(scenario, parsed->algo));
+  } catch (const InputError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  bool all_pass = true;
+  for (std::size_t s = 0; s < scenarios.size(); ++s) {
+    const Scenario& scenario = scenarios[s];
+    ScenarioOutcome outcome = run_prepared(scenario, prepared[s]);
+    const fs::path folder = run_folder_for(*parsed, scenario);
+    StagedRunFolder staged(folder);
+    for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)
+      staged.write_file(outcome.report.runs[i].ticks_file, outcome.ticks_csv[i]);
+    staged.write_file("summary.json", summary_json(outcome.report).dump(2) + "\n");
+    staged.write_file("junit.xml", junit_xml(outcome.report));
+    staged.commit();
+
+    std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
+    print_run_table(std::cout, outcome.report);
+    all_pass = all_pass && outcome.report.all_budgets_pass();
+  }
+  return all_pass ? kExitOk : kExitBudgetFailed;
+}
+
+}  // namespace hb

@@ -1,0 +1,47 @@
+#include "harness/cli/run_table.h"
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+namespace hb {
+
+namespace {
+std::string fixed(std::optional<double> value, double scale, int decimals) {
+  if (!value) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", decimals, *value * scale);
+  return text;
+}
+}  // namespace
+
+void print_run_table(std::ostream& out, const ScenarioRun& run) {
+  char line[256];
+  std::snprintf(line, sizeof line, "  %-22s %6s %8s %8s %10s %10s %9s %5s %8s  %s\n", "label",
+                "ticks", "p50_us", "p99_us", "F_err_N", "pen_max_mm", "E_min_mJ", "nonfin",
+                "diverged", "budgets");
+  out << line;
+  for (const AlgorithmRun& r : run.runs) {
+    const RunMetrics& m = r.metrics;
+    int passed = 0;
+    for (const BudgetVerdict& b : r.budgets) passed += b.pass ? 1 : 0;
+    const std::string budgets =
+        r.budgets.empty() ? "none"
+                          : std::to_string(passed) + "/" + std::to_string(r.budgets.size()) +
+                                (passed == static_cast<int>(r.budgets.size()) ? " pass" : " FAIL");
+    std::snprintf(line, sizeof line, "  %-22s %6lld %8s %8s %10s %10s %9s %5lld %8s  %s\n",
+                  r.label.c_str(), static_cast<long long>(m.timing.ticks),
+                  fixed(m.timing.step_ns.p50, 1e-3, 2).c_str(),
+                  fixed(m.timing.step_ns.p99, 1e-3, 2).c_str(),
+                  fixed(m.accuracy.force_err_rms_n, 1, 4).c_str(),
+                  fixed(m.accuracy.penetration_max_m, 1e3, 3).c_str(),
+                  fixed(m.stability.passivity_energy_min_j, 1e3, 3).c_str(),
+                  static_cast<long long>(m.stability.nonfinite),
+                  m.stability.diverged ? "YES" : "no", budgets.c_str());
+    out << line;
+    for (const BudgetVerdict& b : r.budgets)
+      if (!b.pass) out << "    budget failed: " << b.message << "\n";
+  }
+}
+
+}  // namespace hb

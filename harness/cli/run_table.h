@@ -1,0 +1,14 @@
+// The short table `hapticbench run` prints per scenario.
+#pragma once
+
+#include <ostream>
+
+#include "harness/output/run_report.h"
+
+namespace hb {
+
+/// One row per algorithm: timing, accuracy, stability and budget verdicts;
+/// "-" where a metric does not apply.
+void print_run_table(std::ostream& out, const ScenarioRun& run);
+
+}  // namespace hb

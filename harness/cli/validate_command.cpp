@@ -1,0 +1,170 @@
+// `hapticbench validate FILE...`: checks scenario, mesh and trace files the
+// way a run would read them and says what is wrong and where, without
+// running anything. Every file is checked even after one fails.
+#include <algorithm>
+#include <cctype>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/mass_properties.h"
+#include "algorithms/core/shapes.h"
+#include "algorithms/core/triangle_mesh.h"
+#include "algorithms/registry.h"
+#include "harness/cli/commands.h"
+#include "harness/mesh_io/mesh_io.h"
+#include "harness/scenario/input_error_context.h"
+#include "harness/scenario/scenario.h"
+#include "harness/trace/trace.h"
+
+namespace hb {
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: hapticbench validate FILE...\n"
+    "  checks each file as a run would read it, by extension:\n"
+    "    .json                   scenario (meshes, trace and algorithm parameters included)\n"
+    "    .off .obj .stl .ply     triangle mesh (must bound a solid)\n"
+    "    .csv                    trace, hapticbench CSV\n"
+    "    .txt .tum               trace, TUM format\n"
+    "  prints \"OK: FILE\" for each valid file; exit code 2 if any file is invalid.\n";
+
+std::string lowercase_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+std::string vector_text(const Vec3& v) {
+  std::ostringstream out;
+  out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return out.str();
+}
+
+void validate_scenario(const std::string& path) {
+  const Scenario scenario = load_scenario(path);
+  // Building each renderer is what rejects bad or unknown algorithm parameters.
+  for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
+    const AlgorithmSpec& spec = scenario.algorithms[i];
+    try {
+      create_renderer(spec.name, scenario.context, spec.params,
+                      "/algorithms/" + std::to_string(i) + "/name");
+    } catch (const InputError& error) {
+      throw with_default_source(error, scenario.path);
+    }
+  }
+
+  const RenderContext& context = scenario.context;
+  std::ostringstream out;
+  out << "scenario \"" << scenario.name << "\": " << context.scene.size() << " scene object"
+      << (context.scene.size() == 1 ? "" : "s") << " (";
+  for (std::size_t i = 0; i < context.scene.size(); ++i) {
+    const SceneObject& object = context.scene[i];
+    out << (i ? "; " : "") << object.name << ": "
+        << (object.shape ? shape_type_name(object.shape->type) : std::string("mesh")) << ", "
+        << object.mesh.triangles.size() << " triangles";
+  }
+  out << "); tool " << (context.tool.shape ? shape_type_name(context.tool.shape->type) : "mesh")
+      << ", " << context.tool.mesh.triangles.size() << " triangles, mass "
+      << context.tool.mass.mass_kg << " kg, centre of mass "
+      << vector_text(context.tool.mass.centre_of_mass) << " m (tool frame); trace "
+      << scenario.trace_description << ", " << scenario.device_samples.size() << " ticks ("
+      << static_cast<double>(scenario.device_samples.size()) * context.dt_s << " s); algorithms ";
+  for (std::size_t i = 0; i < scenario.algorithms.size(); ++i)
+    out << (i ? ", " : "") << scenario.algorithms[i].label << " (" << scenario.algorithms[i].name
+        << ")";
+  out << "; oracle " << scenario.reference.oracle << ", analytic " << scenario.reference.analytic
+      << "; " << scenario.budgets.size() << " budget" << (scenario.budgets.size() == 1 ? "" : "s")
+      << "; content hash " << scenario.content_hash << ".";
+  std::cout << out.str() << "\n";
+}
+
+void validate_mesh(const std::string& path) {
+  const TriangleMesh mesh = read_mesh_file(path);
+  require_valid_mesh(mesh, path);
+  const Eigen::AlignedBox3d bounds = mesh.bounds();
+  const MassProperties unit_density = mass_properties_from_density(mesh, 1.0);
+  std::cout << "mesh: " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
+            << " triangles, closed and outward-oriented; bounds " << vector_text(bounds.min())
+            << " to " << vector_text(bounds.max()) << ", volume " << unit_density.volume_m3
+            << ", centroid " << vector_text(unit_density.centre_of_mass)
+            << " (file units; metres at scale 1)\n";
+}
+
+void validate_trace(const std::string& path, TraceFileFormat format) {
+  const Trace trace = read_trace_file(path, format);
+  const std::size_t n = trace.samples.size();
+  std::cout << "trace (" << (format == TraceFileFormat::kTum ? "TUM" : "hapticbench CSV")
+            << "): " << n << " samples";
+  if (n >= 1) {
+    const double span_s = static_cast<double>(trace.samples.back().t_ns) * 1e-9;
+    std::cout << " from t = 0 to " << span_s << " s";
+    if (n >= 2 && span_s > 0)
+      std::cout << ", mean rate " << static_cast<double>(n - 1) / span_s << " Hz";
+    std::cout << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities";
+  }
+  std::cout << "\n";
+}
+
+void validate_file(const std::string& path) {
+  const std::string extension = lowercase_extension(path);
+  if (extension == ".json") {
+    validate_scenario(path);
+  } else if (extension == ".off" || extension == ".obj" || extension == ".stl" ||
+             extension == ".ply") {
+    validate_mesh(path);
+  } else if (extension == ".csv") {
+    validate_trace(path, TraceFileFormat::kHapticbenchCsv);
+  } else if (extension == ".txt" || extension == ".tum") {
+    validate_trace(path, TraceFileFormat::kTum);
+  } else {
+    throw InputError(path, "",
+                     "unknown file type \"" + extension +
+                         "\"; expected .json (scenario), .off/.obj/.stl/.ply (mesh), .csv or "
+                         ".txt/.tum (trace)");
+  }
+}
+
+}  // namespace
+
+int validate_command(const std::vector<std::string>& args) {
+  std::vector<std::string> files;
+  for (const std::string& arg : args) {
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kUsage;
+      return kExitOk;
+    }
+    if (arg.size() > 1 && arg[0] == '-') {
+      std::cerr << "error: validate: unknown option \"" << arg << "\"\n" << kUsage;
+      return kExitBadInput;
+    }
+    files.push_back(arg);
+  }
+  if (files.empty()) {
+    std::cerr << "error: validate: no file given\n" << kUsage;
+    return kExitBadInput;
+  }
+
+  int status = kExitOk;
+  for (const std::string& file : files) {
+    try {
+      validate_file(file);
+      std::cout << "OK: " << file << "\n";
+    } catch (const InputError& error) {
+      std::cerr << "error: " << error.what() << "\n";
+      status = std::max<int>(status, kExitBadInput);
+    } catch (const std::exception& error) {
+      std::cerr << "internal error: " << file << ": " << error.what() << "\n";
+      status = std::max<int>(status, kExitInternal);
+    }
+  }
+  return status;
+}
+
+}  // namespace hb

@@ -1,0 +1,137 @@
+#include "harness/mesh_io/mesh_io.h"
+
+#include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+
+namespace hb {
+
+namespace {
+
+using FilePoint = CGAL::Simple_cartesian<double>::Point_3;
+using FilePolygon = std::vector<std::size_t>;
+
+struct MeshFormat {
+  const char* extension;  // lower case, with the dot
+  const char* name;
+};
+constexpr std::array<MeshFormat, 4> kFormats = {
+    {{".off", "OFF"}, {".obj", "OBJ"}, {".stl", "STL"}, {".ply", "PLY"}}};
+
+const MeshFormat* format_of(const std::string& path, std::string& extension) {
+  extension = std::filesystem::path(path).extension().string();
+  std::string lower = extension;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const MeshFormat& format : kFormats)
+    if (lower == format.extension) return &format;
+  return nullptr;
+}
+
+std::string accepted_extensions() {
+  std::string list;
+  for (const MeshFormat& format : kFormats)
+    list += (list.empty() ? "" : ", ") + std::string(format.extension);
+  return list;
+}
+
+// Exact coordinates as a hash key; -0.0 and +0.0 are the same point.
+struct ExactPoint {
+  std::array<double, 3> xyz;
+  bool operator==(const ExactPoint&) const = default;
+};
+struct ExactPointHash {
+  std::size_t operator()(const ExactPoint& p) const {
+    uint64_t h = 0xcbf29ce484222325ULL;
+    for (double x : p.xyz) {
+      h ^= std::bit_cast<uint64_t>(x + 0.0);  // x + 0.0 turns -0.0 into +0.0
+      h *= 0x100000001b3ULL;
+      h ^= h >> 29;
+    }
+    return static_cast<std::size_t>(h);
+  }
+};
+
+}  // namespace
+
+TriangleMesh read_mesh_file(const std::string& path, double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0) {
+    std::ostringstream got;
+    got << scale;
+    throw InputError(path, "scale",
+                     "expected a positive finite scale (metres per file unit), got " + got.str());
+  }
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) throw InputError(path, "", "file not found");
+  if (!std::filesystem::is_regular_file(path, error))
+    throw InputError(path, "", "not a regular file; expected a mesh file");
+
+  std::string extension;
+  const MeshFormat* format = format_of(path, extension);
+  if (!format) {
+    throw InputError(path, "",
+                     "unknown mesh file extension \"" + extension + "\"; expected one of " +
+                         accepted_extensions());
+  }
+
+  std::vector<FilePoint> points;
+  std::vector<FilePolygon> polygons;
+  if (!CGAL::IO::read_polygon_soup(path, points, polygons) || polygons.empty()) {
+    throw InputError(path, "",
+                     std::string("could not parse as ") + format->name +
+                         (polygons.empty() ? " (no faces read)" : ""));
+  }
+
+  // Merge exactly coincident vertices: STL stores every triangle with its own
+  // copies of its corners, and other exporters sometimes do the same.
+  TriangleMesh mesh;
+  std::vector<int> merged_index(points.size());
+  std::unordered_map<ExactPoint, int, ExactPointHash> index_of_point;
+  index_of_point.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const ExactPoint key{{points[i].x() + 0.0, points[i].y() + 0.0, points[i].z() + 0.0}};
+    const auto [it, inserted] =
+        index_of_point.try_emplace(key, static_cast<int>(mesh.vertices.size()));
+    if (inserted) mesh.vertices.emplace_back(scale * Vec3(key.xyz[0], key.xyz[1], key.xyz[2]));
+    merged_index[i] = it->second;
+  }
+
+  // Polygons become triangle fans from their first corner: exact for convex
+  // polygons (what exporters write); a concave polygon may fold, which
+  // validation then reports.
+  mesh.triangles.reserve(polygons.size());
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const FilePolygon& polygon = polygons[f];
+    if (polygon.size() < 3) {
+      throw InputError(path, "face " + std::to_string(f),
+                       "has " + std::to_string(polygon.size()) +
+                           " vertices; expected at least 3");
+    }
+    for (std::size_t index : polygon) {
+      if (index >= points.size()) {
+        throw InputError(path, "face " + std::to_string(f),
+                         "vertex index " + std::to_string(index) + " is out of range; the file has " +
+                             std::to_string(points.size()) + " vertices");
+      }
+    }
+    for (std::size_t corner = 1; corner + 1 < polygon.size(); ++corner) {
+      mesh.triangles.push_back({merged_index[polygon[0]], merged_index[polygon[corner]],
+                                merged_index[polygon[corner + 1]]});
+    }
+  }
+  return mesh;
+}
+
+}  // namespace hb

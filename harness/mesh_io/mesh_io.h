@@ -1,0 +1,19 @@
+// Reading triangle meshes from OFF, OBJ, STL and PLY files (CGAL's readers,
+// kept inside mesh_io.cpp).
+#pragma once
+
+#include <string>
+
+#include "algorithms/core/triangle_mesh.h"
+
+namespace hb {
+
+/// Reads a polygon mesh (format by extension: .off .obj .stl .ply), splits
+/// polygons into triangles, merges exactly coincident vertices (STL), and
+/// multiplies coordinates by scale (metres per file unit). Throws InputError
+/// naming the file for a missing file, an unknown extension or a parse
+/// failure. Does not validate closedness: call require_valid_mesh.
+TriangleMesh read_mesh_file(const std::string& path, double scale = 1.0);
+
+
+}  // namespace hb

@@ -1,0 +1,192 @@
+#include "harness/metrics/run_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "harness/metrics/spectrum.h"
+
+namespace hb {
+
+namespace {
+constexpr double kDirectionThresholdN = 0.05;  // below this a force has no reliable direction
+constexpr double kJitterCutoffHz = 100.0;
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  const double c = std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0);
+  return std::acos(c) * 180.0 / std::numbers::pi;
+}
+
+void add_work(WorkCounters& total, const WorkCounters& w) {
+  total.points_tested += w.points_tested;
+  total.bv_tests += w.bv_tests;
+  total.ccd_queries += w.ccd_queries;
+  total.qp_iterations += w.qp_iterations;
+  total.solver_iterations += w.solver_iterations;
+}
+}  // namespace
+
+Percentiles percentiles_of(std::vector<int64_t> values) {
+  Percentiles p;
+  p.count = static_cast<int64_t>(values.size());
+  if (values.empty()) return p;
+  std::sort(values.begin(), values.end());
+  // Nearest rank: the smallest value with at least q of the sample at or below it.
+  auto rank = [&](double q) {
+    const auto n = values.size();
+    auto index = static_cast<std::size_t>(std::ceil(q * static_cast<double>(n)));
+    index = std::clamp<std::size_t>(index, 1, n);
+    return static_cast<double>(values[index - 1]);
+  };
+  p.p50 = rank(0.5);
+  p.p90 = rank(0.9);
+  p.p99 = rank(0.99);
+  p.p999 = rank(0.999);
+  p.max = static_cast<double>(values.back());
+  return p;
+}
+
+void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& evaluation) {
+  const TickResult& result = record.result;
+  const DeviceSample& device = *record.device;
+  const double dt = 1e-9 * static_cast<double>(kTickNs);
+
+  // Harness-side guard: a renderer must never display non-finite numbers,
+  // but if one does, the run counts it and uses zero instead.
+  Wrench display = result.display;
+  const bool nonfinite = !is_finite(display) || (result.flags & kFlagNonFiniteZeroed);
+  if (!is_finite(display)) display = Wrench{};
+  if (nonfinite) ++partial_.stability.nonfinite;
+  if (result.flags & kFlagProxyReset) ++partial_.stability.proxy_resets;
+  if (result.flags & (kFlagForceSaturated | kFlagTorqueSaturated)) ++partial_.stability.saturated_ticks;
+
+  step_ns_.push_back(record.step_ns);
+  if (record.step_ns > kTickNs) ++partial_.timing.over_budget;
+  const bool reported_contact = !result.contacts.empty();
+  const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
+  (in_contact ? contact_step_ns_ : free_step_ns_).push_back(record.step_ns);
+  if (record.slow_started) slow_ns_.push_back(record.slow_ns);
+  if (record.slow_data_age_ticks >= 0) {
+    slow_age_sum_ += record.slow_data_age_ticks;
+    ++slow_age_count_;
+    slow_age_max_ = std::max(slow_age_max_, record.slow_data_age_ticks);
+  }
+
+  // Accuracy against the analytic reference.
+  if (evaluation.ideal_display) {
+    ++ideal_ticks_;
+    const Wrench& ideal = *evaluation.ideal_display;
+    const double force_err = (display.force - ideal.force).norm();
+    force_err_sq_ += force_err * force_err;
+    partial_.accuracy.force_err_max_n =
+        std::max(partial_.accuracy.force_err_max_n.value_or(0.0), force_err);
+    const double torque_err = (display.torque - ideal.torque).norm();
+    torque_err_sq_ += torque_err * torque_err;
+    if (ideal.force.norm() >= kDirectionThresholdN && display.force.norm() >= kDirectionThresholdN) {
+      const double angle = angle_deg(display.force, ideal.force);
+      dir_err_sq_ += angle * angle;
+      ++dir_err_count_;
+      partial_.accuracy.force_dir_err_max_deg =
+          std::max(partial_.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
+    }
+  }
+  if (evaluation.penetration_m) {
+    ++evaluated_pen_ticks_;
+    const double depth = *evaluation.penetration_m;
+    partial_.accuracy.penetration_max_m =
+        std::max(partial_.accuracy.penetration_max_m.value_or(0.0), depth);
+    if (depth > 0) {
+      pen_sq_ += depth * depth;
+      ++pen_ticks_;
+    }
+  }
+
+  // Stability and passivity. The coupling force on the proxy is the
+  // negated display; its power at the device port is F_c·v_h + tau_c·w_h.
+  const Vec3 separation = result.proxy.p - device.pose.p;
+  const double separation_m = is_finite(result.proxy) ? separation.norm() : INFINITY;
+  partial_.stability.max_proxy_separation_m =
+      std::max(partial_.stability.max_proxy_separation_m, separation_m);
+  if (!partial_.stability.diverged &&
+      (separation_m > settings_.divergence_distance_m || (result.flags & kFlagProxyReset))) {
+    partial_.stability.diverged = true;
+    partial_.stability.diverged_at_tick = device.tick;
+  }
+  energy_ += (-display.force.dot(device.twist.v) - display.torque.dot(device.twist.w)) * dt;
+  partial_.stability.passivity_energy_min_j = std::min(partial_.stability.passivity_energy_min_j, energy_);
+  partial_.stability.passivity_energy_final_j = energy_;
+  if (last_force_) {
+    partial_.stability.force_jump_max_n =
+        std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
+  }
+  last_force_ = display.force;
+  forces_.push_back(display.force);
+
+  // Transparency: what the user feels when nothing is touched.
+  if (!in_contact) {
+    ++partial_.transparency.free_space_ticks;
+    const double f = display.force.norm();
+    free_force_sq_ += f * f;
+    partial_.transparency.free_space_force_max_n =
+        std::max(partial_.transparency.free_space_force_max_n.value_or(0.0), f);
+  }
+
+  if (reported_contact) {
+    ++partial_.contacts.contact_ticks;
+    const auto n = static_cast<int64_t>(result.contacts.size());
+    contacts_sum_ += n;
+    partial_.contacts.max_contacts = std::max(partial_.contacts.max_contacts, n);
+  }
+  add_work(partial_.contacts.total_work, result.work);
+}
+
+RunMetrics MetricsAccumulator::finish() const {
+  RunMetrics m = partial_;
+  m.timing.ticks = static_cast<int64_t>(step_ns_.size());
+  m.timing.step_ns = percentiles_of(step_ns_);
+  if (!free_step_ns_.empty()) m.timing.free_space_step_ns = percentiles_of(free_step_ns_);
+  if (!contact_step_ns_.empty()) m.timing.contact_step_ns = percentiles_of(contact_step_ns_);
+  if (!slow_ns_.empty()) {
+    m.timing.slow_update_ns = percentiles_of(slow_ns_);
+    const double seconds = static_cast<double>(m.timing.ticks) * 1e-9 * static_cast<double>(kTickNs);
+    m.timing.slow_loop_rate_hz = static_cast<double>(slow_ns_.size()) / seconds;
+  }
+  if (slow_age_count_ > 0) {
+    m.timing.slow_data_age_mean_ticks =
+        static_cast<double>(slow_age_sum_) / static_cast<double>(slow_age_count_);
+    m.timing.slow_data_age_max_ticks = slow_age_max_;
+  }
+  if (ideal_ticks_ > 0) {
+    m.accuracy.force_err_rms_n = std::sqrt(force_err_sq_ / static_cast<double>(ideal_ticks_));
+    m.accuracy.torque_err_rms_nm = std::sqrt(torque_err_sq_ / static_cast<double>(ideal_ticks_));
+  }
+  if (dir_err_count_ > 0) {
+    m.accuracy.force_dir_err_rms_deg = std::sqrt(dir_err_sq_ / static_cast<double>(dir_err_count_));
+  }
+  if (evaluated_pen_ticks_ > 0) {
+    m.accuracy.penetration_ticks = pen_ticks_;
+    m.accuracy.penetration_rms_m = pen_ticks_ > 0 ? std::sqrt(pen_sq_ / static_cast<double>(pen_ticks_)) : 0.0;
+  }
+  if (m.transparency.free_space_ticks > 0) {
+    m.transparency.free_space_force_rms_n =
+        std::sqrt(free_force_sq_ / static_cast<double>(m.transparency.free_space_ticks));
+  }
+  if (m.contacts.contact_ticks > 0) {
+    m.contacts.mean_contacts =
+        static_cast<double>(contacts_sum_) / static_cast<double>(m.contacts.contact_ticks);
+  }
+  double hf = 0, total_weight = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> component(forces_.size());
+    double variance = 0, mean = 0;
+    for (std::size_t i = 0; i < forces_.size(); ++i) mean += component[i] = forces_[i][axis];
+    if (!forces_.empty()) mean /= static_cast<double>(forces_.size());
+    for (double x : component) variance += (x - mean) * (x - mean);
+    hf += variance * energy_fraction_above(component, 1e9 / static_cast<double>(kTickNs), kJitterCutoffHz);
+    total_weight += variance;
+  }
+  m.stability.force_hf_energy_fraction = total_weight > 0 ? hf / total_weight : 0.0;
+  return m;
+}
+
+}  // namespace hb

@@ -1,0 +1,113 @@
+// Metrics of one algorithm over one replay, with the definitions DESIGN.md
+// gives: timing, accuracy against ground truth, stability and passivity,
+// transparency. A metric that does not apply is an empty optional (null in
+// summary.json), never a made-up zero.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "harness/replay/replay.h"
+
+namespace hb {
+
+/// Ground truth for one tick, computed outside the timed window.
+struct TickEvaluation {
+  std::optional<Wrench> ideal_display;     ///< analytic ideal displayed wrench (N, N·m, tool origin)
+  std::optional<double> penetration_m;     ///< proxy penetration into the scene by the reference (m)
+  std::optional<bool> reference_contact;   ///< the reference says the ideal proxy is in contact
+};
+
+/// Nearest-rank percentiles of a sample, in the sample's unit.
+struct Percentiles {
+  double p50 = 0, p90 = 0, p99 = 0, p999 = 0, max = 0;
+  int64_t count = 0;
+};
+/// Percentiles of values (sorted copy); count 0 and zeros when empty.
+Percentiles percentiles_of(std::vector<int64_t> values);
+
+struct TimingMetrics {
+  int64_t ticks = 0;
+  Percentiles step_ns;                      ///< all ticks
+  int64_t over_budget = 0;                  ///< ticks whose step took longer than 1 ms
+  std::optional<Percentiles> free_space_step_ns;  ///< ticks without contact
+  std::optional<Percentiles> contact_step_ns;     ///< ticks with contact
+  // Slow loop of a multi-rate algorithm; empty without one.
+  std::optional<Percentiles> slow_update_ns;
+  std::optional<double> slow_loop_rate_hz;        ///< updates per second of virtual time
+  std::optional<double> slow_data_age_mean_ticks; ///< staleness of contact data seen by step()
+  std::optional<int64_t> slow_data_age_max_ticks;
+};
+
+struct AccuracyMetrics {
+  std::optional<double> force_err_rms_n;         ///< |F - F_ideal|, RMS over all ticks
+  std::optional<double> force_err_max_n;
+  std::optional<double> force_dir_err_rms_deg;   ///< angle(F, F_ideal) where both are >= 0.05 N
+  std::optional<double> force_dir_err_max_deg;
+  std::optional<double> torque_err_rms_nm;       ///< |tau - tau_ideal|, RMS over all ticks
+  std::optional<double> penetration_max_m;       ///< proxy penetration by the reference
+  std::optional<double> penetration_rms_m;       ///< RMS over ticks with penetration > 0
+  std::optional<int64_t> penetration_ticks;      ///< ticks with penetration > 0
+};
+
+struct StabilityMetrics {
+  int64_t nonfinite = 0;             ///< ticks whose wrench was non-finite (zeroed before display)
+  bool diverged = false;             ///< proxy left the device by more than the divergence distance
+  std::optional<int64_t> diverged_at_tick;
+  int64_t proxy_resets = 0;          ///< ticks the renderer reset a non-finite proxy
+  int64_t saturated_ticks = 0;       ///< ticks clipped to the device's force or torque limit
+  double max_proxy_separation_m = 0; ///< max |x_proxy - x_device| of the tool frames
+  double passivity_energy_min_j = 0; ///< min over time of E = sum (F_c·v_h + tau_c·w_h) dt
+  double passivity_energy_final_j = 0;
+  double force_jump_max_n = 0;       ///< max |F(k) - F(k-1)|
+  double force_hf_energy_fraction = 0;  ///< share of force signal energy above 100 Hz (no DC)
+};
+
+struct TransparencyMetrics {
+  int64_t free_space_ticks = 0;
+  std::optional<double> free_space_force_rms_n;  ///< displayed force in free space
+  std::optional<double> free_space_force_max_n;
+};
+
+struct ContactMetrics {
+  int64_t contact_ticks = 0;   ///< ticks with at least one reported contact
+  int64_t max_contacts = 0;
+  double mean_contacts = 0;    ///< over contact ticks
+  WorkCounters total_work;
+};
+
+struct RunMetrics {
+  TimingMetrics timing;
+  AccuracyMetrics accuracy;
+  StabilityMetrics stability;
+  TransparencyMetrics transparency;
+  ContactMetrics contacts;
+};
+
+struct MetricsSettings {
+  double divergence_distance_m = 0.1;  ///< proxy-device separation that counts as divergence
+};
+
+/// Accumulates ticks of one replay; finish() computes the metrics.
+class MetricsAccumulator {
+ public:
+  explicit MetricsAccumulator(MetricsSettings settings) : settings_(settings) {}
+  void add(const TickRecord& record, const TickEvaluation& evaluation);
+  RunMetrics finish() const;
+
+ private:
+  MetricsSettings settings_;
+  std::vector<int64_t> step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;
+  std::vector<Vec3> forces_;
+  int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
+  RunMetrics partial_;
+  double force_err_sq_ = 0, torque_err_sq_ = 0, dir_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
+  int64_t dir_err_count_ = 0, ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
+  int64_t contacts_sum_ = 0;
+  double energy_ = 0;
+  std::optional<Vec3> last_force_;
+};
+
+}  // namespace hb

@@ -1,0 +1,168 @@
+#include "harness/output/run_report.h"
+
+#include <sstream>
+
+namespace hb {
+
+using nlohmann::json;
+
+namespace {
+template <typename T>
+json or_null(const std::optional<T>& value) {
+  return value ? json(*value) : json(nullptr);
+}
+
+json percentiles_json(const Percentiles& p) {
+  return {{"p50", p.p50}, {"p90", p.p90}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max},
+          {"count", p.count}};
+}
+json percentiles_json(const std::optional<Percentiles>& p) {
+  return p ? percentiles_json(*p) : json(nullptr);
+}
+
+json work_json(const WorkCounters& w) {
+  return {{"points_tested", w.points_tested},
+          {"bv_tests", w.bv_tests},
+          {"ccd_queries", w.ccd_queries},
+          {"qp_iterations", w.qp_iterations},
+          {"solver_iterations", w.solver_iterations}};
+}
+
+json run_json(const AlgorithmRun& run) {
+  const RunMetrics& m = run.metrics;
+  json params = json::parse(run.params_json.empty() ? "{}" : run.params_json);
+  json budgets = json::array();
+  for (const BudgetVerdict& b : run.budgets) {
+    budgets.push_back({{"name", b.name},
+                       {"limit", b.limit},
+                       {"value", or_null(b.value)},
+                       {"pass", b.pass},
+                       {"lower_bound", budget_is_lower_bound(b.name)},
+                       {"message", b.message}});
+  }
+  json slow = nullptr;
+  if (m.timing.slow_update_ns) {
+    slow = {{"latency_ticks", run.slow_loop_latency},
+            {"update_ns", percentiles_json(m.timing.slow_update_ns)},
+            {"rate_hz", or_null(m.timing.slow_loop_rate_hz)},
+            {"data_age_mean_ticks", or_null(m.timing.slow_data_age_mean_ticks)},
+            {"data_age_max_ticks", or_null(m.timing.slow_data_age_max_ticks)}};
+  }
+  return {
+      {"algorithm", run.name},
+      {"label", run.label},
+      {"params", params},
+      {"ticks_file", run.ticks_file},
+      {"preprocess",
+       {{"seconds", run.preprocess.seconds},
+        {"memory_bytes", run.preprocess.memory_bytes},
+        {"cache_hit", run.preprocess.cache_hit}}},
+      {"timing",
+       {{"ticks", m.timing.ticks},
+        {"step_ns", percentiles_json(m.timing.step_ns)},
+        {"over_budget", m.timing.over_budget},
+        {"free_space_step_ns", percentiles_json(m.timing.free_space_step_ns)},
+        {"contact_step_ns", percentiles_json(m.timing.contact_step_ns)},
+        {"slow_loop", slow}}},
+      {"accuracy",
+       {{"reference", run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
+        {"reference_note", run.reference_note},
+        {"force_err_rms_n", or_null(m.accuracy.force_err_rms_n)},
+        {"force_err_max_n", or_null(m.accuracy.force_err_max_n)},
+        {"force_dir_err_rms_deg", or_null(m.accuracy.force_dir_err_rms_deg)},
+        {"force_dir_err_max_deg", or_null(m.accuracy.force_dir_err_max_deg)},
+        {"torque_err_rms_nm", or_null(m.accuracy.torque_err_rms_nm)},
+        {"penetration_max_m", or_null(m.accuracy.penetration_max_m)},
+        {"penetration_rms_m", or_null(m.accuracy.penetration_rms_m)},
+        {"penetration_ticks", or_null(m.accuracy.penetration_ticks)}}},
+      {"stability",
+       {{"nonfinite", m.stability.nonfinite},
+        {"diverged", m.stability.diverged},
+        {"diverged_at_tick", or_null(m.stability.diverged_at_tick)},
+        {"proxy_resets", m.stability.proxy_resets},
+        {"saturated_ticks", m.stability.saturated_ticks},
+        {"max_proxy_separation_m", m.stability.max_proxy_separation_m},
+        {"passivity_energy_min_j", m.stability.passivity_energy_min_j},
+        {"passivity_energy_final_j", m.stability.passivity_energy_final_j},
+        {"force_jump_max_n", m.stability.force_jump_max_n},
+        {"force_hf_energy_fraction", m.stability.force_hf_energy_fraction}}},
+      {"transparency",
+       {{"free_space_ticks", m.transparency.free_space_ticks},
+        {"free_space_force_rms_n", or_null(m.transparency.free_space_force_rms_n)},
+        {"free_space_force_max_n", or_null(m.transparency.free_space_force_max_n)}}},
+      {"contacts",
+       {{"contact_ticks", m.contacts.contact_ticks},
+        {"max_contacts", m.contacts.max_contacts},
+        {"mean_contacts", m.contacts.mean_contacts},
+        {"work", work_json(m.contacts.total_work)}}},
+      {"determinism", {{"ticks_hash", run.ticks_hash}}},
+      {"budgets", budgets},
+  };
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+bool ScenarioRun::all_budgets_pass() const {
+  for (const AlgorithmRun& run : runs)
+    for (const BudgetVerdict& b : run.budgets)
+      if (!b.pass) return false;
+  return true;
+}
+
+json summary_json(const ScenarioRun& run) {
+  json runs = json::array();
+  for (const AlgorithmRun& r : run.runs) runs.push_back(run_json(r));
+  return {{"schema_version", 1},
+          {"context",
+           {{"commit", run.context.commit},
+            {"build_type", run.context.build_type},
+            {"compiler", run.context.compiler},
+            {"cpu", run.context.cpu},
+            {"date", run.context.date},
+            {"hapticbench_version", run.context.hapticbench_version}}},
+          {"scenario",
+           {{"name", run.scenario_name},
+            {"path", run.scenario_path},
+            {"hash", run.scenario_hash},
+            {"trace", run.trace_description}}},
+          {"runs", runs}};
+}
+
+std::string junit_xml(const ScenarioRun& run) {
+  int tests = 0, failures = 0;
+  std::ostringstream cases;
+  for (const AlgorithmRun& r : run.runs) {
+    for (const BudgetVerdict& b : r.budgets) {
+      ++tests;
+      cases << "    <testcase classname=\"" << xml_escape(run.scenario_name + "." + r.label)
+            << "\" name=\"" << xml_escape(b.name) << "\">";
+      if (!b.pass) {
+        ++failures;
+        cases << "<failure message=\"" << xml_escape(b.message) << "\"/>";
+      }
+      cases << "</testcase>\n";
+    }
+  }
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<testsuites tests=\"" << tests << "\" failures=\"" << failures << "\">\n"
+      << "  <testsuite name=\"" << xml_escape(run.scenario_name) << "\" tests=\"" << tests
+      << "\" failures=\"" << failures << "\">\n"
+      << cases.str() << "  </testsuite>\n</testsuites>\n";
+  return out.str();
+}
+
+}  // namespace hb

@@ -1,0 +1,87 @@
+#include "harness/output/ticks_csv.h"
+
+#include <charconv>
+
+namespace hb {
+
+const std::string& ticks_csv_header() {
+  static const std::string header =
+      "tick,t_ns,dev_px,dev_py,dev_pz,dev_qw,dev_qx,dev_qy,dev_qz,"
+      "proxy_px,proxy_py,proxy_pz,proxy_qw,proxy_qx,proxy_qy,proxy_qz,"
+      "fx,fy,fz,tx,ty,tz,contacts,penetration_m,step_ns,flags,"
+      "ref_fx,ref_fy,ref_fz,ref_tx,ref_ty,ref_tz,slow_update_ns,slow_data_age_ticks";
+  return header;
+}
+
+namespace {
+// Shortest text that reads back to the same double: exact and compact.
+void append_number(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+void append_integer(std::string& out, int64_t value) {
+  char buffer[24];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+void append_vec3(std::string& out, const Vec3& v) {
+  for (int i = 0; i < 3; ++i) {
+    out += ',';
+    append_number(out, v[i]);
+  }
+}
+void append_pose(std::string& out, const Pose& pose) {
+  append_vec3(out, pose.p);
+  for (double c : {pose.q.w(), pose.q.x(), pose.q.y(), pose.q.z()}) {
+    out += ',';
+    append_number(out, c);
+  }
+}
+}  // namespace
+
+TicksCsvWriter::TicksCsvWriter() { text_ = ticks_csv_header() + "\n"; }
+
+void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluation) {
+  const DeviceSample& device = *record.device;
+  const TickResult& result = record.result;
+  // Deterministic part first, timings kept apart so the hash can skip them.
+  std::string head;
+  append_integer(head, device.tick);
+  head += ',';
+  append_integer(head, device.t_ns);
+  append_pose(head, device.pose);
+  append_pose(head, result.proxy);
+  append_vec3(head, result.display.force);
+  append_vec3(head, result.display.torque);
+  head += ',';
+  append_integer(head, static_cast<int64_t>(result.contacts.size()));
+  head += ',';
+  if (evaluation.penetration_m) append_number(head, *evaluation.penetration_m);
+
+  std::string tail;
+  tail += ',';
+  append_integer(tail, result.flags);
+  if (evaluation.ideal_display) {
+    append_vec3(tail, evaluation.ideal_display->force);
+    append_vec3(tail, evaluation.ideal_display->torque);
+  } else {
+    tail += ",,,,,,";
+  }
+  std::string slow_age;
+  slow_age += ',';
+  if (record.slow_data_age_ticks >= 0) append_integer(slow_age, record.slow_data_age_ticks);
+
+  hash_.add(head).add(tail).add(slow_age).add("\n");
+
+  text_ += head;
+  text_ += ',';
+  append_integer(text_, record.step_ns);
+  text_ += tail;
+  text_ += ',';
+  if (record.slow_started) append_integer(text_, record.slow_ns);
+  text_ += slow_age;
+  text_ += '\n';
+}
+
+}  // namespace hb

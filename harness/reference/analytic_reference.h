@@ -1,0 +1,115 @@
+// Closed-form ground truth for the scenes it covers: exactly one box in the
+// scene and a tool that is a sphere or a box. It answers two questions about
+// a pose: what a perfectly rigid, frictionless, quasi-static rendering would
+// display for a device pose (the ideal rendering every algorithm's force and
+// torque are compared against), and how deep a posed tool penetrates the box.
+// Units: m, N, N·m, rad, J. Poses: translation + unit quaternion, written in
+// the order qw,qx,qy,qz. All vectors are in the world frame unless a comment
+// says otherwise.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/core/shapes.h"
+
+namespace hb {
+
+/// A scene the closed forms cover: one scene object that is a primitive box,
+/// a tool that is a primitive sphere or box (each centred on its own frame),
+/// and no gravity.
+struct AnalyticScene {
+  Pose box_pose;                            ///< scene box frame (centred on the box) -> world
+  Vec3 box_half_extents = Vec3::Zero();     ///< m, along the box frame's axes
+  Shape tool_shape;                         ///< ShapeType::kSphere or ShapeType::kBox
+  Vec3 tool_centre_of_mass = Vec3::Zero();  ///< m, tool frame. Kept for callers that need
+                                            ///< torques about it; the frictionless
+                                            ///< quasi-static rendering without gravity
+                                            ///< does not depend on it.
+  CouplingGains coupling;  ///< only k_t (N/m) and k_r (N·m/rad) enter the quasi-static rendering
+};
+
+/// The analytic scene of a render context, or nullopt when the closed forms do
+/// not cover it: not exactly one scene object, a scene object that is not a
+/// primitive box, a tool that is a mesh or a capsule/box_with_hole, a
+/// non-positive size, non-zero gravity (the quasi-static rendering would then
+/// depend on each algorithm's own proxy mass), or a non-positive coupling
+/// stiffness. When nullopt is returned and reason_not_covered is given, it
+/// receives one sentence saying why.
+std::optional<AnalyticScene> make_analytic_scene(const RenderContext& context,
+                                                 std::string* reason_not_covered = nullptr);
+
+/// The ideal rigid-contact rendering of one device pose.
+struct IdealRendering {
+  /// Tool-frame pose of the ideal proxy: the pose minimising the coupling
+  /// spring energy ½ k_T |x_h − x_p|² + ½ k_R |θ(q_h q_p⁻¹)|² over poses where
+  /// the tool does not penetrate the box (see ideal_rigid_contact for the
+  /// exact feasible set).
+  Pose proxy;
+  /// What the device displays: −(spring part of the coupling) at the proxy,
+  /// force k_T (x_p − x_h) in N, torque −k_R θ(q_h q_p⁻¹) in N·m about the tool
+  /// frame's origin, world frame. No damping (quasi-static) and no device
+  /// saturation: a caller comparing with a saturated output applies the limits.
+  Wrench display;
+  /// True when the device pose penetrates the box, i.e. the constraint is active.
+  bool in_contact = false;
+  /// World frame, unit length, out of the box: for the sphere the direction
+  /// from the device's centre to the proxy's, for the box tool the normal of
+  /// the box face the proxy rests on. Zero when not in contact.
+  Vec3 contact_normal = Vec3::Zero();
+  /// exact_penetration_depth of the tool at the device pose (m, ≥ 0).
+  double device_penetration_m = 0;
+};
+
+/// The ideal rigid-contact rendering for a device pose (frictionless,
+/// quasi-static, massless proxy).
+///
+/// Sphere tool: exact. The proxy's centre is the device's sphere centre (the
+/// tool frame's origin) projected onto the closed region at distance ≥ r from
+/// the box (the outside of the box grown by the radius); its orientation is
+/// the device's, so the torque is zero. A centre inside the box leaves
+/// through the nearest face (the nearest point of the grown box's surface);
+/// near an edge or corner the proxy lies on the rounded part.
+///
+/// Box tool: the feasible set is restricted to poses where the tool lies
+/// wholly on the outer side of one of the box's six face planes (each face
+/// taken as a half-space boundary). The returned pose is the global minimiser
+/// of the energy over that set, computed exactly (to rounding): for each face,
+/// the optimal translation for a given orientation is closed-form, the
+/// orientation reduces to the face normal's direction u in tool coordinates
+/// (the nearest orientation with a given u is the minimal swing), and the
+/// minimum over u on the sphere is found among its stationary points on a
+/// great circle and on the three octant edges, each bracketed by sampling and
+/// narrowed by bisection to machine precision; the face with the lowest
+/// energy wins. This is the true rigid-contact optimum whenever the optimal
+/// proxy rests against one face of the box (vertex, edge or face of the tool
+/// on the face, anywhere over its plane); a tool resting on a box edge or
+/// corner, or touching two faces at once, is not covered, and the proxy
+/// returned then is feasible but may have a higher energy than the true
+/// optimum. Where the energy has several local minima (a tall tool pressed
+/// hard enough to tip over), the global one is returned, which a
+/// path-following proxy may not reach.
+IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& device);
+
+/// Exact penetration depth (m, ≥ 0) of the tool placed at tool_pose into the
+/// box: the length of the shortest translation that separates the tool from
+/// the box's interior (zero when they do not overlap).
+///
+/// Sphere: radius − signed distance of the centre to the box, clamped at 0.
+/// Box: the smallest overlap of the two boxes' projections over the 15
+/// separating-axis candidates (3 face normals of each box and the 9 edge-edge
+/// cross products); every facet normal of the boxes' Minkowski difference is
+/// among them, so this minimum is exactly the distance from the origin to that
+/// difference's boundary. Edge pairs closer than 1e-9 rad to parallel are
+/// skipped (their facets are then bounded by the face axes to within
+/// 1e-9 × size).
+///
+/// It is an upper bound on the depth of every tool point inside the box (a
+/// point at depth d needs a translation of at least d to leave), and equals
+/// the largest depth of a tool vertex below a face when the tool enters
+/// through that face alone and the vertex is nearer that face than any other.
+double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose);
+
+}  // namespace hb

@@ -1,0 +1,566 @@
+// Scenario JSON (DESIGN.md, "Formats -> Scenario JSON"): the keys read here
+// are a contract. Every rejection names the file, the JSON pointer and what
+// was expected; unknown keys are errors so that a typo never silently falls
+// back to a default. Quaternions are written [qw, qx, qy, qz].
+#include "harness/scenario/scenario.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+
+#include "algorithms/core/content_hash.h"
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/mass_properties.h"
+#include "algorithms/core/shapes.h"
+#include "algorithms/core/triangle_mesh.h"
+#include "algorithms/registry.h"
+#include "harness/mesh_io/mesh_io.h"
+#include "harness/scenario/input_error_context.h"
+#include "harness/scenario/json_fields.h"
+#include "harness/scenario/json_params.h"
+#include "harness/trace/generators.h"
+#include "harness/trace/trace.h"
+
+namespace hb {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr double kDefaultToolDensity = 1000;  // kg/m³, water
+constexpr double kUnitQuaternionTolerance = 1e-6;
+constexpr double kMaxTraceDurationS = 3600;
+constexpr double kTicksPerSecond = 1000;
+constexpr int64_t kMaxSubdivisions = 6;
+
+// Exact text of a double, so that hashes change whenever a value does.
+std::string exact_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// Short text of a double for messages.
+std::string short_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
+  return text;
+}
+
+// Names and labels become folder and file names (run folder, ticks_<label>.csv).
+bool is_file_name_safe(const std::string& name) {
+  if (name.empty() || name == "." || name == "..") return false;
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '.' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+const char* const kSafeNameExpected =
+    "expected a non-empty string of letters, digits, '_', '.' and '-'";
+
+std::string read_file_bytes(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw InputError(path, "", "cannot open scenario file (no such file)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open scenario file");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A shape's parameters as text: the shape's identity for caches.
+std::string shape_hash(const Shape& shape) {
+  ContentHash hash;
+  hash.add("shape ").add(shape_type_name(shape.type));
+  for (double value : {shape.size.x(), shape.size.y(), shape.size.z(), shape.radius, shape.length,
+                       shape.hole_size.x(), shape.hole_size.y()})
+    hash.add(" ").add(exact_text(value));
+  hash.add(" ").add(std::to_string(shape.subdivisions));
+  return hash.hex();
+}
+
+// Geometry of a scene object or of the tool: a mesh file or a primitive.
+struct Geometry {
+  TriangleMesh mesh;
+  std::optional<Shape> shape;
+  std::string content_hash;
+  std::string description;  // "box", "bunny.off"
+};
+
+// Loads and resolves one scenario file; one instance per load.
+class ScenarioReader {
+ public:
+  explicit ScenarioReader(std::string path) : path_(std::move(path)) {
+    directory_ = std::filesystem::path(path_).parent_path();
+  }
+
+  Scenario read() {
+    const std::string bytes = read_file_bytes(path_);
+    scenario_hash_.add(bytes);
+    const Json document = parse_json_document(bytes, path_);
+    const JsonField root(document, path_, "");
+    root.require_object("expected a JSON object with the scenario's keys");
+    root.reject_unknown_keys({"name", "description", "scene", "tool", "trace", "algorithms",
+                              "coupling", "device", "gravity", "reference", "budgets"});
+
+    Scenario scenario;
+    scenario.path = path_;
+    scenario.name = root.member("name", "the scenario's name").string(kSafeNameExpected);
+    if (!is_file_name_safe(scenario.name))
+      root.existing_member("name").fail(std::string(kSafeNameExpected) +
+                                        " (it names the run folder)");
+    if (root.has("description")) root.existing_member("description").string("expected a string");
+
+    // Cheap checks first, so that a typo is reported before meshes load.
+    scenario.algorithms = read_algorithms(
+        root.member("algorithms", "a non-empty array of {\"name\", \"label\", \"params\"}"));
+    if (root.has("reference"))
+      scenario.reference = read_reference(root.existing_member("reference"));
+    if (root.has("budgets")) scenario.budgets = read_budgets(root.existing_member("budgets"));
+    if (root.has("coupling"))
+      scenario.context.coupling = read_coupling(root.existing_member("coupling"));
+    if (root.has("device")) scenario.context.device = read_device(root.existing_member("device"));
+    if (root.has("gravity"))
+      scenario.context.gravity =
+          root.existing_member("gravity").vec3("expected [gx, gy, gz] in m/s², finite numbers");
+
+    const JsonField scene = root.member("scene", "a non-empty array of scene objects");
+    const std::size_t count = scene.array_size("expected a non-empty array of scene objects");
+    if (count == 0) scene.fail("expected a non-empty array of scene objects");
+    for (std::size_t i = 0; i < count; ++i)
+      scenario.context.scene.push_back(read_scene_object(scene.element(i), i));
+
+    scenario.context.tool =
+        read_tool(root.member("tool", "the tool: {\"shape\": ...} or {\"mesh\": ...}"));
+    read_trace(root.member("trace", "{\"generator\": ...} or {\"file\": ...}"), scenario);
+
+    scenario.content_hash = scenario_hash_.hex();
+    return scenario;
+  }
+
+ private:
+  // Paths in a scenario are relative to the scenario file.
+  std::string resolve(const std::string& relative) const {
+    const std::filesystem::path path(relative);
+    if (path.is_absolute() || directory_.empty()) return path.lexically_normal().string();
+    return (directory_ / path).lexically_normal().string();
+  }
+
+  // The file a field names, which must exist.
+  std::string existing_file(const JsonField& field, const std::string& what) const {
+    const std::string relative = field.string("expected the path of a " + what);
+    if (relative.empty()) field.fail("expected the path of a " + what);
+    const std::string path = resolve(relative);
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error))
+      field.fail_with(what + " \"" + relative + "\" not found (looked for " + path + ")");
+    return path;
+  }
+
+  Pose read_pose(const JsonField& field) const {
+    field.require_object("expected {\"p\": [x, y, z], \"q\": [qw, qx, qy, qz]}");
+    field.reject_unknown_keys({"p", "q"});
+    Pose pose;
+    if (field.has("p"))
+      pose.p = field.existing_member("p").vec3("expected [x, y, z] in metres, finite numbers");
+    if (field.has("q")) {
+      const JsonField q_field = field.existing_member("q");
+      const std::vector<double> q =
+          q_field.numbers(4, "expected a unit quaternion [qw, qx, qy, qz], finite numbers");
+      const Quat quat(q[0], q[1], q[2], q[3]);
+      const double norm = quat.norm();
+      if (std::abs(norm - 1) > kUnitQuaternionTolerance)
+        q_field.fail_with("not a unit quaternion (|q| = " + short_text(norm) +
+                          "); expected [qw, qx, qy, qz] with |q| = 1 within 1e-6");
+      pose.q = quat.normalized();
+    }
+    return pose;
+  }
+
+  Shape read_shape(const JsonField& field) const {
+    field.require_object(
+        "expected {\"type\": \"box\"|\"sphere\"|\"capsule\"|\"box_with_hole\", ...}");
+    const std::string type =
+        field.member("type", "\"box\", \"sphere\", \"capsule\" or \"box_with_hole\"")
+            .choice({"box", "sphere", "capsule", "box_with_hole"});
+    Shape shape;
+    const std::string size_expected = "expected [x, y, z] full extents in metres, each > 0";
+    auto read_size = [&] {
+      const JsonField size = field.member("size", "[x, y, z] full extents in metres");
+      shape.size = size.vec3(size_expected);
+      if (!(shape.size.array() > 0).all()) size.fail(size_expected);
+    };
+    auto read_radius = [&] {
+      shape.radius = field.member("radius", "a radius in metres, > 0")
+                         .positive_number("expected a positive radius (m)");
+    };
+    auto read_subdivisions = [&] {
+      if (field.has("subdivisions"))
+        shape.subdivisions = static_cast<int>(
+            field.existing_member("subdivisions")
+                .integer(0, kMaxSubdivisions, "expected a whole number in [0, 6]"));
+    };
+    if (type == "box") {
+      field.reject_unknown_keys({"type", "size"});
+      shape.type = ShapeType::kBox;
+      read_size();
+    } else if (type == "sphere") {
+      field.reject_unknown_keys({"type", "radius", "subdivisions"});
+      shape.type = ShapeType::kSphere;
+      read_radius();
+      read_subdivisions();
+    } else if (type == "capsule") {
+      field.reject_unknown_keys({"type", "radius", "length", "subdivisions"});
+      shape.type = ShapeType::kCapsule;
+      read_radius();
+      shape.length = field.member("length", "the axis segment's length in metres, >= 0")
+                         .non_negative_number("expected a length >= 0 (m)");
+      read_subdivisions();
+    } else {
+      field.reject_unknown_keys({"type", "size", "hole_size"});
+      shape.type = ShapeType::kBoxWithHole;
+      read_size();
+      const JsonField hole = field.member("hole_size", "[x, y] extents of the hole in metres");
+      const std::string hole_expected =
+          "expected [x, y] hole extents in metres, each > 0 and smaller than size x, y (" +
+          short_text(shape.size.x()) + ", " + short_text(shape.size.y()) + ")";
+      const std::vector<double> h = hole.numbers(2, hole_expected);
+      if (!(h[0] > 0 && h[1] > 0 && h[0] < shape.size.x() && h[1] < shape.size.y()))
+        hole.fail(hole_expected);
+      shape.hole_size = Vec3(h[0], h[1], 0);
+    }
+    return shape;
+  }
+
+  // `mesh` (+ `scale`) or `shape`, exactly one.
+  Geometry read_geometry(const JsonField& entry) {
+    const bool has_mesh = entry.has("mesh");
+    const bool has_shape = entry.has("shape");
+    if (has_mesh == has_shape)
+      entry.fail_with(has_mesh ? "give either \"mesh\" or \"shape\", not both"
+                               : "missing geometry; expected \"mesh\": FILE or \"shape\": {...}");
+    Geometry geometry;
+    if (has_shape) {
+      if (entry.has("scale"))
+        entry.existing_member("scale").fail_with(
+            "\"scale\" applies to a mesh file only; give the shape's size in metres");
+      const Shape shape = read_shape(entry.existing_member("shape"));
+      geometry.mesh = shape_mesh(shape);
+      geometry.shape = shape;
+      geometry.content_hash = shape_hash(shape);
+      geometry.description = shape_type_name(shape.type);
+      return geometry;
+    }
+    double scale = 1;
+    if (entry.has("scale"))
+      scale = entry.existing_member("scale").positive_number(
+          "expected a positive scale (metres per file unit)");
+    const JsonField mesh_field = entry.existing_member("mesh");
+    const std::string path = existing_file(mesh_field, "mesh file");
+    std::string file_hash;
+    try {
+      geometry.mesh = read_mesh_file(path, scale);
+      require_valid_mesh(geometry.mesh, path);
+      file_hash = file_content_hash(path);
+    } catch (const InputError& error) {
+      throw with_reference_note(error, path_, mesh_field.pointer());
+    }
+    scenario_hash_.add(file_hash);
+    geometry.content_hash =
+        ContentHash().add(file_hash).add(" scale ").add(exact_text(scale)).hex();
+    geometry.description = std::filesystem::path(path).filename().string();
+    return geometry;
+  }
+
+  SceneObject read_scene_object(const JsonField& entry, std::size_t index) {
+    entry.require_object("expected a scene object {\"mesh\"|\"shape\", \"pose\", \"name\"}");
+    entry.reject_unknown_keys({"name", "mesh", "scale", "shape", "pose"});
+    SceneObject object;
+    Geometry geometry = read_geometry(entry);
+    object.mesh = std::move(geometry.mesh);
+    object.shape = geometry.shape;
+    object.content_hash = geometry.content_hash;
+    object.name = geometry.shape ? "scene[" + std::to_string(index) + "]" : geometry.description;
+    if (entry.has("name")) {
+      const JsonField name = entry.existing_member("name");
+      object.name = name.string("expected a non-empty string");
+      if (object.name.empty()) name.fail("expected a non-empty string");
+    }
+    if (entry.has("pose")) object.pose = read_pose(entry.existing_member("pose"));
+    return object;
+  }
+
+  Mat3 read_inertia(const JsonField& field) const {
+    const std::string expected =
+        "expected [Ixx, Iyy, Izz] or a symmetric positive definite 3x3 matrix "
+        "[[...], [...], [...]] (kg·m², about the centre of mass)";
+    if (!field.json().is_array() || field.json().size() != 3) field.fail(expected);
+    Mat3 inertia = Mat3::Zero();
+    if (field.json()[0].is_array()) {
+      for (std::size_t row = 0; row < 3; ++row) {
+        const std::vector<double> values = field.element(row).numbers(3, expected);
+        for (std::size_t col = 0; col < 3; ++col)
+          inertia(static_cast<int>(row), static_cast<int>(col)) = values[col];
+      }
+    } else {
+      const Vec3 diagonal = field.vec3(expected);
+      inertia = diagonal.asDiagonal();
+    }
+    const double scale = inertia.cwiseAbs().maxCoeff();
+    if ((inertia - inertia.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
+      field.fail(expected + "; this one is not symmetric");
+    const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia).eigenvalues();
+    if (!(moments.minCoeff() > 0)) field.fail(expected + "; this one is not positive definite");
+    // Principal moments of a real body satisfy I1 + I2 >= I3.
+    if (moments(0) + moments(1) < moments(2) * (1 - 1e-9))
+      field.fail(expected + "; its principal moments violate I1 + I2 >= I3, no body has them");
+    return inertia;
+  }
+
+  Tool read_tool(const JsonField& entry) {
+    entry.require_object("expected the tool: {\"shape\"|\"mesh\", \"density\"|\"mass_kg\"}");
+    entry.reject_unknown_keys({"mesh", "scale", "shape", "density", "mass_kg", "inertia"});
+    Geometry geometry = read_geometry(entry);
+    const bool has_mass = entry.has("mass_kg");
+    if (has_mass && entry.has("density"))
+      entry.existing_member("density").fail_with(
+          "give either \"density\" or \"mass_kg\", not both");
+    if (entry.has("inertia") && !has_mass)
+      entry.existing_member("inertia").fail_with(
+          "an explicit \"inertia\" needs an explicit \"mass_kg\" beside it");
+
+    double density = kDefaultToolDensity;
+    if (entry.has("density"))
+      density =
+          entry.existing_member("density").positive_number("expected a positive number (kg/m³)");
+    Tool tool;
+    tool.mass = mass_properties_from_density(geometry.mesh, density);
+    if (!(tool.mass.mass_kg > 0) || !std::isfinite(tool.mass.mass_kg))
+      entry.fail_with("the tool's geometry encloses no volume, so it has no mass");
+    ContentHash hash;
+    hash.add(geometry.content_hash);
+    if (has_mass) {
+      // Same distribution of mass, scaled to the given total.
+      const double mass_kg =
+          entry.existing_member("mass_kg").positive_number("expected a positive mass (kg)");
+      tool.mass.inertia_about_com *= mass_kg / tool.mass.mass_kg;
+      tool.mass.mass_kg = mass_kg;
+      hash.add(" mass_kg ").add(exact_text(mass_kg));
+      if (entry.has("inertia")) {
+        tool.mass.inertia_about_com = read_inertia(entry.existing_member("inertia"));
+        for (int i = 0; i < 9; ++i) hash.add(" ").add(exact_text(tool.mass.inertia_about_com(i)));
+      }
+    } else {
+      hash.add(" density ").add(exact_text(density));
+    }
+    tool.mesh = std::move(geometry.mesh);
+    tool.shape = geometry.shape;
+    tool.content_hash = hash.hex();
+    return tool;
+  }
+
+  CouplingGains read_coupling(const JsonField& field) const {
+    field.require_object("expected {\"k_t\", \"b_t\", \"k_r\", \"b_r\"}");
+    field.reject_unknown_keys({"k_t", "b_t", "k_r", "b_r"});
+    CouplingGains gains;
+    if (field.has("k_t"))
+      gains.k_t = field.existing_member("k_t").positive_number("expected a positive number (N/m)");
+    if (field.has("b_t"))
+      gains.b_t =
+          field.existing_member("b_t").non_negative_number("expected a number >= 0 (N·s/m)");
+    if (field.has("k_r"))
+      gains.k_r =
+          field.existing_member("k_r").positive_number("expected a positive number (N·m/rad)");
+    if (field.has("b_r"))
+      gains.b_r =
+          field.existing_member("b_r").non_negative_number("expected a number >= 0 (N·m·s/rad)");
+    return gains;
+  }
+
+  DeviceLimits read_device(const JsonField& field) const {
+    field.require_object("expected {\"max_force_n\", \"max_torque_nm\"}");
+    field.reject_unknown_keys({"max_force_n", "max_torque_nm"});
+    DeviceLimits limits;
+    if (field.has("max_force_n"))
+      limits.max_force_n =
+          field.existing_member("max_force_n").positive_number("expected a positive force (N)");
+    if (field.has("max_torque_nm"))
+      limits.max_torque_nm = field.existing_member("max_torque_nm")
+                                 .positive_number("expected a positive torque (N·m)");
+    return limits;
+  }
+
+  // Whole ticks of the 1 kHz clock in a duration.
+  int64_t read_duration_ticks(const JsonField& field) const {
+    const std::string expected = "expected a duration in [0.001, 3600] s";
+    const double seconds = field.number(expected);
+    if (!(seconds >= 1 / kTicksPerSecond && seconds <= kMaxTraceDurationS)) field.fail(expected);
+    return std::llround(seconds * kTicksPerSecond);
+  }
+
+  void read_trace(const JsonField& field, Scenario& scenario) {
+    field.require_object("expected {\"generator\": NAME, ...} or {\"file\": PATH, ...}");
+    const bool has_file = field.has("file");
+    if (has_file == field.has("generator"))
+      field.fail_with(has_file ? "give either \"file\" or \"generator\", not both"
+                               : "missing; expected \"generator\": NAME or \"file\": PATH");
+    if (has_file) {
+      field.reject_unknown_keys({"file", "format", "duration_s"});
+      const JsonField file_field = field.existing_member("file");
+      const std::string path = existing_file(file_field, "trace file");
+      const std::string extension = std::filesystem::path(path).extension().string();
+      std::string format = extension == ".tum" || extension == ".txt" ? "tum" : "csv";
+      if (field.has("format")) format = field.existing_member("format").choice({"csv", "tum"});
+      const int64_t ticks =
+          field.has("duration_s") ? read_duration_ticks(field.existing_member("duration_s")) : 0;
+      try {
+        const Trace trace = read_trace_file(
+            path, format == "tum" ? TraceFileFormat::kTum : TraceFileFormat::kHapticbenchCsv);
+        scenario.device_samples = resample_to_ticks(trace, ticks);
+        scenario_hash_.add(file_content_hash(path));
+      } catch (const InputError& error) {
+        throw with_reference_note(error, path_, file_field.pointer());
+      }
+      scenario.trace_description = "file " + path + " (" + format + ")";
+    } else {
+      field.reject_unknown_keys({"generator", "duration_s", "seed", "params"});
+      const JsonField name_field = field.existing_member("generator");
+      const std::string name = name_field.string("expected a generator name");
+      GeneratorRequest request;
+      const int64_t ticks = read_duration_ticks(
+          field.member("duration_s", "the trace's length in seconds, in [0.001, 3600]"));
+      request.duration_s = static_cast<double>(ticks) / kTicksPerSecond;
+      if (field.has("seed"))
+        request.seed = static_cast<uint64_t>(field.existing_member("seed").integer(
+            0, std::numeric_limits<int64_t>::max(), "expected a whole number >= 0"));
+      request.params = ParamSet("/trace/params");
+      if (field.has("params"))
+        request.params =
+            param_set_from_json(field.existing_member("params").json(), "/trace/params", path_);
+      try {
+        const Trace trace = generate_trace(name, request, name_field.pointer());
+        scenario.device_samples = resample_to_ticks(trace, ticks);
+      } catch (const InputError& error) {
+        throw with_default_source(error, path_);
+      }
+      scenario.trace_description =
+          "generator " + name + " (seed " + std::to_string(request.seed) + ")";
+    }
+    if (scenario.device_samples.empty())
+      field.fail_with("the trace gives no samples on the 1 kHz clock");
+  }
+
+  std::vector<AlgorithmSpec> read_algorithms(const JsonField& field) const {
+    const std::string expected = "expected a non-empty array of {\"name\", \"label\", \"params\"}";
+    const std::size_t count = field.array_size(expected);
+    if (count == 0) field.fail(expected);
+    std::string known;
+    for (const AlgorithmEntry& entry : algorithm_table())
+      known += (known.empty() ? "" : ", ") + std::string(entry.name);
+
+    std::vector<AlgorithmSpec> specs;
+    std::map<std::string, std::string> label_owner;  // label -> JSON pointer of its entry
+    for (std::size_t i = 0; i < count; ++i) {
+      const JsonField entry = field.element(i);
+      entry.require_object("expected {\"name\", \"label\", \"params\"}");
+      entry.reject_unknown_keys({"name", "label", "params"});
+      AlgorithmSpec spec;
+      const JsonField name = entry.member("name", "an algorithm name (known: " + known + ")");
+      spec.name = name.string("expected an algorithm name (known: " + known + ")");
+      bool registered = false;
+      for (const AlgorithmEntry& row : algorithm_table()) registered |= row.name == spec.name;
+      if (!registered)
+        name.fail_with("unknown algorithm \"" + spec.name + "\" (known: " + known + ")");
+
+      spec.label = spec.name;
+      std::string label_pointer = name.pointer();
+      if (entry.has("label")) {
+        const JsonField label = entry.existing_member("label");
+        spec.label = label.string(kSafeNameExpected);
+        if (!is_file_name_safe(spec.label))
+          label.fail(std::string(kSafeNameExpected) + " (it names output files)");
+        label_pointer = label.pointer();
+      }
+      const auto [owner, inserted] = label_owner.emplace(spec.label, entry.pointer());
+      if (!inserted)
+        throw InputError(path_, label_pointer,
+                         "duplicate label \"" + spec.label + "\" (also used by " + owner->second +
+                             "); give each entry a distinct \"label\"");
+
+      const std::string prefix = entry.pointer() + "/params";
+      spec.params = ParamSet(prefix);
+      spec.params_json = "{}";
+      if (entry.has("params")) {
+        const Json& params = entry.existing_member("params").json();
+        spec.params = param_set_from_json(params, prefix, path_);
+        spec.params_json = params.dump();
+      }
+      specs.push_back(std::move(spec));
+    }
+    return specs;
+  }
+
+  ReferenceSpec read_reference(const JsonField& field) const {
+    field.require_object("expected {\"oracle\", \"exact_every\", \"analytic\"}");
+    field.reject_unknown_keys({"oracle", "exact_every", "analytic"});
+    ReferenceSpec reference;
+    if (field.has("oracle"))
+      reference.oracle = field.existing_member("oracle").choice({"none", "embree", "cgal", "both"});
+    if (field.has("exact_every"))
+      reference.exact_every = field.existing_member("exact_every")
+                                  .integer(1, std::numeric_limits<int64_t>::max(),
+                                           "expected a whole number of ticks >= 1");
+    if (field.has("analytic"))
+      reference.analytic = field.existing_member("analytic").choice({"auto", "none"});
+    return reference;
+  }
+
+  std::vector<Budget> read_budgets(const JsonField& field) const {
+    field.require_object("expected an object {budget name: limit}");
+    const std::vector<std::string>& names = known_budget_names();
+    field.reject_unknown_keys(std::vector<std::string_view>(names.begin(), names.end()), "budget");
+    std::vector<Budget> budgets;
+    for (const auto& item : field.json().items()) {
+      const double limit =
+          field.existing_member(item.key()).number("expected the budget's limit, a finite number");
+      budgets.push_back({item.key(), limit});
+    }
+    return budgets;
+  }
+
+  std::string path_;
+  std::filesystem::path directory_;
+  ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
+};
+
+}  // namespace
+
+const std::vector<std::string>& known_budget_names() {
+  static const std::vector<std::string> names = {"tick_p50_us",
+                                                 "tick_p99_us",
+                                                 "tick_p999_us",
+                                                 "tick_max_us",
+                                                 "over_budget_ticks",
+                                                 "max_penetration_m",
+                                                 "penetration_rms_m",
+                                                 "force_err_rms_n",
+                                                 "force_dir_err_deg",
+                                                 "torque_err_rms_nm",
+                                                 "nonfinite",
+                                                 "force_jump_max_n",
+                                                 "free_space_force_max_n",
+                                                 "passivity_energy_min_j",
+                                                 "diverged"};
+  return names;
+}
+
+Scenario load_scenario(const std::string& path) { return ScenarioReader(path).read(); }
+
+}  // namespace hb

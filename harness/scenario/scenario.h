@@ -1,0 +1,56 @@
+// A scenario: scene, tool, device trace, algorithms to run, ground truth to
+// use and budgets to meet, loaded and validated from JSON (DESIGN.md keys).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/param_set.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/proxy/renderer.h"
+
+namespace hb {
+
+struct AlgorithmSpec {
+  std::string name;         ///< registry name
+  std::string label;        ///< unique in the scenario; defaults to name
+  ParamSet params;          ///< prefix "/algorithms/<i>/params"
+  std::string params_json;  ///< the params object as written (compact JSON), for summaries
+};
+
+struct ReferenceSpec {
+  std::string oracle = "none";    ///< none, embree, cgal, both
+  int64_t exact_every = 10;       ///< CGAL evaluation period in ticks
+  std::string analytic = "auto";  ///< auto or none
+};
+
+/// A budget a run must meet, e.g. {"tick_p99_us", 1000}.
+struct Budget {
+  std::string name;
+  double limit = 0;
+};
+
+struct Scenario {
+  std::string name;
+  std::string path;          ///< the file it came from
+  std::string content_hash;  ///< hash of the file bytes and of every file it names
+  RenderContext context;     ///< scene, tool (with mass properties), coupling, device, gravity
+  std::vector<DeviceSample> device_samples;  ///< the trace on the 1 kHz clock
+  std::string trace_description;             ///< "generator press (seed 1)" or the trace file path
+  std::vector<AlgorithmSpec> algorithms;
+  ReferenceSpec reference;
+  std::vector<Budget> budgets;
+};
+
+/// Budget names a scenario may use.
+const std::vector<std::string>& known_budget_names();
+
+/// Loads, validates and resolves a scenario file: meshes loaded and
+/// validated, shapes meshed, mass properties computed, the trace read or
+/// generated and resampled to 1 kHz. Throws InputError naming the file, the
+/// JSON path of the field (e.g. "/tool/density") and what was expected.
+Scenario load_scenario(const std::string& path);
+
+}  // namespace hb

@@ -1,0 +1,35 @@
+// Synthetic device trajectories, deterministic by seed, in a visible table.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "algorithms/core/param_set.h"
+#include "harness/trace/trace.h"
+
+namespace hb {
+
+struct GeneratorRequest {
+  double duration_s = 1.0;  ///< length of the trace (s), > 0
+  uint64_t seed = 1;        ///< random generators use only this seed
+  ParamSet params;          ///< generator-specific; unknown keys are rejected
+};
+
+struct GeneratorEntry {
+  std::string_view name;     ///< used in a scenario's trace.generator
+  std::string_view summary;  ///< one line for `hapticbench list`
+  Trace (*generate)(const GeneratorRequest& request);
+};
+
+/// Every generator: press, slide, rub, twist, peg_in_hole, human_like,
+/// impact, jump, rest.
+std::span<const GeneratorEntry> generator_table();
+
+/// Looks a generator up and runs it; throws InputError naming `field` for
+/// an unknown name or bad parameters. Samples are at 1 kHz with twists.
+Trace generate_trace(const std::string& name, const GeneratorRequest& request,
+                     const std::string& field);
+
+}  // namespace hb

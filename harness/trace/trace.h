@@ -1,0 +1,57 @@
+// Device trajectories: samples of the device's tool-frame pose over time,
+// as read from CSV, imported from TUM, or made by a generator, and the
+// resampling of any of them onto the 1 kHz clock.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/proxy/renderer.h"
+
+namespace hb {
+
+/// One recorded device pose. t_ns: time since the trace's start (ns).
+struct TraceSample {
+  int64_t t_ns = 0;
+  Pose pose;                    ///< tool frame in the world, m, qw,qx,qy,qz
+  std::optional<Twist> twist;   ///< world frame; absent when the source has no velocity
+};
+
+/// Sidecar metadata (`<name>.json` beside `<name>.csv`).
+struct TraceInfo {
+  std::string source = "unknown";  ///< "generator:press", "recorded", "tum:<file>", ...
+  std::string frame = "world";
+  std::string units = "m, s, rad";
+  double rate_hz = 1000;
+  std::string content_hash;        ///< hash of the CSV bytes (hex)
+};
+
+struct Trace {
+  std::vector<TraceSample> samples;  ///< strictly increasing t_ns
+  TraceInfo info;
+};
+
+enum class TraceFileFormat {
+  kHapticbenchCsv,  ///< header t_ns,px,py,pz,qw,qx,qy,qz[,vx,vy,vz,wx,wy,wz]
+  kTum,             ///< "t tx ty tz qx qy qz qw" per line, t in seconds, '#' comments
+};
+
+/// Reads a trace file. Throws InputError naming the file and line for a
+/// malformed row, a non-finite value, a non-unit quaternion (|q| off 1 by
+/// more than 1e-3; otherwise renormalised) or non-increasing timestamps.
+Trace read_trace_file(const std::string& path, TraceFileFormat format);
+
+/// Writes `<path>` (hapticbench CSV, full double precision) and the JSON
+/// sidecar beside it (same stem, .json). Writes to temporary names first.
+void write_trace_file(const std::string& path, const Trace& trace);
+
+/// Resamples onto the 1 kHz clock from t = 0 to the last sample: linear in
+/// position, slerp in orientation. Twists are interpolated when present,
+/// otherwise estimated by central differences of the resampled poses.
+/// duration_ticks: number of ticks wanted (0 = as many as the trace covers).
+std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration_ticks = 0);
+
+}  // namespace hb

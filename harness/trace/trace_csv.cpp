@@ -1,0 +1,399 @@
+// Reading and writing device traces: the hapticbench CSV with its JSON
+// sidecar, and import of the TUM trajectory format. Every malformed input
+// is an InputError naming the file, the line and what was expected.
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <system_error>
+
+#include "algorithms/core/content_hash.h"
+#include "algorithms/core/input_error.h"
+#include "harness/trace/trace.h"
+
+namespace hb {
+
+namespace {
+
+constexpr std::string_view kPoseHeader = "t_ns,px,py,pz,qw,qx,qy,qz";
+constexpr std::string_view kPoseTwistHeader = "t_ns,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+constexpr std::string_view kColumnNames[] = {"t_ns", "px", "py", "pz", "qw", "qx", "qy",
+                                             "qz",   "vx", "vy", "vz", "wx", "wy", "wz"};
+constexpr std::string_view kTumColumnNames[] = {"t", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+
+/// A quaternion whose norm is further than this from 1 is rejected as a
+/// corrupt row rather than silently fixed.
+constexpr double kUnitQuaternionTolerance = 1e-3;
+/// Below this a quaternion is already unit to working precision and is kept
+/// bit for bit, so that writing and reading a trace returns the same doubles.
+constexpr double kAlreadyUnitTolerance = 1e-14;
+
+std::string line_location(int64_t line) { return "line " + std::to_string(line); }
+
+std::string in_quotes(std::string_view text) {
+  std::string out;
+  out.reserve(text.size() + 2);
+  out += '"';
+  out += text;
+  out += '"';
+  return out;
+}
+
+std::string_view trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t");
+  return text.substr(first, last - first + 1);
+}
+
+std::string read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open the trace file for reading");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Splits file bytes into lines; a trailing '\r' (files written on Windows)
+/// is dropped from each.
+std::vector<std::string_view> split_lines(std::string_view bytes) {
+  std::vector<std::string_view> lines;
+  std::size_t start = 0;
+  while (start < bytes.size()) {
+    std::size_t end = bytes.find('\n', start);
+    if (end == std::string_view::npos) end = bytes.size();
+    std::string_view line = bytes.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    start = end + 1;
+  }
+  return lines;
+}
+
+/// Reads the rows of one file and reports errors at the current line.
+class RowParser {
+ public:
+  explicit RowParser(const std::string& path) : path_(path) {}
+
+  void set_line(int64_t line) { line_ = line; }
+  int64_t line() const { return line_; }
+
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(path_, line_location(line_), message);
+  }
+
+  double finite_number(std::string_view field, std::string_view column) const {
+    field = trim(field);
+    double value = 0;
+    const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+    if (error != std::errc() || end != field.data() + field.size() || field.empty())
+      fail("expected a number in column " + std::string(column) + ", found " + in_quotes(field));
+    if (!std::isfinite(value))
+      fail("expected a finite number in column " + std::string(column) + ", found " +
+           in_quotes(field));
+    return value;
+  }
+
+  int64_t integer_ns(std::string_view field, std::string_view column) const {
+    field = trim(field);
+    int64_t value = 0;
+    const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+    if (error != std::errc() || end != field.data() + field.size() || field.empty())
+      fail("expected a whole number of nanoseconds in column " + std::string(column) +
+           ", found " + in_quotes(field));
+    return value;
+  }
+
+  /// Checks |q| is within kUnitQuaternionTolerance of 1 and renormalises.
+  Quat unit_quaternion(double w, double x, double y, double z) const {
+    Quat q(w, x, y, z);
+    const double norm = q.norm();
+    if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
+      std::ostringstream found;
+      found.precision(17);
+      found << norm;
+      fail("expected a unit quaternion qw,qx,qy,qz (|q| within 1e-3 of 1), found |q| = " +
+           found.str());
+    }
+    if (std::abs(norm - 1.0) > kAlreadyUnitTolerance) q.coeffs() /= norm;
+    return q;
+  }
+
+  void check_increasing(const std::vector<TraceSample>& samples, int64_t t_ns) const {
+    if (!samples.empty() && t_ns <= samples.back().t_ns)
+      fail("expected t_ns to increase strictly from row to row, found " + std::to_string(t_ns) +
+           " after " + std::to_string(samples.back().t_ns));
+  }
+
+  void check_enough_samples(const std::vector<TraceSample>& samples) const {
+    if (samples.size() < 2)
+      fail("expected at least 2 samples, found " + std::to_string(samples.size()));
+  }
+
+ private:
+  const std::string& path_;
+  int64_t line_ = 0;
+};
+
+std::vector<std::string_view> split(std::string_view line, char separator) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(separator, start);
+    if (end == std::string_view::npos) {
+      fields.push_back(line.substr(start));
+      return fields;
+    }
+    fields.push_back(line.substr(start, end - start));
+    start = end + 1;
+  }
+}
+
+std::vector<std::string_view> split_whitespace(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = line.find_first_not_of(" \t");
+  while (start != std::string_view::npos) {
+    std::size_t end = line.find_first_of(" \t", start);
+    if (end == std::string_view::npos) end = line.size();
+    fields.push_back(line.substr(start, end - start));
+    start = line.find_first_not_of(" \t", end);
+  }
+  return fields;
+}
+
+/// Average sampling rate (Hz) of strictly increasing samples.
+double average_rate_hz(const std::vector<TraceSample>& samples) {
+  const double span_ns = static_cast<double>(samples.back().t_ns - samples.front().t_ns);
+  return static_cast<double>(samples.size() - 1) * 1e9 / span_ns;
+}
+
+std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::string_view bytes) {
+  const std::vector<std::string_view> lines = split_lines(bytes);
+  RowParser parser(path);
+  parser.set_line(1);
+  const std::string expected_header = "expected the header " + in_quotes(kPoseHeader) + " or " +
+                                      in_quotes(kPoseTwistHeader);
+  if (lines.empty()) parser.fail(expected_header + ", found an empty file");
+  const std::string_view header = trim(lines[0]);
+  if (header != kPoseHeader && header != kPoseTwistHeader)
+    parser.fail(expected_header + ", found " + in_quotes(header));
+  const bool has_twist = header == kPoseTwistHeader;
+  const std::size_t columns = has_twist ? 14 : 8;
+
+  std::vector<TraceSample> samples;
+  samples.reserve(lines.size());
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    parser.set_line(static_cast<int64_t>(i) + 1);
+    if (trim(lines[i]).empty()) continue;
+    const std::vector<std::string_view> fields = split(lines[i], ',');
+    if (fields.size() != columns)
+      parser.fail("expected " + std::to_string(columns) + " comma-separated values (" +
+                  std::string(header) + "), found " + std::to_string(fields.size()));
+    TraceSample sample;
+    sample.t_ns = parser.integer_ns(fields[0], kColumnNames[0]);
+    double value[14];
+    for (std::size_t c = 1; c < columns; ++c)
+      value[c] = parser.finite_number(fields[c], kColumnNames[c]);
+    parser.check_increasing(samples, sample.t_ns);
+    sample.pose.p = Vec3(value[1], value[2], value[3]);
+    sample.pose.q = parser.unit_quaternion(value[4], value[5], value[6], value[7]);
+    if (has_twist) sample.twist = Twist{Vec3(value[8], value[9], value[10]),
+                                        Vec3(value[11], value[12], value[13])};
+    samples.push_back(sample);
+  }
+  parser.set_line(static_cast<int64_t>(lines.size()) + 1);
+  parser.check_enough_samples(samples);
+  return samples;
+}
+
+std::vector<TraceSample> parse_tum(const std::string& path, std::string_view bytes) {
+  const std::vector<std::string_view> lines = split_lines(bytes);
+  RowParser parser(path);
+  std::vector<TraceSample> samples;
+  samples.reserve(lines.size());
+  double t0_s = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    parser.set_line(static_cast<int64_t>(i) + 1);
+    const std::string_view line = trim(lines[i]);
+    if (line.empty() || line.front() == '#') continue;
+    const std::vector<std::string_view> fields = split_whitespace(line);
+    if (fields.size() != 8)
+      parser.fail("expected 8 whitespace-separated values \"t tx ty tz qx qy qz qw\", found " +
+                  std::to_string(fields.size()));
+    double value[8];
+    for (std::size_t c = 0; c < 8; ++c) value[c] = parser.finite_number(fields[c], kTumColumnNames[c]);
+    if (samples.empty()) t0_s = value[0];
+    TraceSample sample;
+    sample.t_ns = std::llround((value[0] - t0_s) * 1e9);
+    parser.check_increasing(samples, sample.t_ns);
+    sample.pose.p = Vec3(value[1], value[2], value[3]);
+    sample.pose.q = parser.unit_quaternion(value[7], value[4], value[5], value[6]);
+    samples.push_back(sample);
+  }
+  parser.set_line(static_cast<int64_t>(lines.size()) + 1);
+  parser.check_enough_samples(samples);
+  return samples;
+}
+
+std::string sidecar_path(const std::string& trace_path) {
+  return std::filesystem::path(trace_path).replace_extension(".json").string();
+}
+
+/// Reads the sidecar's metadata into info and checks that its hash is the
+/// hash of the trace bytes: a stale sidecar describes another trace.
+void read_sidecar(const std::string& path, const std::string& trace_path, TraceInfo& info) {
+  const std::string bytes = read_file_bytes(path);
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(bytes);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw InputError(path, "", std::string("expected a JSON object: ") + error.what());
+  }
+  if (!json.is_object()) throw InputError(path, "", "expected a JSON object");
+  auto text = [&](const char* key, std::string& out) {
+    if (!json.contains(key)) return;
+    if (!json[key].is_string()) throw InputError(path, std::string("/") + key, "expected a string");
+    out = json[key].get<std::string>();
+  };
+  text("source", info.source);
+  text("frame", info.frame);
+  text("units", info.units);
+  if (json.contains("rate_hz")) {
+    const auto& rate = json["rate_hz"];
+    if (!rate.is_number() || !(rate.get<double>() > 0))
+      throw InputError(path, "/rate_hz", "expected a positive number (Hz)");
+    info.rate_hz = rate.get<double>();
+  }
+  if (!json.contains("content_hash") || !json["content_hash"].is_string())
+    throw InputError(path, "/content_hash", "expected the hex hash of " + trace_path);
+  const std::string recorded = json["content_hash"].get<std::string>();
+  if (recorded != info.content_hash)
+    throw InputError(path, "/content_hash",
+                     "expected " + in_quotes(info.content_hash) + ", the hash of " + trace_path +
+                         ", found " + in_quotes(recorded) +
+                         ": the sidecar is stale (regenerate it or delete it)");
+}
+
+void append_double(std::string& out, double value) {
+  char text[32];
+  const int length = std::snprintf(text, sizeof text, "%.17g", value);
+  out.append(text, static_cast<std::size_t>(length));
+}
+
+std::string format_csv(const Trace& trace, bool with_twist) {
+  std::string out(with_twist ? kPoseTwistHeader : kPoseHeader);
+  out += '\n';
+  out.reserve(trace.samples.size() * (with_twist ? 300 : 170));
+  for (const TraceSample& sample : trace.samples) {
+    out += std::to_string(sample.t_ns);
+    const Pose& pose = sample.pose;
+    double values[13] = {pose.p.x(), pose.p.y(), pose.p.z(), pose.q.w(), pose.q.x(),
+                         pose.q.y(), pose.q.z(), 0,          0,          0,
+                         0,          0,          0};
+    if (with_twist) {
+      for (int i = 0; i < 3; ++i) {
+        values[7 + i] = sample.twist->v[i];
+        values[10 + i] = sample.twist->w[i];
+      }
+    }
+    const int count = with_twist ? 13 : 7;
+    for (int i = 0; i < count; ++i) {
+      out += ',';
+      append_double(out, values[i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+/// Writes bytes to `<path>.tmp`; the caller renames it into place.
+std::string write_temporary(const std::string& path, const std::string& bytes) {
+  const std::string temporary = path + ".tmp";
+  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(path, "", "cannot open " + temporary + " for writing");
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) {
+    std::filesystem::remove(temporary);
+    throw InputError(path, "", "cannot write " + temporary);
+  }
+  return temporary;
+}
+
+void rename_into_place(const std::string& temporary, const std::string& path) {
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary);
+    throw InputError(path, "", "cannot rename " + temporary + ": " + error.message());
+  }
+}
+
+}  // namespace
+
+Trace read_trace_file(const std::string& path, TraceFileFormat format) {
+  const std::string bytes = read_file_bytes(path);
+  Trace trace;
+  trace.info.content_hash = ContentHash().add(bytes).hex();
+  if (format == TraceFileFormat::kTum) {
+    trace.samples = parse_tum(path, bytes);
+    trace.info.source = "tum:" + path;
+    trace.info.rate_hz = average_rate_hz(trace.samples);
+    return trace;
+  }
+  trace.samples = parse_hapticbench_csv(path, bytes);
+  trace.info.source = "csv:" + path;
+  trace.info.rate_hz = average_rate_hz(trace.samples);
+  const std::string sidecar = sidecar_path(path);
+  if (std::filesystem::exists(sidecar)) read_sidecar(sidecar, path, trace.info);
+  return trace;
+}
+
+void write_trace_file(const std::string& path, const Trace& trace) {
+  const auto& samples = trace.samples;
+  if (samples.size() < 2) throw std::invalid_argument("write_trace_file: fewer than 2 samples");
+  std::size_t with_twist = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (samples[i].twist) ++with_twist;
+    if (i > 0 && samples[i].t_ns <= samples[i - 1].t_ns)
+      throw std::invalid_argument("write_trace_file: t_ns not strictly increasing");
+  }
+  if (with_twist != 0 && with_twist != samples.size())
+    throw std::invalid_argument("write_trace_file: twists on some samples only");
+
+  const std::string csv = format_csv(trace, with_twist != 0);
+  nlohmann::ordered_json sidecar;
+  sidecar["units"] = trace.info.units;
+  sidecar["frame"] = trace.info.frame;
+  sidecar["rate_hz"] = trace.info.rate_hz;
+  sidecar["source"] = trace.info.source;
+  sidecar["content_hash"] = ContentHash().add(csv).hex();
+  sidecar["samples"] = samples.size();
+  sidecar["duration_s"] = static_cast<double>(samples.back().t_ns - samples.front().t_ns) * 1e-9;
+
+  const std::string json_path = sidecar_path(path);
+  const std::string csv_temporary = write_temporary(path, csv);
+  std::string json_temporary;
+  try {
+    json_temporary = write_temporary(json_path, sidecar.dump(2) + "\n");
+  } catch (...) {
+    std::filesystem::remove(csv_temporary);
+    throw;
+  }
+  // A crash between the two renames leaves a sidecar whose hash does not
+  // match the CSV, which read_trace_file reports: never a silent mismatch.
+  try {
+    rename_into_place(csv_temporary, path);
+  } catch (...) {
+    std::filesystem::remove(json_temporary);
+    throw;
+  }
+  rename_into_place(json_temporary, json_path);
+}
+
+}  // namespace hb

@@ -1,0 +1,73 @@
+#include "algorithms/proxy/penalty_contact.h"
+
+#include <catch2/catch.hpp>
+
+#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+
+namespace hb {
+namespace {
+
+TEST_CASE("penalty contact pushes along the normal by k d minus normal damping", "[penalty]") {
+  ContactPlane plane;
+  plane.tool_point = Vec3(0.01, 0.02, -0.03);
+  plane.plane_point = Vec3(0, 0, 0.1);
+  plane.normal = Vec3(0, 0.6, 0.8);
+  RigidBodyState state;
+  state.q = Quat(Eigen::AngleAxisd(0.5, Vec3::UnitY()));
+  state.v = Vec3(0, -0.1, -0.2);
+  state.w = Vec3(0.3, 0, 1);
+  const Vec3 lever = state.q.toRotationMatrix() * plane.tool_point;
+  // Put the tool point 4 mm below the plane along the normal.
+  state.x = plane.plane_point - 0.004 * plane.normal - lever + Vec3(0.05, 0, 0);  // slid along the plane
+  const PenaltyGains gains{3000, 2};
+
+  CHECK(contact_depth(plane, state) == Approx(0.004).epsilon(1e-12));
+  const ForceEvaluation f = evaluate_penalty_contact(plane, gains, state, false);
+  const double normal_speed = plane.normal.dot(state.v + state.w.cross(lever));
+  const Vec3 expected = (3000 * 0.004 - 2 * normal_speed) * plane.normal;
+  CHECK((f.wrench.force - expected).norm() < 1e-12);
+  CHECK((f.wrench.torque - lever.cross(expected)).norm() < 1e-12);
+
+  // Moved 1 mm above the plane: no force at all.
+  state.x += 0.005 * plane.normal;
+  const ForceEvaluation free = evaluate_penalty_contact(plane, gains, state, true);
+  CHECK(test::as_vector(free.wrench).norm() == 0);
+  CHECK(free.stiffness.norm() == 0);
+  CHECK(free.damping.norm() == 0);
+}
+
+TEST_CASE("penalty contact Jacobians match central differences", "[penalty]") {
+  ContactPlane plane;
+  plane.tool_point = Vec3(0.03, -0.01, 0.02);
+  plane.plane_point = Vec3(0.01, 0.02, 0.0);
+  plane.normal = Vec3(0.2, -0.3, 1).normalized();
+  RigidBodyState state;
+  state.q = Quat(Eigen::AngleAxisd(1.1, Vec3(1, -2, 0.5).normalized()));
+  state.v = Vec3(0.05, 0.02, -0.1);
+  state.w = Vec3(1.5, -2, 0.7);
+  const Vec3 lever = state.q * plane.tool_point;
+  state.x = plane.plane_point - 0.003 * plane.normal - lever;
+  const PenaltyGains gains{3000, 2};
+
+  const ForceEvaluation f = evaluate_penalty_contact(plane, gains, state, true);
+  REQUIRE(f.wrench.force.norm() > 1);
+  const auto numeric = test::numeric_jacobian(
+      [&](const RigidBodyState& s) {
+        return evaluate_penalty_contact(plane, gains, s, false).wrench;
+      },
+      state);
+  const auto analytic = test::analytic_jacobian(f);
+  INFO("analytic\n" << analytic << "\nnumeric\n" << numeric);
+  CHECK((analytic - numeric).norm() <= 1e-6 * numeric.norm());
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      const Mat3 a = analytic.block<3, 3>(3 * r, 3 * c);
+      const Mat3 n = numeric.block<3, 3>(3 * r, 3 * c);
+      INFO("block " << r << "," << c);
+      CHECK((a - n).norm() <= 1e-6 * std::max(n.norm(), 1e-3));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hb
