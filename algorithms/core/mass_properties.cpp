@@ -20,15 +20,15 @@ MassProperties mass_properties_from_density(const TriangleMesh& mesh, double den
   if (!std::isfinite(density_kg_m3) || density_kg_m3 <= 0.0) {
     std::ostringstream got;
     got << density_kg_m3;
-    throw InputError("", "density", "expected a positive finite density in kg/m^3, got " +
-                                        got.str());
+    throw InputError("", "density",
+                     "expected a positive finite density in kg/m^3, got " + got.str());
   }
 
   // The apex at the bounding-box centre keeps the terms small for a mesh far
   // from its own origin.
   const Vec3 apex = mesh.bounds().center();
   double six_volume = 0.0;
-  Vec3 first_moment_24 = Vec3::Zero();  // 24 × ∫ (x − o) dV
+  Vec3 first_moment_24 = Vec3::Zero();    // 24 × ∫ (x − o) dV
   Mat3 second_moment_120 = Mat3::Zero();  // 120 × ∫ (x − o)(x − o)ᵀ dV
   for (const auto& [i, j, k] : mesh.triangles) {
     const Vec3 a = mesh.vertices[i] - apex;
@@ -46,8 +46,9 @@ MassProperties mass_properties_from_density(const TriangleMesh& mesh, double den
   if (!(volume > 0.0)) {
     std::ostringstream got;
     got << volume;
-    throw InputError("", "mesh", "encloses no positive volume (" + got.str() +
-                                     " m^3); expected a closed mesh with outward normals");
+    throw InputError("", "mesh",
+                     "encloses no positive volume (" + got.str() +
+                         " m^3); expected a closed mesh with outward normals");
   }
 
   const Vec3 com_from_apex = first_moment_24 / (24.0 * volume);
@@ -61,8 +62,7 @@ MassProperties mass_properties_from_density(const TriangleMesh& mesh, double den
   result.centre_of_mass = apex + com_from_apex;
   // I = ρ ∫ (|r|² 1 − r rᵀ) dV = ρ (tr(C) 1 − C).
   result.inertia_about_com =
-      density_kg_m3 *
-      (covariance_about_com.trace() * Mat3::Identity() - covariance_about_com);
+      density_kg_m3 * (covariance_about_com.trace() * Mat3::Identity() - covariance_about_com);
   // Symmetric by construction up to rounding; make it exactly so.
   result.inertia_about_com =
       0.5 * (result.inertia_about_com + result.inertia_about_com.transpose()).eval();

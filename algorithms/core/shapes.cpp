@@ -41,7 +41,8 @@ std::string format_number(double x) {
 
 void require_positive(double value, const std::string& field) {
   if (!std::isfinite(value) || value <= 0.0)
-    throw InputError("", field, "expected a positive length in metres, got " + format_number(value));
+    throw InputError("", field,
+                     "expected a positive length in metres, got " + format_number(value));
 }
 
 void require_subdivisions(int subdivisions) {
@@ -145,8 +146,8 @@ TriangleMesh sphere_mesh(double radius, int subdivisions) {
     std::unordered_map<uint64_t, int> midpoint_of_edge;
     midpoint_of_edge.reserve(mesh.triangles.size() * 3 / 2);
     auto midpoint = [&](int a, int b) {
-      const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) |
-                           static_cast<uint32_t>(std::max(a, b));
+      const uint64_t key =
+          (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
       const auto [it, inserted] =
           midpoint_of_edge.try_emplace(key, static_cast<int>(mesh.vertices.size()));
       if (inserted) mesh.vertices.push_back((mesh.vertices[a] + mesh.vertices[b]).normalized());
@@ -206,7 +207,8 @@ TriangleMesh capsule_mesh(double radius, double length, int subdivisions) {
 
   // Counter-clockwise seen from outside: azimuth grows to the viewer's right
   // on the side, counter-clockwise seen from above at the top.
-  for (int j = 0; j < segments; ++j) builder.add_triangle(top, ring_vertex(0, j), ring_vertex(0, j + 1));
+  for (int j = 0; j < segments; ++j)
+    builder.add_triangle(top, ring_vertex(0, j), ring_vertex(0, j + 1));
   for (std::size_t r = 0; r + 1 < rings.size(); ++r) {
     for (int j = 0; j < segments; ++j) {
       const int upper = ring_vertex(r, j);
@@ -235,10 +237,10 @@ TriangleMesh box_with_hole_mesh(const Vec3& size, const Vec3& hole_size) {
   for (int c = 0; c < 4; ++c) {
     for (int level = 0; level < 2; ++level) {
       const double z = level ? outer_half.z() : -outer_half.z();
-      outer[c][level] = builder.add_vertex(
-          Vec3(square[c][0] * outer_half.x(), square[c][1] * outer_half.y(), z));
-      inner[c][level] = builder.add_vertex(
-          Vec3(square[c][0] * inner_half.x(), square[c][1] * inner_half.y(), z));
+      outer[c][level] =
+          builder.add_vertex(Vec3(square[c][0] * outer_half.x(), square[c][1] * outer_half.y(), z));
+      inner[c][level] =
+          builder.add_vertex(Vec3(square[c][0] * inner_half.x(), square[c][1] * inner_half.y(), z));
     }
   }
   for (int c = 0; c < 4; ++c) {

@@ -4,8 +4,9 @@ namespace hb {
 
 namespace {
 // Clips a vector to a length, keeping its direction; returns true when it did.
+// stableNorm: a huge but finite vector must not overflow to an infinite length.
 bool clip_length(Vec3& value, double max_length) {
-  const double length = value.norm();
+  const double length = value.stableNorm();
   if (!(length > max_length)) return false;
   value *= max_length / length;
   return true;

@@ -34,10 +34,20 @@ Wrench DynamicProxy::advance(const DeviceSample& device, ForceModel* contacts, u
     flags |= kFlagNonFiniteZeroed;
     return Wrench{};
   }
+  // The display is the reaction to the coupling force the step applied:
+  // explicit Euler applies it at the state before the step, implicit Euler
+  // (linearised, exact for the translational spring) at the state after it.
+  // Displaying anything else would lag the proxy by a tick against the
+  // device and show a spurious k_T·v·Δt in steady motion.
+  Wrench display;
+  if (integrator_ == IntegratorKind::kExplicitEuler)
+    display = evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
   CoupledForces forces(CouplingForce(gains_, body_, device.pose, device.twist), contacts);
   state_ = integrate_step(integrator_, body_, state_, forces, dt_s_);
-  reset_non_finite_proxy(body_, device.pose, state_, flags);
-  return evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
+  const bool reset = reset_non_finite_proxy(body_, device.pose, state_, flags);
+  if (integrator_ == IntegratorKind::kImplicitEuler || reset)
+    display = evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
+  return display;
 }
 
 }  // namespace hb

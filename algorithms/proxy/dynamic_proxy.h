@@ -23,8 +23,10 @@ class DynamicProxy {
   void reset(const Pose& pose);
 
   /// Advances one tick under coupling to `device` plus `contacts` (nullptr:
-  /// none) and returns the raw displayed wrench, the coupling's reaction at
-  /// the new state (N, N·m about the tool-frame origin, world). A non-finite
+  /// none) and returns the raw displayed wrench: the reaction to the coupling
+  /// force the step applied, i.e. at the state before the step for explicit
+  /// Euler and after it for implicit Euler (N, N·m about the tool-frame
+  /// origin, world). A non-finite
   /// device sample leaves the proxy where it is and returns a zero wrench
   /// with kFlagNonFiniteZeroed; a state that became non-finite is reset to
   /// the device pose (kFlagProxyReset).

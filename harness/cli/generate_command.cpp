@@ -45,9 +45,8 @@ ParamValue parse_param_value(const std::string& text) {
     std::size_t start = 0;
     while (true) {
       const std::size_t end = text.find(',', start);
-      const std::string_view item =
-          std::string_view(text).substr(start, end == std::string::npos ? std::string::npos
-                                                                       : end - start);
+      const std::string_view item = std::string_view(text).substr(
+          start, end == std::string::npos ? std::string::npos : end - start);
       if (!parse_double(item, number)) return text;
       list.push_back(number);
       if (end == std::string::npos) return list;
@@ -75,13 +74,12 @@ GenerateOptions parse_generate_options(const std::vector<std::string>& args) {
     if (arg == "--duration") {
       const std::string& text = value();
       if (!parse_double(text, options.request.duration_s) || !(options.request.duration_s > 0))
-        throw UsageError{"--duration: expected a positive number of seconds, got \"" + text +
-                         "\""};
+        throw UsageError{"--duration: expected a positive number of seconds, got \"" + text + "\""};
       options.has_duration = true;
     } else if (arg == "--seed") {
       const std::string& text = value();
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(),
-                                                options.request.seed);
+      const auto [end, error] =
+          std::from_chars(text.data(), text.data() + text.size(), options.request.seed);
       if (text.empty() || error != std::errc() || end != text.data() + text.size())
         throw UsageError{"--seed: expected a whole number >= 0, got \"" + text + "\""};
     } else if (arg == "--param") {

@@ -3,6 +3,7 @@
 // running anything. Every file is checked even after one fails.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -42,8 +43,11 @@ std::string lowercase_extension(const std::string& path) {
 }
 
 std::string vector_text(const Vec3& v) {
+  // Round-off (1e-17 m in a centre of mass) would read as a real offset.
+  const double scale = v.cwiseAbs().maxCoeff();
+  auto clean = [&](double x) { return std::abs(x) <= 1e-12 * std::max(scale, 1.0) ? 0.0 : x; };
   std::ostringstream out;
-  out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  out << "(" << clean(v.x()) << ", " << clean(v.y()) << ", " << clean(v.z()) << ")";
   return out.str();
 }
 

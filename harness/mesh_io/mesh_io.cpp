@@ -116,14 +116,14 @@ TriangleMesh read_mesh_file(const std::string& path, double scale) {
     const FilePolygon& polygon = polygons[f];
     if (polygon.size() < 3) {
       throw InputError(path, "face " + std::to_string(f),
-                       "has " + std::to_string(polygon.size()) +
-                           " vertices; expected at least 3");
+                       "has " + std::to_string(polygon.size()) + " vertices; expected at least 3");
     }
     for (std::size_t index : polygon) {
       if (index >= points.size()) {
         throw InputError(path, "face " + std::to_string(f),
-                         "vertex index " + std::to_string(index) + " is out of range; the file has " +
-                             std::to_string(points.size()) + " vertices");
+                         "vertex index " + std::to_string(index) +
+                             " is out of range; the file has " + std::to_string(points.size()) +
+                             " vertices");
       }
     }
     for (std::size_t corner = 1; corner + 1 < polygon.size(); ++corner) {

@@ -5,6 +5,7 @@
 #include "harness/reference/analytic_reference.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -241,26 +242,41 @@ IdealRendering box_tool_rendering(const AnalyticScene& scene, const Pose& device
   const Mat3 device_axes = device.q.toRotationMatrix();
 
   // The tool overlaps the box, so it crosses every face plane: solve each
-  // face's half-space problem and keep the lowest energy.
-  double best_energy = kInfinity;
-  Vec3 best_normal = Vec3::Zero();
-  Vec3 best_u = Vec3::Zero();
-  double best_face_offset = 0;  // n · (a point of the face), m
+  // face's half-space problem and keep the lowest energy. Since
+  // s(u) = sum_i t_i |u_i| ≥ min_i t_i, a face needing the lift c has energy
+  // ≥ ½ k_T (c + min_i t_i)₊²; faces are visited by increasing c and skipped
+  // once that bound cannot beat the best found.
+  struct FacePlane {
+    Vec3 normal;
+    double offset;  // n · (a point of the face), m
+    double lift;    // c = offset − n · x_h, m
+  };
+  std::array<FacePlane, 6> faces;
   for (int face = 0; face < 6; ++face) {
     const int axis = face / 2;
-    const double side = face % 2 == 0 ? 1.0 : -1.0;
-    const Vec3 normal = side * box_axes.col(axis);
-    const double face_offset = normal.dot(scene.box_pose.p) + scene.box_half_extents[axis];
-    const Vec3 device_u = device_axes.transpose() * normal;
+    const Vec3 normal = (face % 2 == 0 ? 1.0 : -1.0) * box_axes.col(axis);
+    const double offset = normal.dot(scene.box_pose.p) + scene.box_half_extents[axis];
+    faces[face] = {normal, offset, offset - normal.dot(device.p)};
+  }
+  std::stable_sort(faces.begin(), faces.end(),
+                   [](const FacePlane& a, const FacePlane& b) { return a.lift < b.lift; });
+  const double thinnest_half = tool_half.minCoeff();
+  double best_energy = kInfinity;
+  const FacePlane* best_face = &faces.front();
+  Vec3 best_u = Vec3::Zero();
+  for (const FacePlane& face : faces) {
+    const double least_push = positive_part(face.lift + thinnest_half);
+    if (0.5 * k_t * least_push * least_push >= best_energy) continue;
     const FaceOptimum optimum =
-        minimise_over_octant(device_u, tool_half, face_offset - normal.dot(device.p), k_t, k_r);
+        minimise_over_octant(device_axes.transpose() * face.normal, tool_half, face.lift, k_t, k_r);
     if (optimum.energy_j < best_energy) {
       best_energy = optimum.energy_j;
-      best_normal = normal;
+      best_face = &face;
       best_u = optimum.u;
-      best_face_offset = face_offset;
     }
   }
+  const Vec3 best_normal = best_face->normal;
+  const double best_face_offset = best_face->offset;
 
   // Orientation: R_p = R_h Q with Q the minimal rotation taking u to u_h.
   const Vec3 device_u = device_axes.transpose() * best_normal;

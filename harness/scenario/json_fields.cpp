@@ -154,9 +154,10 @@ void JsonField::reject_unknown_keys(const std::vector<std::string_view>& known,
   for (std::size_t i = 0; i < unknown.size(); ++i)
     message += (i == 0 ? " \"" : ", \"") + unknown[i] + "\"";
   if (unknown.size() == 1) {
-    // A near miss is most likely a typo of an allowed key.
+    // A near miss is most likely a typo of an allowed key (longer names
+    // leave room for more slips, e.g. a dropped unit suffix "_us").
     std::string_view closest;
-    std::size_t best = 3;
+    std::size_t best = unknown[0].size() >= 8 ? 4 : 3;
     for (std::string_view key : known) {
       const std::size_t distance = edit_distance(unknown[0], key);
       if (distance < best) {

@@ -119,7 +119,8 @@ std::string number_text(double value) {
 }
 
 Vec3 point_param(const ParamSet& params, const std::string& key, const Vec3& fallback) {
-  const std::vector<double> xyz = params.numbers(key, {fallback.x(), fallback.y(), fallback.z()}, 3);
+  const std::vector<double> xyz =
+      params.numbers(key, {fallback.x(), fallback.y(), fallback.z()}, 3);
   return Vec3(xyz[0], xyz[1], xyz[2]);
 }
 
@@ -186,7 +187,7 @@ Trace sample_motion(std::string_view name, const GeneratorRequest& request, cons
 /// press into a surface.
 struct PressGeometry {
   Vec3 start;
-  Vec3 axis;               // unit, direction of pressing
+  Vec3 axis;                // unit, direction of pressing
   double surface_distance;  // m from start to the surface along axis
   double depth;             // m past the surface
   Quat q;
@@ -263,13 +264,16 @@ Trace generate_rub(const GeneratorRequest& request) {
   // at angle 0, above the surface, and is pressed, rubs and lifts there.
   const Vec3 e1 = perpendicular_unit(g.axis);
   const Vec3 e2 = e1.cross(g.axis);
-  const Vec3 rim_start = g.start + radius * e1;
-  const Vec3 rim_deep = g.deepest() + radius * e1;
+  const double full_angle = 2.0 * std::numbers::pi * turns;
+  const Vec3 rim_start = radius * e1;
+  const Vec3 rim_end = radius * (std::cos(full_angle) * e1 + std::sin(full_angle) * e2);
   const double rub_begin = 0.2 * duration;
   const double rub_end = 0.8 * duration;
-  const std::vector<Keyframe> press_in = {{0.0, {rim_start, g.q}}, {rub_begin, {rim_deep, g.q}}};
-  const std::vector<Keyframe> lift = {{rub_end, {rim_deep, g.q}}, {duration, {rim_start, g.q}}};
-  const double full_angle = 2.0 * std::numbers::pi * turns;
+  const std::vector<Keyframe> press_in = {{0.0, {g.start + rim_start, g.q}},
+                                          {rub_begin, {g.deepest() + rim_start, g.q}}};
+  // Lift where the rub ended (turns need not be whole).
+  const std::vector<Keyframe> lift = {{rub_end, {g.deepest() + rim_end, g.q}},
+                                      {duration, {g.start + rim_end, g.q}}};
   return sample_motion("rub", request, [&](double t) {
     if (t <= rub_begin) return keyframe_state(press_in, t);
     if (t >= rub_end) return keyframe_state(lift, t);
@@ -295,9 +299,13 @@ Trace generate_twist(const GeneratorRequest& request) {
   const double twist_begin = 0.25 * duration;
   const double twist_end = 0.75 * duration;
   const std::vector<Keyframe> press_in = {{0.0, {g.start, g.q}}, {twist_begin, {g.deepest(), g.q}}};
-  const std::vector<Keyframe> release = {{twist_end, {g.deepest(), g.q}},
-                                         {duration, {g.start, g.q}}};
   const double full_phase = 2.0 * std::numbers::pi * turns;
+  // Release from wherever the oscillation ended (turns need not be whole)
+  // back to the start pose.
+  const Quat q_end =
+      (quat_from_rotation_vector(amplitude * std::sin(full_phase) * g.axis) * g.q).normalized();
+  const std::vector<Keyframe> release = {{twist_end, {g.deepest(), q_end}},
+                                         {duration, {g.start, g.q}}};
   // Oscillation angle(t) = amplitude * sin(phase(t)) about the press axis,
   // with a minimum-jerk phase so it starts and ends at rest.
   return sample_motion("twist", request, [&](double t) {
@@ -379,9 +387,11 @@ Trace generate_human_like(const GeneratorRequest& request) {
     // Choose which bins 1..bins carry energy: all, or a random subset.
     std::vector<int64_t> chosen(static_cast<std::size_t>(bins));
     for (int64_t m = 0; m < bins; ++m) chosen[static_cast<std::size_t>(m)] = m + 1;
-    const std::size_t count = std::min<std::size_t>(chosen.size(), static_cast<std::size_t>(components));
+    const std::size_t count =
+        std::min<std::size_t>(chosen.size(), static_cast<std::size_t>(components));
     for (std::size_t i = 0; i < count; ++i) {
-      const std::size_t j = i + static_cast<std::size_t>(uniform() * static_cast<double>(chosen.size() - i));
+      const std::size_t j =
+          i + static_cast<std::size_t>(uniform() * static_cast<double>(chosen.size() - i));
       std::swap(chosen[i], chosen[std::min(j, chosen.size() - 1)]);
     }
     for (std::size_t i = 0; i < count; ++i) {
@@ -394,9 +404,9 @@ Trace generate_human_like(const GeneratorRequest& request) {
         // Phase from the integer sample index, reduced exactly modulo the
         // period, so long traces keep full precision.
         const int64_t cycle_index = (static_cast<int64_t>(k) * chosen[i]) % intervals;
-        const double argument =
-            2.0 * std::numbers::pi * static_cast<double>(cycle_index) / static_cast<double>(intervals) +
-            phase;
+        const double argument = 2.0 * std::numbers::pi * static_cast<double>(cycle_index) /
+                                    static_cast<double>(intervals) +
+                                phase;
         value[c][k] += amplitude * std::sin(argument);
         rate[c][k] += amplitude * omega * std::cos(argument);
       }
@@ -503,11 +513,13 @@ Trace generate_rest(const GeneratorRequest& request) {
 constexpr GeneratorEntry kGenerators[] = {
     {"press", "approach along axis, press depth past the surface, hold (>= 40%), release",
      generate_press},
-    {"slide", "press to depth, slide distance along direction on the surface, lift", generate_slide},
+    {"slide", "press to depth, slide distance along direction on the surface, lift",
+     generate_slide},
     {"rub", "press to depth and rub in circles of radius for turns, lift", generate_rub},
     {"twist", "press to depth and oscillate by angle about the press axis, release",
      generate_twist},
-    {"peg_in_hole", "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z",
+    {"peg_in_hole",
+     "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z",
      generate_peg_in_hole},
     {"human_like", "band-limited random motion below cutoff_hz (< 10 Hz) around centre",
      generate_human_like},

@@ -103,10 +103,9 @@ std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration
     for (int64_t k = begin; k < end; ++k) {
       const int64_t before = std::max(begin, k - 1);
       const int64_t after = std::min(end - 1, k + 1);
-      out[static_cast<std::size_t>(k)].twist =
-          finite_difference(out[static_cast<std::size_t>(before)].pose,
-                            out[static_cast<std::size_t>(after)].pose,
-                            static_cast<double>(after - before) * kTickS);
+      out[static_cast<std::size_t>(k)].twist = finite_difference(
+          out[static_cast<std::size_t>(before)].pose, out[static_cast<std::size_t>(after)].pose,
+          static_cast<double>(after - before) * kTickS);
     }
   }
   return out;

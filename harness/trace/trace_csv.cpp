@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -104,8 +105,8 @@ class RowParser {
     int64_t value = 0;
     const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
     if (error != std::errc() || end != field.data() + field.size() || field.empty())
-      fail("expected a whole number of nanoseconds in column " + std::string(column) +
-           ", found " + in_quotes(field));
+      fail("expected a whole number of nanoseconds in column " + std::string(column) + ", found " +
+           in_quotes(field));
     return value;
   }
 
@@ -176,8 +177,8 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
   const std::vector<std::string_view> lines = split_lines(bytes);
   RowParser parser(path);
   parser.set_line(1);
-  const std::string expected_header = "expected the header " + in_quotes(kPoseHeader) + " or " +
-                                      in_quotes(kPoseTwistHeader);
+  const std::string expected_header =
+      "expected the header " + in_quotes(kPoseHeader) + " or " + in_quotes(kPoseTwistHeader);
   if (lines.empty()) parser.fail(expected_header + ", found an empty file");
   const std::string_view header = trim(lines[0]);
   if (header != kPoseHeader && header != kPoseTwistHeader)
@@ -202,8 +203,9 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
     parser.check_increasing(samples, sample.t_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[4], value[5], value[6], value[7]);
-    if (has_twist) sample.twist = Twist{Vec3(value[8], value[9], value[10]),
-                                        Vec3(value[11], value[12], value[13])};
+    if (has_twist)
+      sample.twist =
+          Twist{Vec3(value[8], value[9], value[10]), Vec3(value[11], value[12], value[13])};
     samples.push_back(sample);
   }
   parser.set_line(static_cast<int64_t>(lines.size()) + 1);
@@ -211,12 +213,43 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
   return samples;
 }
 
+/// Time stamps beyond this (s) would overflow int64 nanoseconds.
+constexpr double kMaxTumSeconds = 9e9;
+
+/// Nanoseconds of a plain decimal number of seconds ("1305031102.175304"),
+/// rounded to the nearest ns (halves away from zero), computed exactly with
+/// integers; nullopt for any other spelling (exponents, "inf", ...).
+std::optional<int64_t> decimal_seconds_to_ns(std::string_view text) {
+  bool negative = false;
+  if (!text.empty() && (text.front() == '-' || text.front() == '+')) {
+    negative = text.front() == '-';
+    text.remove_prefix(1);
+  }
+  const std::size_t point = text.find('.');
+  const std::string_view whole = text.substr(0, point);
+  const std::string_view fraction =
+      point == std::string_view::npos ? std::string_view() : text.substr(point + 1);
+  auto all_digits = [](std::string_view digits) {
+    return digits.find_first_not_of("0123456789") == std::string_view::npos;
+  };
+  if (whole.empty() && fraction.empty()) return std::nullopt;
+  if (!all_digits(whole) || !all_digits(fraction) || whole.size() > 10) return std::nullopt;
+  int64_t seconds = 0;
+  for (char c : whole) seconds = seconds * 10 + (c - '0');
+  int64_t nanoseconds = 0;
+  for (std::size_t i = 0; i < 9; ++i)
+    nanoseconds = nanoseconds * 10 + (i < fraction.size() ? fraction[i] - '0' : 0);
+  if (fraction.size() > 9 && fraction[9] >= '5') ++nanoseconds;
+  const int64_t total = seconds * 1'000'000'000 + nanoseconds;
+  return negative ? -total : total;
+}
+
 std::vector<TraceSample> parse_tum(const std::string& path, std::string_view bytes) {
   const std::vector<std::string_view> lines = split_lines(bytes);
   RowParser parser(path);
   std::vector<TraceSample> samples;
   samples.reserve(lines.size());
-  double t0_s = 0;
+  int64_t t0_ns = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     parser.set_line(static_cast<int64_t>(i) + 1);
     const std::string_view line = trim(lines[i]);
@@ -226,10 +259,18 @@ std::vector<TraceSample> parse_tum(const std::string& path, std::string_view byt
       parser.fail("expected 8 whitespace-separated values \"t tx ty tz qx qy qz qw\", found " +
                   std::to_string(fields.size()));
     double value[8];
-    for (std::size_t c = 0; c < 8; ++c) value[c] = parser.finite_number(fields[c], kTumColumnNames[c]);
-    if (samples.empty()) t0_s = value[0];
+    for (std::size_t c = 0; c < 8; ++c)
+      value[c] = parser.finite_number(fields[c], kTumColumnNames[c]);
+    if (!(std::abs(value[0]) < kMaxTumSeconds))
+      parser.fail("expected a time in seconds of magnitude below 9e9 in column t, found " +
+                  in_quotes(fields[0]));
+    // Epoch stamps (~1.3e9 s) have a double resolution of ~240 ns, so a
+    // plain decimal is converted to ns exactly with integers instead.
+    const std::optional<int64_t> exact_ns = decimal_seconds_to_ns(fields[0]);
+    const int64_t absolute_ns = exact_ns ? *exact_ns : std::llround(value[0] * 1e9);
+    if (samples.empty()) t0_ns = absolute_ns;
     TraceSample sample;
-    sample.t_ns = std::llround((value[0] - t0_s) * 1e9);
+    sample.t_ns = absolute_ns - t0_ns;
     parser.check_increasing(samples, sample.t_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[7], value[4], value[5], value[6]);

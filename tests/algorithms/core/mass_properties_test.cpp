@@ -73,7 +73,8 @@ CapsuleClosedForm capsule_closed_form(double r, double l, double rho) {
   const double ball = 4.0 / 3.0 * kPi * r * r * r;
   const double offset = 0.5 * l + 3.0 * r / 8.0;
   return {cylinder + ball, rho * (cylinder * r * r / 2 + ball * 2.0 / 5.0 * r * r),
-          rho * (cylinder * (l * l / 12 + r * r / 4) + ball * (83.0 / 320.0 * r * r + offset * offset))};
+          rho * (cylinder * (l * l / 12 + r * r / 4) +
+                 ball * (83.0 / 320.0 * r * r + offset * offset))};
 }
 
 }  // namespace
@@ -91,7 +92,8 @@ TEST_CASE("tetrahedron matches the closed-form moments", "[mass_properties]") {
   CHECK(props.mass_kg == Approx(rho * volume));
   CHECK(props.centre_of_mass.isApprox(Vec3(a, b, c) / 4.0));
 
-  const double xx = a * a * a * b * c / 60, yy = a * b * b * b * c / 60, zz = a * b * c * c * c / 60;
+  const double xx = a * a * a * b * c / 60, yy = a * b * b * b * c / 60,
+               zz = a * b * c * c * c / 60;
   const double xy = a * a * b * b * c / 120, xz = a * a * b * c * c / 120,
                yz = a * b * b * c * c / 120;
   Mat3 about_origin;
@@ -107,11 +109,13 @@ TEST_CASE("box away from the origin: centre of mass found, box inertia", "[mass_
   box.type = ShapeType::kBox;
   box.size = Vec3(a, b, c);
   const double m = rho * a * b * c;
-  const Vec3 principal(m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b));
+  const Vec3 principal(m / 12 * (b * b + c * c), m / 12 * (a * a + c * c),
+                       m / 12 * (a * a + b * b));
 
   SECTION("translated only") {
     const Pose pose{Vec3(2.0, -1.0, 0.5), Quat::Identity()};
-    const MassProperties props = mass_properties_from_density(transformed(shape_mesh(box), pose), rho);
+    const MassProperties props =
+        mass_properties_from_density(transformed(shape_mesh(box), pose), rho);
     CHECK(props.mass_kg == Approx(m));
     CHECK(props.volume_m3 == Approx(a * b * c));
     CHECK((props.centre_of_mass - pose.p).norm() < 1e-12);
@@ -119,9 +123,9 @@ TEST_CASE("box away from the origin: centre of mass found, box inertia", "[mass_
     CHECK((props.inertia_about_com - expected).norm() < 1e-9 * expected.norm());
   }
   SECTION("rotated and far away: I = R diag Rᵀ") {
-    const Pose pose{Vec3(1e3, 2e3, -5e2),
-                    Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))};
-    const MassProperties props = mass_properties_from_density(transformed(shape_mesh(box), pose), rho);
+    const Pose pose{Vec3(1e3, 2e3, -5e2), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))};
+    const MassProperties props =
+        mass_properties_from_density(transformed(shape_mesh(box), pose), rho);
     CHECK(props.mass_kg == Approx(m).epsilon(1e-9));
     CHECK((props.centre_of_mass - pose.p).norm() < 1e-9);
     const Mat3 r = pose.q.toRotationMatrix();
@@ -142,7 +146,8 @@ TEST_CASE("icosphere lies between its inscribed and circumscribed balls", "[mass
     // plane) is inside the mesh, the mesh inside the ball of radius r. Volume
     // and each axial moment ∫(|x|² − x_i²) dV grow with the solid.
     const double r_in = min_face_plane_distance(mesh, Vec3::Zero());
-    const double v_in = 4.0 / 3.0 * kPi * std::pow(r_in, 3), v_out = 4.0 / 3.0 * kPi * std::pow(r, 3);
+    const double v_in = 4.0 / 3.0 * kPi * std::pow(r_in, 3),
+                 v_out = 4.0 / 3.0 * kPi * std::pow(r, 3);
     CHECK(props.volume_m3 >= v_in);
     CHECK(props.volume_m3 <= v_out);
     CHECK(props.centre_of_mass.norm() < 1e-15);
@@ -172,7 +177,8 @@ TEST_CASE("capsule lies between the capsules inscribed in and enclosing its mesh
     // A convex mesh containing the axis segment contains the capsule whose
     // radius is the segment's least distance to a face plane, reached at an
     // endpoint; its vertices on the capsule put it inside the capsule of radius r.
-    const double r_in = std::min(min_face_plane_distance(mesh, top), min_face_plane_distance(mesh, bottom));
+    const double r_in =
+        std::min(min_face_plane_distance(mesh, top), min_face_plane_distance(mesh, bottom));
     REQUIRE(r_in > 0.0);
     const CapsuleClosedForm inner = capsule_closed_form(r_in, l, rho);
     const CapsuleClosedForm outer = capsule_closed_form(r, l, rho);

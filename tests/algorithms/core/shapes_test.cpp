@@ -73,7 +73,8 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 double distance_to_mesh(const TriangleMesh& mesh, const Vec3& p) {
   double best = INFINITY;
   for (const auto& [i, j, k] : mesh.triangles) {
-    const Vec3 q = closest_point_on_triangle(p, mesh.vertices[i], mesh.vertices[j], mesh.vertices[k]);
+    const Vec3 q =
+        closest_point_on_triangle(p, mesh.vertices[i], mesh.vertices[j], mesh.vertices[k]);
     best = std::min(best, (p - q).squaredNorm());
   }
   return std::sqrt(best);
@@ -205,8 +206,7 @@ TEST_CASE("box_with_hole mesh: closed, genus 1, exact volume", "[shapes]") {
     CHECK_FALSE(find_mesh_defect(mesh));
     std::set<std::pair<int, int>> edges;
     for (const auto& t : mesh.triangles)
-      for (int c = 0; c < 3; ++c)
-        edges.insert(std::minmax(t[c], t[(c + 1) % 3]));
+      for (int c = 0; c < 3; ++c) edges.insert(std::minmax(t[c], t[(c + 1) % 3]));
     const long euler = static_cast<long>(mesh.vertices.size()) - static_cast<long>(edges.size()) +
                        static_cast<long>(mesh.triangles.size());
     CHECK(euler == 0);  // genus 1
@@ -232,9 +232,9 @@ TEST_CASE("box signed distance and closest points at known points", "[shapes]") 
   CHECK(shape_signed_distance(box, Vec3(0.9, 0, 0)) == Approx(-0.1));
   CHECK(shape_signed_distance(box, Vec3(3, 0, 0)) == Approx(2));
   CHECK(shape_signed_distance(box, Vec3(0, 0, -3.5)) == Approx(0.5));
-  CHECK(shape_signed_distance(box, Vec3(2, 3, 0)) == Approx(std::sqrt(2.0)));     // edge
-  CHECK(shape_signed_distance(box, Vec3(-2, 3, -4)) == Approx(std::sqrt(3.0)));   // corner
-  CHECK(shape_signed_distance(box, Vec3(1, 2, 3)) == Approx(0).margin(1e-15));    // on corner
+  CHECK(shape_signed_distance(box, Vec3(2, 3, 0)) == Approx(std::sqrt(2.0)));    // edge
+  CHECK(shape_signed_distance(box, Vec3(-2, 3, -4)) == Approx(std::sqrt(3.0)));  // corner
+  CHECK(shape_signed_distance(box, Vec3(1, 2, 3)) == Approx(0).margin(1e-15));   // on corner
 
   SurfacePoint s = shape_closest_surface_point(box, Vec3(-2, 3, -4));
   CHECK(s.point.isApprox(Vec3(-1, 2, -3)));
@@ -281,7 +281,7 @@ TEST_CASE("box_with_hole signed distance at known points", "[shapes]") {
   CHECK(sd(Vec3(0, 0, 0)) == Approx(0.2));                                // hole centre
   CHECK(sd(Vec3(0.15, 0.15, 0)) == Approx(0.05));                         // in the hole
   CHECK(sd(Vec3(0.7, 0, 0)) == Approx(0.2));                              // beside the box
-  CHECK(sd(Vec3(0.6, 0.6, 0.2)) == Approx(std::sqrt(3 * 0.1 * 0.1)));      // outer corner
+  CHECK(sd(Vec3(0.6, 0.6, 0.2)) == Approx(std::sqrt(3 * 0.1 * 0.1)));     // outer corner
   // Above the hole near its rim: the nearest point is the rim edge, not the
   // top face's plane (max(box_sd, -hole_sd) would say 0.1).
   CHECK(sd(Vec3(0.1, 0, 0.2)) == Approx(std::sqrt(0.1 * 0.1 + 0.1 * 0.1)));

@@ -40,7 +40,8 @@ TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh mesh = a;
   const int offset = static_cast<int>(a.vertices.size());
   mesh.vertices.insert(mesh.vertices.end(), b.vertices.begin(), b.vertices.end());
-  for (const auto& t : b.triangles) mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  for (const auto& t : b.triangles)
+    mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   return mesh;
 }
 
@@ -153,9 +154,8 @@ TEST_CASE("open boundary names the edge", "[triangle_mesh]") {
   const MeshDefect defect = defect_of(mesh);
   // Triangle 0 = (0, 2, 1) is the first to use a boundary edge: 2-1.
   CHECK(defect.location == "edge (1, 2)");
-  CHECK_THAT(defect.message,
-             Catch::Contains("open boundary: edge used by 1 triangle") &&
-                 Catch::Contains("a closed mesh needs 2"));
+  CHECK_THAT(defect.message, Catch::Contains("open boundary: edge used by 1 triangle") &&
+                                 Catch::Contains("a closed mesh needs 2"));
 }
 
 TEST_CASE("non-manifold edge names the edge and the count", "[triangle_mesh]") {
@@ -172,8 +172,8 @@ TEST_CASE("inconsistent orientation names the edge", "[triangle_mesh]") {
   mesh.triangles[3] = {1, 3, 2};  // one face flipped
   const MeshDefect defect = defect_of(mesh);
   CHECK(defect.location == "edge (1, 2)");
-  CHECK_THAT(defect.message, Catch::Contains("inconsistent orientation") &&
-                                 Catch::Contains("triangles 0 and 3"));
+  CHECK_THAT(defect.message,
+             Catch::Contains("inconsistent orientation") && Catch::Contains("triangles 0 and 3"));
 }
 
 TEST_CASE("inside-out mesh", "[triangle_mesh]") {

@@ -18,7 +18,8 @@ TEST_CASE("penalty contact pushes along the normal by k d minus normal damping",
   state.w = Vec3(0.3, 0, 1);
   const Vec3 lever = state.q.toRotationMatrix() * plane.tool_point;
   // Put the tool point 4 mm below the plane along the normal.
-  state.x = plane.plane_point - 0.004 * plane.normal - lever + Vec3(0.05, 0, 0);  // slid along the plane
+  state.x =
+      plane.plane_point - 0.004 * plane.normal - lever + Vec3(0.05, 0, 0);  // slid along the plane
   const PenaltyGains gains{3000, 2};
 
   CHECK(contact_depth(plane, state) == Approx(0.004).epsilon(1e-12));

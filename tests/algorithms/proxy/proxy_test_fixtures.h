@@ -48,7 +48,8 @@ inline Tool box_tool(const Vec3& size, double density_kg_m3 = 1000) {
   tool.mass.mass_kg = mass;
   tool.mass.volume_m3 = size.prod();
   const Vec3 s2 = size.cwiseProduct(size);
-  tool.mass.inertia_about_com = (mass / 12.0 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
+  tool.mass.inertia_about_com =
+      (mass / 12.0 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
   return tool;
 }
 
@@ -114,9 +115,9 @@ inline Eigen::Matrix<double, 6, 12> numeric_jacobian(
     double h = 1e-6) {
   Eigen::Matrix<double, 6, 12> j;
   for (int c = 0; c < 12; ++c) {
-    j.col(c) = (as_vector(wrench(perturbed(state, c, h))) -
-                as_vector(wrench(perturbed(state, c, -h)))) /
-               (2 * h);
+    j.col(c) =
+        (as_vector(wrench(perturbed(state, c, h))) - as_vector(wrench(perturbed(state, c, -h)))) /
+        (2 * h);
   }
   return j;
 }

@@ -28,7 +28,8 @@ TEST_CASE("tool pose and twist are the COM state moved to the tool-frame origin"
 }
 
 TEST_CASE("gyroscopic torque Jacobian matches central differences", "[rigid_body]") {
-  const Mat3 rotation = Quat(Eigen::AngleAxisd(0.8, Vec3(1, 2, -1).normalized())).toRotationMatrix();
+  const Mat3 rotation =
+      Quat(Eigen::AngleAxisd(0.8, Vec3(1, 2, -1).normalized())).toRotationMatrix();
   const Mat3 inertia = rotation * Vec3(1e-3, 2e-3, 4e-3).asDiagonal() * rotation.transpose();
   const Vec3 w(3, -1, 2);
   Mat3 numeric;
@@ -36,7 +37,8 @@ TEST_CASE("gyroscopic torque Jacobian matches central differences", "[rigid_body
   for (int c = 0; c < 3; ++c) {
     Vec3 d = Vec3::Zero();
     d[c] = h;
-    numeric.col(c) = (gyroscopic_torque(inertia, w + d) - gyroscopic_torque(inertia, w - d)) / (2 * h);
+    numeric.col(c) =
+        (gyroscopic_torque(inertia, w + d) - gyroscopic_torque(inertia, w - d)) / (2 * h);
   }
   const Mat3 analytic = gyroscopic_torque_jacobian(inertia, w);
   INFO("analytic\n" << analytic << "\nnumeric\n" << numeric);

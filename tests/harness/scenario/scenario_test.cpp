@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -127,7 +128,7 @@ TEST_CASE("a scenario with shapes and a generated trace loads with exact mass pr
   CHECK(tool.shape->radius == 0.02);
   CHECK(tool.shape->subdivisions == 4);
   const double mesh_volume = enclosed_volume(tool.mesh);
-  const double sphere_volume = 4.0 / 3.0 * M_PI * std::pow(0.02, 3);
+  const double sphere_volume = 4.0 / 3.0 * std::numbers::pi * std::pow(0.02, 3);
   CHECK(tool.mass.mass_kg == Approx(mesh_volume * 1000).epsilon(1e-9));
   CHECK(mesh_volume < sphere_volume);
   CHECK(mesh_volume > 0.99 * sphere_volume);

@@ -1,0 +1,282 @@
+// End-to-end: the hapticbench binary on the shipped scenarios and on bad input.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
+
+struct CommandResult {
+  int exit_code;
+  std::string stderr_text;
+};
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+CommandResult hapticbench(const std::string& args, const fs::path& work) {
+  const fs::path err = work / "stderr.txt";
+  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
+                              "' " + args + " > stdout.txt 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
+}
+
+// Rows of a ticks CSV as column name -> values.
+std::map<std::string, std::vector<std::string>> read_ticks(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  std::map<std::string, std::vector<std::string>> columns;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::string field;
+    std::stringstream row(line);
+    while (std::getline(row, field, ',')) fields.push_back(field);
+    while (fields.size() < names.size()) fields.push_back("");
+    for (std::size_t i = 0; i < names.size(); ++i) columns[names[i]].push_back(fields[i]);
+  }
+  return columns;
+}
+
+const json& run_labelled(const json& summary, const std::string& label) {
+  for (const json& run : summary.at("runs"))
+    if (run.at("label") == label) return run;
+  FAIL("no run labelled " << label);
+  static json none;
+  return none;
+}
+
+TEST_CASE("the smoke suite writes run folders with the contract keys") {
+  const fs::path work = scratch("smoke");
+  const CommandResult result =
+      hapticbench("run " + (kSource / "scenarios/smoke").string() + "/*.json --out runs", work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  int folders = 0;
+  for (const auto& entry : fs::directory_iterator(work / "runs")) {
+    ++folders;
+    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    CHECK(summary.at("schema_version") == 1);
+    for (const char* key : {"commit", "build_type", "compiler", "cpu", "date"})
+      CHECK(summary.at("context").contains(key));
+    CHECK(summary.at("scenario").contains("name"));
+    CHECK(summary.at("scenario").contains("hash"));
+    CHECK(fs::exists(entry.path() / "junit.xml"));
+    REQUIRE_FALSE(summary.at("runs").empty());
+    for (const json& run : summary.at("runs")) {
+      for (const char* key : {"algorithm", "label", "params", "preprocess", "timing", "accuracy",
+                              "stability", "budgets"})
+        CHECK(run.contains(key));
+      for (const char* key : {"seconds", "memory_bytes", "cache_hit"})
+        CHECK(run.at("preprocess").contains(key));
+      for (const char* key : {"p50", "p90", "p99", "p999", "max"})
+        CHECK(run.at("timing").at("step_ns").contains(key));
+      CHECK(run.at("timing").contains("over_budget"));
+      for (const char* key : {"force_err_rms_n", "force_dir_err_max_deg", "torque_err_rms_nm",
+                              "penetration_max_m", "penetration_rms_m"})
+        CHECK(run.at("accuracy").contains(key));
+      for (const char* key :
+           {"nonfinite", "diverged", "passivity_energy_min_j", "force_jump_max_n"})
+        CHECK(run.at("stability").contains(key));
+      CHECK(run.at("stability").at("nonfinite") == 0);
+      CHECK(fs::exists(entry.path() / ("ticks_" + run.at("label").get<std::string>() + ".csv")));
+    }
+  }
+  CHECK(folders >= 3);
+}
+
+TEST_CASE("the same scenario gives bit-identical ticks twice") {
+  const fs::path work = scratch("determinism");
+  for (const char* out : {"first", "second"}) {
+    const CommandResult result = hapticbench(
+        "run " + (kSource / "scenarios/smoke/sphere_press_box.json").string() + " --out " + out,
+        work);
+    REQUIRE(result.exit_code == 0);
+  }
+  const json first = json::parse(read_file(work / "first/summary.json"));
+  const json second = json::parse(read_file(work / "second/summary.json"));
+  REQUIRE(first.at("runs").size() == second.at("runs").size());
+  for (std::size_t i = 0; i < first.at("runs").size(); ++i) {
+    const std::string label = first.at("runs")[i].at("label");
+    CHECK(first.at("runs")[i].at("determinism").at("ticks_hash") ==
+          second.at("runs")[i].at("determinism").at("ticks_hash"));
+    auto a = read_ticks(work / "first" / ("ticks_" + label + ".csv"));
+    auto b = read_ticks(work / "second" / ("ticks_" + label + ".csv"));
+    // Every column but the wall-clock timings, compared as text: the
+    // shortest round-trip representation, so equal text is equal bits.
+    for (const auto& [name, values] : a) {
+      if (name == "step_ns" || name == "slow_update_ns") continue;
+      INFO(label << " column " << name);
+      CHECK(values == b[name]);
+    }
+  }
+}
+
+TEST_CASE("quasi-static press: series springs and the force error against rigid contact") {
+  const fs::path work = scratch("press");
+  const CommandResult result = hapticbench(
+      "run " + (kSource / "scenarios/smoke/sphere_press_box.json").string() + " --out run", work);
+  REQUIRE(result.exit_code == 0);
+  const double k_t = 2000, k_c = 3000, radius = 0.02;
+  const json summary = json::parse(read_file(work / "run/summary.json"));
+  for (const char* label : {"penalty_quasi_static", "penalty_implicit", "penalty_explicit"}) {
+    INFO(label);
+    auto ticks = read_ticks(work / "run" / (std::string("ticks_") + label + ".csv"));
+    const auto& z = ticks["dev_pz"];
+    // The last tick of the hold at the deepest device position: settled.
+    std::size_t deepest = 0;
+    for (std::size_t k = 0; k < z.size(); ++k)
+      if (std::stod(z[k]) <= std::stod(z[deepest])) deepest = k;
+    const double depth = radius - std::stod(z[deepest]);
+    REQUIRE(depth == Approx(0.005).epsilon(1e-6));
+    const double series = k_t * k_c / (k_t + k_c) * depth;
+    const double fz = std::stod(ticks["fz"][deepest]);
+    // The device is pushed up (+z) by the series combination of coupling and contact springs.
+    CHECK(fz == Approx(series).epsilon(1e-3));
+    CHECK(std::stod(ticks["ref_fz"][deepest]) == Approx(k_t * depth).epsilon(1e-12));
+    // Against ideal rigid contact the penalty rendering is softer by k_t^2 D / (k_t + k_c).
+    const double expected_error = k_t * k_t / (k_t + k_c) * depth;
+    CHECK(std::stod(ticks["ref_fz"][deepest]) - fz == Approx(expected_error).epsilon(2e-3));
+    const json& run = run_labelled(summary, label);
+    CHECK(run.at("accuracy").at("force_err_rms_n").get<double>() > 0.1 * expected_error);
+  }
+}
+
+TEST_CASE("a stiff coupling diverges with explicit Euler and not with implicit Euler") {
+  const fs::path work = scratch("stiff");
+  const CommandResult result = hapticbench(
+      "run " + (kSource / "scenarios/smoke/stiff_coupling_explicit_vs_implicit.json").string() +
+          " --out run",
+      work);
+  REQUIRE(result.exit_code == 0);
+  const json summary = json::parse(read_file(work / "run/summary.json"));
+  const json& explicit_run = run_labelled(summary, "explicit_euler");
+  const json& implicit_run = run_labelled(summary, "implicit_euler");
+  CHECK(explicit_run.at("stability").at("diverged") == true);
+  CHECK(implicit_run.at("stability").at("diverged") == false);
+  CHECK(explicit_run.at("stability").at("nonfinite") == 0);
+  // Whatever the proxy does, the device never sees more than its limit.
+  auto ticks = read_ticks(work / "run/ticks_explicit_euler.csv");
+  for (std::size_t k = 0; k < ticks["fx"].size(); ++k) {
+    const double f = std::hypot(std::stod(ticks["fx"][k]), std::stod(ticks["fy"][k]),
+                                std::stod(ticks["fz"][k]));
+    REQUIRE(std::isfinite(f));
+    REQUIRE(f <= 20.0 * (1 + 1e-12));
+  }
+}
+
+// Bad input: exit code 2, a message naming the file and the field or line,
+// and no run folder.
+std::string scenario_text(const std::string& scene, const std::string& trace,
+                          const std::string& algorithm, const std::string& coupling) {
+  return R"({ "name": "bad_input", "scene": [ )" + scene + R"( ],
+  "tool": { "shape": { "type": "sphere", "radius": 0.02 }, "density": 1000 },
+  "trace": )" + trace + R"(,
+  "coupling": )" + coupling + R"(,
+  "algorithms": [ )" + algorithm + R"( ] })";
+}
+
+TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
+  const std::string box = R"({ "shape": { "type": "box", "size": [0.4, 0.4, 0.02] } })";
+  const std::string press = R"({ "generator": "press", "duration_s": 0.2 })";
+  const std::string algo = R"({ "name": "coupling_only" })";
+  const std::string coupling = R"({ "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 })";
+  const std::string header = "t_ns,px,py,pz,qw,qx,qy,qz\n";
+  const std::string open_off = "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  const std::string degenerate_off =
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+  struct Case {
+    std::string name, scenario;
+    std::map<std::string, std::string> files;
+    std::vector<std::string> expected;
+  };
+  const std::vector<Case> cases = {
+      {"missing_mesh",
+       scenario_text(R"({ "mesh": "nowhere.off" })", press, algo, coupling),
+       {},
+       {"nowhere.off"}},
+      {"malformed_json", "{ \"name\": \"bad_input\", \"scene\": [ \n", {}, {"scenario.json", "line"}},
+      {"unknown_algorithm", scenario_text(box, press, R"({ "name": "no_such_algorithm" })", coupling),
+       {}, {"scenario.json", "/algorithms/0/name", "no_such_algorithm"}},
+      {"unknown_generator",
+       scenario_text(box, R"({ "generator": "wiggle", "duration_s": 1 })", algo, coupling),
+       {}, {"scenario.json", "/trace/generator", "wiggle"}},
+      {"nan_in_trace", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+       {{"trace.csv", header + "0,0,0,0.05,1,0,0,0\n1000000,nan,0,0.05,1,0,0,0\n"}},
+       {"trace.csv", "line 3"}},
+      {"non_unit_quaternion", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+       {{"trace.csv", header + "0,0,0,0.05,1,0,0,0\n1000000,0,0,0.05,0.5,0,0,0\n"}},
+       {"trace.csv", "line 3"}},
+      {"non_monotonic_time", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+       {{"trace.csv",
+         header + "0,0,0,0.05,1,0,0,0\n2000000,0,0,0.05,1,0,0,0\n1000000,0,0,0.05,1,0,0,0\n"}},
+       {"trace.csv", "line 4"}},
+      {"open_mesh", scenario_text(R"({ "mesh": "open.off" })", press, algo, coupling),
+       {{"open.off", open_off}}, {"open.off", "edge"}},
+      {"degenerate_mesh", scenario_text(R"({ "mesh": "flat.off" })", press, algo, coupling),
+       {{"flat.off", degenerate_off}}, {"flat.off", "triangle"}},
+      {"negative_coupling_stiffness",
+       scenario_text(box, press, algo, R"({ "k_t": -2000, "b_t": 5, "k_r": 5, "b_r": 0.05 })"),
+       {}, {"scenario.json", "/coupling/k_t"}},
+      {"negative_contact_stiffness",
+       scenario_text(box, press,
+                     R"({ "name": "penalty_analytic", "params": { "contact_stiffness": -1 } })",
+                     coupling),
+       {}, {"scenario.json", "contact_stiffness"}},
+  };
+  for (const Case& c : cases) {
+    SECTION(c.name) {
+      const fs::path work = scratch("bad_" + c.name);
+      std::ofstream(work / "scenario.json") << c.scenario;
+      for (const auto& [name, text] : c.files) std::ofstream(work / name) << text;
+      const CommandResult result = hapticbench("run scenario.json --out run", work);
+      INFO(result.stderr_text);
+      CHECK(result.exit_code == 2);
+      for (const std::string& expected : c.expected)
+        CHECK(result.stderr_text.find(expected) != std::string::npos);
+      CHECK_FALSE(fs::exists(work / "run"));
+      for (const auto& entry : fs::directory_iterator(work))
+        CHECK(entry.path().filename().string().find("run") == std::string::npos);
+      // validate reports the same problem.
+      CHECK(hapticbench("validate scenario.json", work).exit_code == 2);
+    }
+  }
+}
+
+TEST_CASE("usage errors exit with 2") {
+  const fs::path work = scratch("usage");
+  CHECK(hapticbench("", work).exit_code == 2);
+  CHECK(hapticbench("frobnicate", work).exit_code == 2);
+  CHECK(hapticbench("run", work).exit_code == 2);
+  CHECK(hapticbench("run --bogus x.json", work).exit_code == 2);
+  CHECK(hapticbench("run does_not_exist.json", work).exit_code == 2);
+}
+
+}  // namespace

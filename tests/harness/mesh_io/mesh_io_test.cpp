@@ -1,0 +1,236 @@
+// Tests for harness/mesh_io/mesh_io.cpp: small files of every format written
+// to a temporary folder, read back, and checked against what was written;
+// bad files and bad arguments give InputErrors naming the file.
+#include "harness/mesh_io/mesh_io.h"
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/mass_properties.h"
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder under the system's temporary directory, removed afterwards.
+class TempFolder {
+ public:
+  TempFolder() {
+    static int counter = 0;
+    path_ = fs::temp_directory_path() /
+            ("hapticbench_mesh_io_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::create_directories(path_);
+  }
+  ~TempFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const fs::path file = path_ / name;
+    std::ofstream(file, std::ios::binary) << text;
+    return file.string();
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Corner tetrahedron 0, e_x, e_y, e_z (volume 1/6), faces outward.
+const char* const kTetrahedronOff =
+    "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+    "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+// Unit cube [0,1]^3 as six quads, counter-clockwise seen from outside.
+// Vertex i has coordinates (i & 1, (i >> 1) & 1, (i >> 2) & 1).
+const char* const kCubeVertices = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n";
+const int kCubeQuads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                              {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+
+std::string cube_faces(const std::string& prefix, int base) {
+  std::string text;
+  for (const auto& quad : kCubeQuads) {
+    text += prefix;
+    for (int corner : quad) text.append(" ").append(std::to_string(corner + base));
+    text += "\n";
+  }
+  return text;
+}
+
+void check_unit_cube(const TriangleMesh& mesh, double scale = 1.0) {
+  CHECK(mesh.vertices.size() == 8);
+  CHECK(mesh.triangles.size() == 12);  // each quad split in two
+  CHECK_FALSE(find_mesh_defect(mesh));
+  CHECK(mass_properties_from_density(mesh, 1.0).volume_m3 == Approx(scale * scale * scale));
+  CHECK(mesh.bounds().max().isApprox(Vec3::Constant(scale)));
+}
+
+template <typename F>
+std::string input_error_text(F&& f) {
+  try {
+    f();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  FAIL("expected InputError");
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("OFF tetrahedron", "[mesh_io]") {
+  TempFolder folder;
+  const TriangleMesh mesh = read_mesh_file(folder.write("tetra.off", kTetrahedronOff));
+  CHECK(mesh.vertices.size() == 4);
+  CHECK(mesh.triangles.size() == 4);
+  CHECK_FALSE(find_mesh_defect(mesh));
+  CHECK(mass_properties_from_density(mesh, 1.0).volume_m3 == Approx(1.0 / 6.0));
+}
+
+TEST_CASE("OFF cube of quads is split into outward triangles", "[mesh_io]") {
+  TempFolder folder;
+  const std::string text = std::string("OFF\n8 6 12\n") + kCubeVertices + cube_faces("4", 0);
+  check_unit_cube(read_mesh_file(folder.write("cube.off", text)));
+  // Upper-case extensions are the same format.
+  check_unit_cube(read_mesh_file(folder.write("CUBE.OFF", text)));
+}
+
+TEST_CASE("OBJ cube (1-based indices)", "[mesh_io]") {
+  TempFolder folder;
+  std::string text = "# unit cube\no cube\n";
+  for (int i = 0; i < 8; ++i)
+    text += "v " + std::to_string(i & 1) + " " + std::to_string((i >> 1) & 1) + " " +
+            std::to_string((i >> 2) & 1) + "\n";
+  text += cube_faces("f", 1);
+  check_unit_cube(read_mesh_file(folder.write("cube.obj", text)));
+}
+
+TEST_CASE("ASCII STL: unconnected triangles are merged at shared corners", "[mesh_io]") {
+  TempFolder folder;
+  const double corner[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string text = "solid tetra\n";
+  for (const auto& face : faces) {
+    text += " facet normal 0 0 0\n  outer loop\n";
+    for (int c : face)
+      text += "   vertex " + std::to_string(corner[c][0]) + " " + std::to_string(corner[c][1]) +
+              " " + std::to_string(corner[c][2]) + "\n";
+    text += "  endloop\n endfacet\n";
+  }
+  text += "endsolid tetra\n";
+  const TriangleMesh mesh = read_mesh_file(folder.write("tetra.stl", text), 0.001);
+  CHECK(mesh.vertices.size() == 4);
+  CHECK(mesh.triangles.size() == 4);
+  CHECK_FALSE(find_mesh_defect(mesh));
+  CHECK(mass_properties_from_density(mesh, 1.0).volume_m3 == Approx(1e-9 / 6.0));
+}
+
+TEST_CASE("ASCII PLY cube of quads", "[mesh_io]") {
+  TempFolder folder;
+  const std::string text =
+      std::string(
+          "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 6\nproperty list uchar int vertex_indices\n"
+          "end_header\n") +
+      kCubeVertices + cube_faces("4", 0);
+  check_unit_cube(read_mesh_file(folder.write("cube.ply", text), 2.5), 2.5);
+}
+
+TEST_CASE("coincident vertices in any format are merged", "[mesh_io]") {
+  TempFolder folder;
+  // The tetrahedron with every face given its own three vertices; -0 and 0
+  // are the same coordinate.
+  const std::string text =
+      "OFF\n12 4 0\n"
+      "0 0 0\n0 1 0\n1 0 0\n"
+      "-0 0 0\n1 0 0\n0 0 1\n"
+      "0 -0 0\n0 0 1\n0 1 0\n"
+      "1 0 0\n0 1 0\n0 0 1\n"
+      "3 0 1 2\n3 3 4 5\n3 6 7 8\n3 9 10 11\n";
+  const TriangleMesh mesh = read_mesh_file(folder.write("soup.off", text));
+  CHECK(mesh.vertices.size() == 4);
+  CHECK_FALSE(find_mesh_defect(mesh));
+}
+
+TEST_CASE("scale multiplies every coordinate and must be positive", "[mesh_io]") {
+  TempFolder folder;
+  const std::string path = folder.write("tetra.off", kTetrahedronOff);
+  const TriangleMesh mesh = read_mesh_file(path, 0.02);
+  CHECK(mesh.bounds().max().isApprox(Vec3(0.02, 0.02, 0.02)));
+  for (double bad : {0.0, -1.0, double(NAN), double(INFINITY)}) {
+    INFO("scale " << bad);
+    CHECK_THAT(input_error_text([&] { read_mesh_file(path, bad); }),
+               Catch::Contains(path) && Catch::Contains("scale"));
+  }
+}
+
+TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io]") {
+  TempFolder folder;
+  const std::string missing = (folder.path() / "nowhere.off").string();
+  CHECK_THAT(input_error_text([&] { read_mesh_file(missing); }),
+             Catch::Contains(missing) && Catch::Contains("file not found"));
+
+  const std::string xyz = folder.write("points.xyz", "0 0 0\n");
+  CHECK_THAT(input_error_text([&] { read_mesh_file(xyz); }),
+             Catch::Contains(xyz) && Catch::Contains("\".xyz\"") &&
+                 Catch::Contains(".off, .obj, .stl, .ply"));
+
+  const std::string none = folder.write("mesh", kTetrahedronOff);
+  CHECK_THAT(input_error_text([&] { read_mesh_file(none); }), Catch::Contains(none));
+
+  const std::string garbage = "this is not a mesh\n\x01\x02 3 4 5\n";
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.off", garbage)); }),
+             Catch::Contains("bad.off") && Catch::Contains("could not parse as OFF"));
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.obj", garbage)); }),
+             Catch::Contains("bad.obj") && Catch::Contains("could not parse as OBJ"));
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.ply", garbage)); }),
+             Catch::Contains("bad.ply") && Catch::Contains("could not parse as PLY"));
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.stl", garbage)); }),
+             Catch::Contains("bad.stl") && Catch::Contains("could not parse as STL"));
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("empty.off", "")); }),
+             Catch::Contains("empty.off"));
+}
+
+TEST_CASE("face with an out-of-range vertex index", "[mesh_io]") {
+  TempFolder folder;
+  const std::string path =
+      folder.write("broken.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 9\n");
+  CHECK_THAT(input_error_text([&] { read_mesh_file(path); }), Catch::Contains("broken.off"));
+}
+
+TEST_CASE("Stanford bunny from CGAL's data, if installed", "[mesh_io]") {
+  const fs::path archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!fs::exists(archive)) {
+    WARN("skipped: " << archive << " is not installed");
+    return;
+  }
+  TempFolder folder;
+  const std::string command =
+      "tar -xzf " + archive.string() + " -C " + folder.path().string() + " data/meshes/bunny00.off";
+  if (std::system(command.c_str()) != 0) {
+    WARN("skipped: could not extract bunny00.off from " << archive);
+    return;
+  }
+  const std::string path = (folder.path() / "data/meshes/bunny00.off").string();
+  // The OFF header states the counts; every face is a triangle.
+  std::ifstream header(path);
+  std::string magic;
+  std::size_t vertex_count = 0, face_count = 0;
+  header >> magic >> vertex_count >> face_count;
+  REQUIRE(magic == "OFF");
+
+  const TriangleMesh mesh = read_mesh_file(path, 0.1);
+  CHECK(mesh.vertices.size() == vertex_count);
+  CHECK(mesh.triangles.size() == face_count);
+  CHECK_FALSE(find_mesh_defect(mesh));
+  CHECK(mass_properties_from_density(mesh, 1000.0).mass_kg > 0.0);
+}
+
+}  // namespace hb

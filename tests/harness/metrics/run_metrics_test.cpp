@@ -1,0 +1,160 @@
+#include "harness/metrics/run_metrics.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "harness/metrics/budgets.h"
+#include "harness/metrics/spectrum.h"
+
+namespace hb {
+namespace {
+
+TEST_CASE("percentiles use the nearest rank") {
+  std::vector<int64_t> values;
+  for (int64_t i = 1000; i >= 1; --i) values.push_back(i);  // 1..1000, shuffled order
+  const Percentiles p = percentiles_of(values);
+  CHECK(p.p50 == 500);
+  CHECK(p.p90 == 900);
+  CHECK(p.p99 == 990);
+  CHECK(p.p999 == 999);
+  CHECK(p.max == 1000);
+  CHECK(p.count == 1000);
+  const Percentiles one = percentiles_of({7});
+  CHECK(one.p50 == 7);
+  CHECK(one.p999 == 7);
+  CHECK(percentiles_of({}).count == 0);
+}
+
+TEST_CASE("energy above a cutoff separates low and high frequencies") {
+  const double rate = 1000;
+  std::vector<double> low(1024), high(1024), mixed(1024);
+  for (std::size_t i = 0; i < low.size(); ++i) {
+    const double t = static_cast<double>(i) / rate;
+    low[i] = 3.0 + std::sin(2 * std::numbers::pi * 10 * t);
+    high[i] = std::sin(2 * std::numbers::pi * 250 * t);
+    mixed[i] = low[i] + high[i];
+  }
+  CHECK(energy_fraction_above(low, rate, 100) < 1e-3);
+  CHECK(energy_fraction_above(high, rate, 100) > 0.999);
+  CHECK(energy_fraction_above(mixed, rate, 100) == Approx(0.5).margin(0.01));
+  CHECK(energy_fraction_above(std::vector<double>(10, 2.0), rate, 100) == 0.0);
+}
+
+// Feeds a synthetic run: device moving along x at 0.1 m/s, display given per tick.
+struct SyntheticRun {
+  std::vector<DeviceSample> samples;
+  MetricsAccumulator metrics{MetricsSettings{}};
+  void tick(const Wrench& display, const std::optional<Wrench>& ideal, int64_t step_ns,
+            uint32_t flags = 0, std::optional<double> penetration = std::nullopt,
+            Vec3 proxy_offset = Vec3::Zero()) {
+    DeviceSample s;
+    s.tick = static_cast<int64_t>(samples.size());
+    s.t_ns = s.tick * kTickNs;
+    s.pose.p = Vec3(0.1e-3 * static_cast<double>(s.tick), 0, 0);
+    s.twist.v = Vec3(0.1, 0, 0);
+    samples.push_back(s);
+    TickRecord r;
+    r.device = &samples.back();
+    r.result.display = display;
+    r.result.proxy = s.pose;
+    r.result.proxy.p += proxy_offset;
+    r.result.flags = flags;
+    r.step_ns = step_ns;
+    TickEvaluation e;
+    e.ideal_display = ideal;
+    e.penetration_m = penetration;
+    if (ideal) e.reference_contact = ideal->force.norm() > 0;
+    metrics.add(r, e);
+  }
+};
+
+TEST_CASE("force error, direction error and penetration against the reference") {
+  SyntheticRun run;
+  run.samples.reserve(10);
+  Wrench ideal;
+  ideal.force = Vec3(0, 0, 10);
+  Wrench rendered;
+  rendered.force = Vec3(0, 10 * std::sin(0.1), 10 * std::cos(0.1));  // 0.1 rad off, same size
+  run.tick(rendered, ideal, 100, 0, 0.002);
+  run.tick(rendered, ideal, 200, 0, 0.0);
+  const RunMetrics m = run.metrics.finish();
+  const double chord = 2 * 10 * std::sin(0.05);
+  CHECK(*m.accuracy.force_err_rms_n == Approx(chord));
+  CHECK(*m.accuracy.force_dir_err_max_deg == Approx(0.1 * 180 / std::numbers::pi));
+  CHECK(*m.accuracy.penetration_max_m == Approx(0.002));
+  CHECK(*m.accuracy.penetration_rms_m == Approx(0.002));
+  CHECK(*m.accuracy.penetration_ticks == 1);
+  CHECK(m.timing.ticks == 2);
+  CHECK(m.timing.contact_step_ns->count == 2);
+  CHECK_FALSE(m.timing.free_space_step_ns);
+}
+
+TEST_CASE("metrics without a reference are absent, not zero") {
+  SyntheticRun run;
+  run.samples.reserve(10);
+  run.tick(Wrench{}, std::nullopt, 100);
+  const RunMetrics m = run.metrics.finish();
+  CHECK_FALSE(m.accuracy.force_err_rms_n);
+  CHECK_FALSE(m.accuracy.penetration_max_m);
+  CHECK_FALSE(m.timing.slow_update_ns);
+  CHECK(m.transparency.free_space_ticks == 1);
+  const BudgetVerdict verdict = evaluate_budget("force_err_rms_n", 1.0, m);
+  CHECK_FALSE(verdict.pass);
+  CHECK_FALSE(verdict.value);
+}
+
+TEST_CASE("passivity energy integrates F_c·v_h at the device port") {
+  SyntheticRun run;
+  run.samples.reserve(200);
+  // Display pushes along +x while the device moves along +x at 0.1 m/s: the
+  // coupling force on the proxy is -2 N x, so energy flows out of the
+  // virtual world: E decreases by 2 N * 0.1 m/s * 1 ms per tick.
+  Wrench display;
+  display.force = Vec3(2, 0, 0);
+  for (int k = 0; k < 100; ++k) run.tick(display, std::nullopt, 10);
+  const RunMetrics m = run.metrics.finish();
+  CHECK(m.stability.passivity_energy_final_j == Approx(-100 * 2 * 0.1 * 1e-3));
+  CHECK(m.stability.passivity_energy_min_j == Approx(m.stability.passivity_energy_final_j));
+  CHECK(m.stability.force_jump_max_n == 0);
+  CHECK(budget_is_lower_bound("passivity_energy_min_j"));
+  CHECK_FALSE(evaluate_budget("passivity_energy_min_j", 0.0, m).pass);
+  CHECK(evaluate_budget("passivity_energy_min_j", -1.0, m).pass);
+}
+
+TEST_CASE("non-finite wrenches are counted and treated as zero; divergence is flagged") {
+  SyntheticRun run;
+  run.samples.reserve(10);
+  Wrench bad;
+  bad.force = Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  Wrench small;
+  small.force = Vec3(1, 0, 0);
+  run.tick(small, std::nullopt, 10);
+  run.tick(bad, std::nullopt, 10);
+  run.tick(small, std::nullopt, 10, 0, std::nullopt, Vec3(0.5, 0, 0));
+  const RunMetrics m = run.metrics.finish();
+  CHECK(m.stability.nonfinite == 1);
+  CHECK(m.stability.force_jump_max_n == Approx(1.0));  // 1 -> 0 (zeroed) -> 1
+  CHECK(m.stability.diverged);
+  CHECK(*m.stability.diverged_at_tick == 2);
+  CHECK(m.stability.max_proxy_separation_m == Approx(0.5));
+  CHECK_FALSE(evaluate_budget("nonfinite", 0, m).pass);
+  CHECK(evaluate_budget("nonfinite", 1, m).pass);
+  CHECK_FALSE(evaluate_budget("diverged", 0, m).pass);
+}
+
+TEST_CASE("timing budgets read microseconds and deadline misses count ticks over 1 ms") {
+  SyntheticRun run;
+  run.samples.reserve(200);
+  for (int k = 0; k < 100; ++k) run.tick(Wrench{}, std::nullopt, k < 98 ? 50'000 : 2'000'000);
+  const RunMetrics m = run.metrics.finish();
+  CHECK(m.timing.over_budget == 2);
+  CHECK(*budget_metric("tick_p50_us", m) == Approx(50));
+  CHECK(*budget_metric("tick_max_us", m) == Approx(2000));
+  CHECK_THROWS_AS(budget_metric("tick_p90_us_typo", m), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hb
