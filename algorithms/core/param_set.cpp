@@ -24,16 +24,16 @@ double ParamSet::number(const std::string& key, double fallback, double min, dou
   if (!std::isfinite(*value) || *value < min || *value > max) {
     std::ostringstream got;
     got << *value;
-    throw InputError("", field(key), "expected a number " + range_text(min, max) + ", got " +
-                                         got.str());
+    throw InputError("", field(key),
+                     "expected a number " + range_text(min, max) + ", got " + got.str());
   }
   return *value;
 }
 
 long long ParamSet::integer(const std::string& key, long long fallback, long long min,
                             long long max) const {
-  const double value =
-      number(key, static_cast<double>(fallback), static_cast<double>(min), static_cast<double>(max));
+  const double value = number(key, static_cast<double>(fallback), static_cast<double>(min),
+                              static_cast<double>(max));
   if (value != std::floor(value))
     throw InputError("", field(key), "expected a whole number " + range_text(min, max));
   return static_cast<long long>(value);
@@ -84,8 +84,8 @@ std::optional<long long> ParamSet::integer_or_word(const std::string& key, long 
       read_.insert(key);
       if (*text == word) return std::nullopt;
       throw InputError("", field(key),
-                       "expected a whole number " + range_text(static_cast<double>(min),
-                                                               static_cast<double>(max)) +
+                       "expected a whole number " +
+                           range_text(static_cast<double>(min), static_cast<double>(max)) +
                            " or \"" + word + "\", got \"" + *text + "\"");
     }
   }

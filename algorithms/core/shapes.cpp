@@ -181,12 +181,19 @@ TriangleMesh capsule_mesh(double radius, double length, int subdivisions) {
 
   // Ring profiles (distance from the axis, z) from top to bottom, poles excluded.
   std::vector<std::pair<double, double>> rings;
-  for (int k = 1; k <= bands; ++k) {
+  for (int k = 1; k < bands; ++k) {
     const double polar = quarter_turn * k / bands;
     rings.emplace_back(radius * std::sin(polar), half_length + radius * std::cos(polar));
   }
-  // Without a cylinder the two equators coincide: keep one.
-  for (int k = (length > 0.0 ? bands : bands - 1); k >= 1; --k) {
+  // A cylinder much shorter than the radius would only add sliver triangles:
+  // its two equators become one ring at z = 0, still on the capsule.
+  if (length > 1e-6 * radius) {
+    rings.emplace_back(radius, half_length);
+    rings.emplace_back(radius, -half_length);
+  } else {
+    rings.emplace_back(radius, 0.0);
+  }
+  for (int k = bands - 1; k >= 1; --k) {
     const double polar = quarter_turn * k / bands;
     rings.emplace_back(radius * std::sin(polar), -half_length - radius * std::cos(polar));
   }

@@ -180,7 +180,7 @@ TEST_CASE("icosphere mesh: counts, vertices on the sphere, valid", "[shapes]") {
 }
 
 TEST_CASE("capsule mesh: valid, vertices on the capsule, genus 0", "[shapes]") {
-  for (double length : {0.0, 0.01, 0.2}) {
+  for (double length : {0.0, 1e-12, 1e-7, 0.01, 0.2}) {
     for (int subdivisions = 0; subdivisions <= 4; ++subdivisions) {
       INFO("length " << length << ", subdivisions " << subdivisions);
       const Shape shape = capsule_shape(0.015, length, subdivisions);

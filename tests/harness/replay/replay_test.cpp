@@ -79,7 +79,8 @@ TEST_CASE("a slow update started at tick k is installed before step k + L") {
     Recorder recorder;
     ReplaySettings settings;
     settings.slow_loop_latency_ticks = latency;
-    replay(renderer, ticks(40), settings, recorder);
+    const auto samples = ticks(40);
+    replay(renderer, samples, settings, recorder);
 
     // Updates start after steps 0, L, 2L, ...: one in flight at a time.
     for (std::size_t i = 0; i < renderer.started_after_.size(); ++i)
@@ -110,7 +111,8 @@ TEST_CASE("measured latency is the update's wall time in whole ticks, at least o
   Recorder recorder;
   ReplaySettings settings;
   settings.slow_loop_latency_ticks = std::nullopt;
-  replay(renderer, ticks(20), settings, recorder);
+  const auto samples = ticks(20);
+  replay(renderer, samples, settings, recorder);
   for (const TickRecord& r : recorder.records) {
     if (!r.slow_started) continue;
     const int64_t expected = std::max<int64_t>(1, (r.slow_ns + kTickNs - 1) / kTickNs);
