@@ -42,9 +42,10 @@ class PlaneForces : public ForceModel {
 // when contacts are found on the haptic loop.
 class FreshContactForces : public ForceModel {
  public:
+  // planes: scratch storage, reused across ticks.
   FreshContactForces(const PrimitiveContactFinder& finder, const PenaltyGains& gains,
-                     WorkCounters& work)
-      : finder_(finder), gains_(gains), work_(work) {}
+                     std::vector<PrimitiveContact>& planes, WorkCounters& work)
+      : finder_(finder), gains_(gains), planes_(planes), work_(work) {}
   ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
     planes_.clear();
     finder_.find(state, 0, planes_, work_);
@@ -54,8 +55,8 @@ class FreshContactForces : public ForceModel {
  private:
   const PrimitiveContactFinder& finder_;
   PenaltyGains gains_;
+  std::vector<PrimitiveContact>& planes_;
   WorkCounters& work_;
-  std::vector<PrimitiveContact> planes_;
 };
 
 // How far beyond the surface the slow loop keeps planes, as a fraction of
@@ -183,11 +184,13 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
       report_active(planes_);
       return raw;
     }
-    FreshContactForces contacts(finder_, gains_, result.work);
+    FreshContactForces contacts(finder_, gains_, planes_, result.work);
     const Wrench raw = quasi_static_proxy_->advance(device, &contacts, result.flags, result.work);
-    std::vector<PrimitiveContact> final_planes;
-    finder_.find(state(), 0, final_planes, result.work);
-    report_active(final_planes);
+    // The solver's last evaluation may have been a rejected trial: find the
+    // contacts again at the pose it settled on.
+    planes_.clear();
+    finder_.find(state(), 0, planes_, result.work);
+    report_active(planes_);
     return raw;
   }
 
@@ -208,8 +211,10 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
   PrimitiveContactFinder finder_;
   std::optional<DynamicProxy> dynamic_proxy_;
   std::optional<QuasiStaticProxy> quasi_static_proxy_;
-  std::vector<PrimitiveContact> planes_;  ///< the planes the haptic step evaluates
-  std::vector<Contact> contacts_;         ///< reported by the last step
+  /// The planes the haptic step evaluates: installed by the slow loop, or
+  /// found by the haptic step itself (then also its scratch storage).
+  std::vector<PrimitiveContact> planes_;
+  std::vector<Contact> contacts_;  ///< reported by the last step
   bool slow_result_installed_ = false;
 };
 

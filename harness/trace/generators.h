@@ -28,7 +28,10 @@ struct GeneratorEntry {
 std::span<const GeneratorEntry> generator_table();
 
 /// Looks a generator up and runs it; throws InputError naming `field` for
-/// an unknown name or bad parameters. Samples are at 1 kHz with twists.
+/// an unknown name, the sibling field "duration_s" for a bad duration, and
+/// the parameter's field (params prefix + key) for bad or unknown
+/// parameters. Samples are at 1 kHz with analytic twists, from t = 0 to
+/// t = duration inclusive: round(duration_s * 1000) + 1 samples.
 Trace generate_trace(const std::string& name, const GeneratorRequest& request,
                      const std::string& field);
 

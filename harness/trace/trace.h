@@ -16,8 +16,8 @@ namespace hb {
 /// One recorded device pose. t_ns: time since the trace's start (ns).
 struct TraceSample {
   int64_t t_ns = 0;
-  Pose pose;                    ///< tool frame in the world, m, qw,qx,qy,qz
-  std::optional<Twist> twist;   ///< world frame; absent when the source has no velocity
+  Pose pose;                   ///< tool frame in the world, m, qw,qx,qy,qz
+  std::optional<Twist> twist;  ///< world frame; absent when the source has no velocity
 };
 
 /// Sidecar metadata (`<name>.json` beside `<name>.csv`).
@@ -26,7 +26,7 @@ struct TraceInfo {
   std::string frame = "world";
   std::string units = "m, s, rad";
   double rate_hz = 1000;
-  std::string content_hash;        ///< hash of the CSV bytes (hex)
+  std::string content_hash;  ///< hash of the CSV bytes (hex)
 };
 
 struct Trace {
@@ -42,6 +42,11 @@ enum class TraceFileFormat {
 /// Reads a trace file. Throws InputError naming the file and line for a
 /// malformed row, a non-finite value, a non-unit quaternion (|q| off 1 by
 /// more than 1e-3; otherwise renormalised) or non-increasing timestamps.
+/// CSV: when the sidecar `<stem>.json` exists, source, frame, units and
+/// rate come from it, and a content_hash that is not the hash of the CSV
+/// bytes is an InputError (sidecar path, "/content_hash"): a stale sidecar.
+/// TUM: times become relative to the first row (t_ns = round((t - t0) * 1e9),
+/// exact for plain decimal stamps); the sidecar is not read.
 Trace read_trace_file(const std::string& path, TraceFileFormat format);
 
 /// Writes `<path>` (hapticbench CSV, full double precision) and the JSON
@@ -49,9 +54,13 @@ Trace read_trace_file(const std::string& path, TraceFileFormat format);
 void write_trace_file(const std::string& path, const Trace& trace);
 
 /// Resamples onto the 1 kHz clock from t = 0 to the last sample: linear in
-/// position, slerp in orientation. Twists are interpolated when present,
-/// otherwise estimated by central differences of the resampled poses.
-/// duration_ticks: number of ticks wanted (0 = as many as the trace covers).
+/// position, slerp in orientation (shorter arc). Tick k is at t_ns =
+/// k * 1'000'000 exactly. Twists are interpolated when every sample has
+/// one, otherwise estimated by central differences of the resampled poses
+/// (one-sided at the ends; angular velocity in the world frame).
+/// duration_ticks: number of ticks wanted (0 = as many as the trace covers,
+/// floor(t_last / 1 ms) + 1). Ticks before the first or after the last
+/// sample hold that sample's pose with zero twist.
 std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration_ticks = 0);
 
 }  // namespace hb

@@ -218,6 +218,20 @@ TEST_CASE("an unstable explicit contact never produces a non-finite display",
   CHECK((seen & kFlagForceSaturated) != 0);
 }
 
+TEST_CASE("in free space the broad phase skips every tool vertex", "[penalty_analytic]") {
+  const RenderContext context = press_context(test::box_tool(Vec3(0.02, 0.02, 0.02)));
+  auto renderer = create_penalty_analytic(context, make_params({}));
+  const Pose above{Vec3(0, 0, 0.05), Quat::Identity()};
+  renderer->reset(above);
+  DeviceSample sample;
+  sample.pose = above;
+  const TickResult result = renderer->step(sample);
+  CHECK(result.work.bv_tests == 1);
+  CHECK(result.work.points_tested == 0);
+  CHECK(result.contacts.empty());
+  CHECK(result.display.force.norm() < 1e-12);
+}
+
 std::string error_of(const RenderContext& context, const ParamSet& params) {
   try {
     create_penalty_analytic(context, params);
@@ -244,6 +258,11 @@ TEST_CASE("penalty_analytic rejects bad parameters naming the field", "[penalty_
   CHECK_THAT(error_of(context, make_params({{"proxy", std::string("quasi_static")},
                                             {"contact_stiffness", -3.0}})),
              Catch::Contains("contact_stiffness"));
+  // The massless proxy has no integrator: the parameter stays unread and is reported.
+  const ParamSet quasi_static = make_params(
+      {{"proxy", std::string("quasi_static")}, {"integrator", std::string("implicit_euler")}});
+  create_penalty_analytic(context, quasi_static);
+  CHECK_THROWS_WITH(quasi_static.reject_unknown(), Catch::Contains("integrator"));
 }
 
 TEST_CASE("penalty_analytic names the scene object that is a mesh", "[penalty_analytic]") {

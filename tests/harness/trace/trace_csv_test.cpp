@@ -332,3 +332,24 @@ TEST_CASE("malformed TUM files name the file and the line") {
     CHECK(message.find(bad.says) != std::string::npos);
   }
 }
+
+TEST_CASE("the example traces in traces/ load, with sidecars that match") {
+  const std::string dir = std::string(HAPTICBENCH_SOURCE_DIR) + "/traces/";
+  const hb::Trace press =
+      hb::read_trace_file(dir + "press_sphere.csv", hb::TraceFileFormat::kHapticbenchCsv);
+  CHECK(press.info.source == "generator:press");
+  CHECK(press.samples.size() == 2001);
+  const hb::Trace human =
+      hb::read_trace_file(dir + "human_like.csv", hb::TraceFileFormat::kHapticbenchCsv);
+  CHECK(human.info.source == "generator:human_like");
+  REQUIRE(human.samples.size() == 1001);
+  // The TUM example is human_like.csv every 10 ms, printed to 9 decimals.
+  const hb::Trace tum = hb::read_trace_file(dir + "example_tum.txt", hb::TraceFileFormat::kTum);
+  REQUIRE(tum.samples.size() == 101);
+  for (std::size_t i = 0; i < tum.samples.size(); ++i) {
+    const hb::TraceSample& original = human.samples[10 * i];
+    CHECK(tum.samples[i].t_ns == original.t_ns);
+    CHECK((tum.samples[i].pose.p - original.pose.p).norm() < 1e-9);
+    CHECK((tum.samples[i].pose.q.coeffs() - original.pose.q.coeffs()).norm() < 2e-9);
+  }
+}
