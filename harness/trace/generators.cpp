@@ -1,10 +1,9 @@
 // Synthetic device trajectories. Each generator is a closed-form motion
 // (pose and its analytic twist as functions of time) sampled at 1 kHz.
 // Smooth motions use minimum-jerk profiles, so position, velocity and
-// acceleration are continuous and start and end at rest; only `jump` (and
-// the deceleration of `impact`, which is smooth but short) are abrupt on
-// purpose. All positions are the tool frame's origin in metres, world frame,
-// z up; quaternion parameters are [w, x, y, z].
+// acceleration are continuous and start and end at rest; only `jump` is
+// discontinuous on purpose (`impact` stops within `depth`: smooth but sharp). All positions are the
+// tool frame's origin in metres, world frame, z up; quaternion parameters are [w, x, y, z].
 #include "harness/trace/generators.h"
 
 #include <algorithm>
@@ -378,12 +377,17 @@ Trace generate_human_like(const GeneratorRequest& request) {
   // platform, unlike the standard distributions.
   auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
 
-  // Six channels: x, y, z offsets (m) and the rotation vector (rad).
+  // Six channels: x, y, z offsets (m) and the rotation vector (rad), each a
+  // sum of sinusoids. Kept as components, not samples, so that hour-long
+  // traces cost no extra memory.
+  struct Sinusoid {
+    int64_t bin;       // frequency = bin / duration
+    double amplitude;  // before scaling to the requested peak
+    double phase;      // rad
+  };
   constexpr int kChannels = 6;
-  const std::size_t n = static_cast<std::size_t>(intervals + 1);
-  std::vector<std::vector<double>> value(kChannels, std::vector<double>(n, 0.0));
-  std::vector<std::vector<double>> rate(kChannels, std::vector<double>(n, 0.0));
-  for (int c = 0; c < kChannels; ++c) {
+  std::vector<Sinusoid> sinusoids[kChannels];
+  for (auto& channel : sinusoids) {
     // Choose which bins 1..bins carry energy: all, or a random subset.
     std::vector<int64_t> chosen(static_cast<std::size_t>(bins));
     for (int64_t m = 0; m < bins; ++m) chosen[static_cast<std::size_t>(m)] = m + 1;
@@ -399,38 +403,53 @@ Trace generate_human_like(const GeneratorRequest& request) {
       // Amplitude falling as 1/f: hand motion is mostly slow.
       const double amplitude = (0.5 + 0.5 * uniform()) / frequency_hz;
       const double phase = 2.0 * std::numbers::pi * uniform();
-      const double omega = 2.0 * std::numbers::pi * frequency_hz;
-      for (std::size_t k = 0; k < n; ++k) {
-        // Phase from the integer sample index, reduced exactly modulo the
-        // period, so long traces keep full precision.
-        const int64_t cycle_index = (static_cast<int64_t>(k) * chosen[i]) % intervals;
-        const double argument = 2.0 * std::numbers::pi * static_cast<double>(cycle_index) /
-                                    static_cast<double>(intervals) +
-                                phase;
-        value[c][k] += amplitude * std::sin(argument);
-        rate[c][k] += amplitude * omega * std::cos(argument);
-      }
+      channel.push_back({chosen[i], amplitude, phase});
     }
-    // Scale so that the largest excursion equals the requested amplitude.
+  }
+  // Value and time derivative of one channel at sample k (unscaled).
+  auto evaluate = [&](int c, int64_t k, double& value, double& rate) {
+    value = 0.0;
+    rate = 0.0;
+    for (const Sinusoid& sinusoid : sinusoids[c]) {
+      // Phase from the integer sample index, reduced exactly modulo the
+      // period, so long traces keep full precision.
+      const int64_t cycle_index = (k * sinusoid.bin) % intervals;
+      const double argument = 2.0 * std::numbers::pi * static_cast<double>(cycle_index) /
+                                  static_cast<double>(intervals) +
+                              sinusoid.phase;
+      const double omega = 2.0 * std::numbers::pi * static_cast<double>(sinusoid.bin) / duration;
+      value += sinusoid.amplitude * std::sin(argument);
+      rate += sinusoid.amplitude * omega * std::cos(argument);
+    }
+  };
+  // Scale each channel so that its largest excursion equals the amplitude.
+  double scale[kChannels];
+  for (int c = 0; c < kChannels; ++c) {
     double peak = 0.0;
-    for (double x : value[c]) peak = std::max(peak, std::abs(x));
-    const double target = c < 3 ? amplitude_m : amplitude_rad;
-    const double scale = peak > 0.0 ? target / peak : 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-      value[c][k] *= scale;
-      rate[c][k] *= scale;
+    for (int64_t k = 0; k <= intervals; ++k) {
+      double value, rate;
+      evaluate(c, k, value, rate);
+      peak = std::max(peak, std::abs(value));
     }
+    const double target = c < 3 ? amplitude_m : amplitude_rad;
+    scale[c] = peak > 0.0 ? target / peak : 0.0;
   }
 
   return sample_motion("human_like", request, [&](double t) {
-    const std::size_t k = static_cast<std::size_t>(std::llround(t * kSamplesPerSecond));
-    const Vec3 offset(value[0][k], value[1][k], value[2][k]);
-    const Vec3 rotation(value[3][k], value[4][k], value[5][k]);
-    const Vec3 rotation_rate(rate[3][k], rate[4][k], rate[5][k]);
+    const int64_t k = std::llround(t * kSamplesPerSecond);
+    double value[kChannels], rate[kChannels];
+    for (int c = 0; c < kChannels; ++c) {
+      evaluate(c, k, value[c], rate[c]);
+      value[c] *= scale[c];
+      rate[c] *= scale[c];
+    }
+    const Vec3 offset(value[0], value[1], value[2]);
+    const Vec3 rotation(value[3], value[4], value[5]);
+    const Vec3 rotation_rate(rate[3], rate[4], rate[5]);
     MotionState state;
     state.pose.p = centre + offset;
     state.pose.q = (quat_from_rotation_vector(rotation) * q_centre).normalized();
-    state.twist.v = Vec3(rate[0][k], rate[1][k], rate[2][k]);
+    state.twist.v = Vec3(rate[0], rate[1], rate[2]);
     state.twist.w = so3_left_jacobian(rotation) * rotation_rate;
     return state;
   });

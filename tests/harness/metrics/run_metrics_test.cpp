@@ -126,7 +126,7 @@ TEST_CASE("passivity energy integrates F_c·v_h at the device port") {
   CHECK(evaluate_budget("passivity_energy_min_j", -1.0, m).pass);
 }
 
-TEST_CASE("non-finite wrenches are counted and treated as zero; divergence is flagged") {
+TEST_CASE("non-finite wrenches are counted and treated as zero, divergence is flagged") {
   SyntheticRun run;
   run.samples.reserve(10);
   Wrench bad;
