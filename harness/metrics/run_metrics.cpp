@@ -10,6 +10,7 @@ namespace hb {
 
 namespace {
 constexpr double kDirectionThresholdN = 0.05;  // below this a force has no reliable direction
+constexpr double kDirectionPeakShare = 0.1;     // direction counted under at least 10% of peak load
 constexpr double kJitterCutoffHz = 100.0;
 
 double angle_deg(const Vec3& a, const Vec3& b) {
@@ -82,13 +83,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
         std::max(partial_.accuracy.force_err_max_n.value_or(0.0), force_err);
     const double torque_err = (display.torque - ideal.torque).norm();
     torque_err_sq_ += torque_err * torque_err;
-    if (ideal.force.norm() >= kDirectionThresholdN && display.force.norm() >= kDirectionThresholdN) {
-      const double angle = angle_deg(display.force, ideal.force);
-      dir_err_sq_ += angle * angle;
-      ++dir_err_count_;
-      partial_.accuracy.force_dir_err_max_deg =
-          std::max(partial_.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
-    }
+    force_pairs_.push_back({ideal.force, display.force});
   }
   if (evaluation.penetration_m) {
     ++evaluated_pen_ticks_;
@@ -160,8 +155,23 @@ RunMetrics MetricsAccumulator::finish() const {
     m.accuracy.force_err_rms_n = std::sqrt(force_err_sq_ / static_cast<double>(ideal_ticks_));
     m.accuracy.torque_err_rms_nm = std::sqrt(torque_err_sq_ / static_cast<double>(ideal_ticks_));
   }
-  if (dir_err_count_ > 0) {
-    m.accuracy.force_dir_err_rms_deg = std::sqrt(dir_err_sq_ / static_cast<double>(dir_err_count_));
+  // Direction error under load: ticks where the ideal force is at least
+  // 10% of its peak in the run (and >= 0.05 N) and the rendered force is
+  // not negligible; near contact onset and release a direction means little.
+  double peak_ideal = 0;
+  for (const auto& [ideal, rendered] : force_pairs_) peak_ideal = std::max(peak_ideal, ideal.norm());
+  const double threshold = std::max(kDirectionThresholdN, kDirectionPeakShare * peak_ideal);
+  double dir_err_sq = 0;
+  int64_t dir_err_count = 0;
+  for (const auto& [ideal, rendered] : force_pairs_) {
+    if (ideal.norm() < threshold || rendered.norm() < kDirectionThresholdN) continue;
+    const double angle = angle_deg(rendered, ideal);
+    dir_err_sq += angle * angle;
+    ++dir_err_count;
+    m.accuracy.force_dir_err_max_deg = std::max(m.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
+  }
+  if (dir_err_count > 0) {
+    m.accuracy.force_dir_err_rms_deg = std::sqrt(dir_err_sq / static_cast<double>(dir_err_count));
   }
   if (evaluated_pen_ticks_ > 0) {
     m.accuracy.penetration_ticks = pen_ticks_;

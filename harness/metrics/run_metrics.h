@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "algorithms/core/pose.h"
@@ -44,7 +45,9 @@ struct TimingMetrics {
 struct AccuracyMetrics {
   std::optional<double> force_err_rms_n;         ///< |F - F_ideal|, RMS over all ticks
   std::optional<double> force_err_max_n;
-  std::optional<double> force_dir_err_rms_deg;   ///< angle(F, F_ideal) where both are >= 0.05 N
+  /// angle(F, F_ideal) on ticks under load: |F_ideal| >= max(0.05 N, 10% of
+  /// its peak in the run) and |F| >= 0.05 N
+  std::optional<double> force_dir_err_rms_deg;
   std::optional<double> force_dir_err_max_deg;
   std::optional<double> torque_err_rms_nm;       ///< |tau - tau_ideal|, RMS over all ticks
   std::optional<double> penetration_max_m;       ///< proxy penetration by the reference
@@ -103,8 +106,9 @@ class MetricsAccumulator {
   std::vector<Vec3> forces_;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
   RunMetrics partial_;
-  double force_err_sq_ = 0, torque_err_sq_ = 0, dir_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
-  int64_t dir_err_count_ = 0, ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
+  std::vector<std::pair<Vec3, Vec3>> force_pairs_;  ///< (ideal, displayed) force per reference tick
+  double force_err_sq_ = 0, torque_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
+  int64_t ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
   int64_t contacts_sum_ = 0;
   double energy_ = 0;
   std::optional<Vec3> last_force_;
