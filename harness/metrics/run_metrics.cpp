@@ -98,12 +98,15 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
 
   // Stability and passivity. The coupling force on the proxy is the
   // negated display; its power at the device port is F_c·v_h + tau_c·w_h.
-  const Vec3 separation = result.proxy.p - device.pose.p;
-  const double separation_m = is_finite(result.proxy) ? separation.norm() : INFINITY;
+  // A finite proxy far enough away overflows the distance: that counts as non-finite too.
+  const double raw_separation_m = (result.proxy.p - device.pose.p).norm();
+  const bool proxy_finite = is_finite(result.proxy) && std::isfinite(raw_separation_m);
+  if (!proxy_finite) ++partial_.stability.proxy_nonfinite_ticks;
+  const double separation_m = proxy_finite ? raw_separation_m : 0.0;
   partial_.stability.max_proxy_separation_m =
       std::max(partial_.stability.max_proxy_separation_m, separation_m);
-  if (!partial_.stability.diverged &&
-      (separation_m > settings_.divergence_distance_m || (result.flags & kFlagProxyReset))) {
+  if (!partial_.stability.diverged && (!proxy_finite || separation_m > settings_.divergence_distance_m ||
+                                       (result.flags & kFlagProxyReset))) {
     partial_.stability.diverged = true;
     partial_.stability.diverged_at_tick = device.tick;
   }

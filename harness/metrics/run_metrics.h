@@ -61,7 +61,8 @@ struct StabilityMetrics {
   std::optional<int64_t> diverged_at_tick;
   int64_t proxy_resets = 0;          ///< ticks the renderer reset a non-finite proxy
   int64_t saturated_ticks = 0;       ///< ticks clipped to the device's force or torque limit
-  double max_proxy_separation_m = 0; ///< max |x_proxy - x_device| of the tool frames
+  double max_proxy_separation_m = 0; ///< max |x_proxy - x_device| of the tool frames (finite ticks)
+  int64_t proxy_nonfinite_ticks = 0; ///< ticks whose proxy pose (or its distance) was not finite
   double passivity_energy_min_j = 0; ///< min over time of E = sum (F_c·v_h + tau_c·w_h) dt
   double passivity_energy_final_j = 0;
   double force_jump_max_n = 0;       ///< max |F(k) - F(k-1)|

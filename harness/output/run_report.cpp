@@ -82,6 +82,7 @@ json run_json(const AlgorithmRun& run) {
         {"proxy_resets", m.stability.proxy_resets},
         {"saturated_ticks", m.stability.saturated_ticks},
         {"max_proxy_separation_m", m.stability.max_proxy_separation_m},
+        {"proxy_nonfinite_ticks", m.stability.proxy_nonfinite_ticks},
         {"passivity_energy_min_j", m.stability.passivity_energy_min_j},
         {"passivity_energy_final_j", m.stability.passivity_energy_final_j},
         {"force_jump_max_n", m.stability.force_jump_max_n},
