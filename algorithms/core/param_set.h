@@ -31,8 +31,7 @@ class ParamSet {
   /// naming the field when present but not a number or out of range.
   double number(const std::string& key, double fallback, double min, double max) const;
   /// A whole number in [min, max].
-  long long integer(const std::string& key, long long fallback, long long min,
-                    long long max) const;
+  long long integer(const std::string& key, long long fallback, long long min, long long max) const;
   /// One of the allowed strings.
   std::string choice(const std::string& key, const std::string& fallback,
                      const std::vector<std::string>& allowed) const;

@@ -15,18 +15,18 @@ namespace hb {
 
 /// A static object of the scene.
 struct SceneObject {
-  std::string name;              ///< e.g. "scene[0]" or the mesh file name
-  Pose pose;                     ///< object frame -> world
-  TriangleMesh mesh;             ///< m, object frame
-  std::optional<Shape> shape;    ///< set when the object is an exact primitive
-  std::string content_hash;      ///< hash of the geometry, for caches
+  std::string name;            ///< e.g. "scene[0]" or the mesh file name
+  Pose pose;                   ///< object frame -> world
+  TriangleMesh mesh;           ///< m, object frame
+  std::optional<Shape> shape;  ///< set when the object is an exact primitive
+  std::string content_hash;    ///< hash of the geometry, for caches
 };
 
 /// The virtual tool held by the device at its tool frame.
 struct Tool {
-  TriangleMesh mesh;             ///< m, tool frame
-  std::optional<Shape> shape;    ///< set when the tool is an exact primitive
-  MassProperties mass;           ///< about the centre of mass, tool-frame axes
+  TriangleMesh mesh;           ///< m, tool frame
+  std::optional<Shape> shape;  ///< set when the tool is an exact primitive
+  MassProperties mass;         ///< about the centre of mass, tool-frame axes
   std::string content_hash;
 };
 

@@ -14,10 +14,10 @@ enum class ShapeType { kBox, kSphere, kCapsule, kBoxWithHole };
 
 struct Shape {
   ShapeType type = ShapeType::kBox;
-  Vec3 size = Vec3::Zero();  ///< box / box_with_hole outer extents (m), full lengths
-  double radius = 0;         ///< sphere, capsule radius (m)
-  double length = 0;         ///< capsule: length of the axis segment along z (m)
-  int subdivisions = 3;      ///< sphere: icosphere subdivision levels; capsule: rings
+  Vec3 size = Vec3::Zero();       ///< box / box_with_hole outer extents (m), full lengths
+  double radius = 0;              ///< sphere, capsule radius (m)
+  double length = 0;              ///< capsule: length of the axis segment along z (m)
+  int subdivisions = 3;           ///< sphere: icosphere subdivision levels; capsule: rings
   Vec3 hole_size = Vec3::Zero();  ///< box_with_hole: x, y extents of the through-hole
                                   ///< along z (m); z unused
 };

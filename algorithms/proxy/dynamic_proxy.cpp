@@ -5,24 +5,6 @@
 
 namespace hb {
 
-namespace {
-// Coupling plus an algorithm's contact forces, as one model for the integrator.
-class CoupledForces : public ForceModel {
- public:
-  CoupledForces(CouplingForce coupling, ForceModel* contacts)
-      : coupling_(std::move(coupling)), contacts_(contacts) {}
-  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
-    ForceEvaluation total = coupling_.evaluate(state, with_jacobians);
-    if (contacts_) total += contacts_->evaluate(state, with_jacobians);
-    return total;
-  }
-
- private:
-  CouplingForce coupling_;
-  ForceModel* contacts_;
-};
-}  // namespace
-
 DynamicProxy::DynamicProxy(const RigidBody& body, const CouplingGains& gains,
                            IntegratorKind integrator, double dt_s)
     : body_(body), gains_(gains), integrator_(integrator), dt_s_(dt_s) {}
@@ -42,7 +24,7 @@ Wrench DynamicProxy::advance(const DeviceSample& device, ForceModel* contacts, u
   Wrench display;
   if (integrator_ == IntegratorKind::kExplicitEuler)
     display = evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
-  CoupledForces forces(CouplingForce(gains_, body_, device.pose, device.twist), contacts);
+  CouplingWithContacts forces(CouplingForce(gains_, body_, device.pose, device.twist), contacts);
   state_ = integrate_step(integrator_, body_, state_, forces, dt_s_);
   const bool reset = reset_non_finite_proxy(body_, device.pose, state_, flags);
   if (integrator_ == IntegratorKind::kImplicitEuler || reset)

@@ -19,23 +19,6 @@ RigidBodyState displaced(const RigidBodyState& state, const Vec6& step) {
   return moved;
 }
 
-// Coupling springs (dampers off) plus the contact springs, for the solver.
-class SpringForces : public ForceModel {
- public:
-  SpringForces(const CouplingGains& gains, const RigidBody& frame, const Pose& device_pose,
-               ForceModel* contacts)
-      : coupling_(CouplingGains{gains.k_t, 0, gains.k_r, 0}, frame, device_pose, Twist{}),
-        contacts_(contacts) {}
-  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
-    ForceEvaluation total = coupling_.evaluate(state, with_jacobians);
-    if (contacts_) total += contacts_->evaluate(state, with_jacobians);
-    return total;
-  }
-
- private:
-  CouplingForce coupling_;
-  ForceModel* contacts_;
-};
 }  // namespace
 
 QuasiStaticSolution solve_quasi_static(ForceModel& springs, const RigidBodyState& start,
@@ -96,7 +79,10 @@ Wrench QuasiStaticProxy::advance(const DeviceSample& device, ForceModel* contact
     flags |= kFlagNonFiniteZeroed;
     return Wrench{};
   }
-  SpringForces springs(gains_, frame_, device.pose, contact_springs);
+  // Coupling springs (dampers off) plus the contact springs, for the solver.
+  CouplingWithContacts springs(
+      CouplingForce(CouplingGains{gains_.k_t, 0, gains_.k_r, 0}, frame_, device.pose, Twist{}),
+      contact_springs);
   const QuasiStaticSolution solution = solve_quasi_static(springs, state_, options_);
   work.solver_iterations += solution.iterations;
   converged_ = solution.converged;

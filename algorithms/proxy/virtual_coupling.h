@@ -9,6 +9,8 @@
 // about its tool-frame origin.
 #pragma once
 
+#include <utility>
+
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/proxy/force_model.h"
@@ -48,6 +50,23 @@ class CouplingForce : public ForceModel {
   RigidBody body_;
   Pose device_pose_;
   Twist device_twist_;
+};
+
+/// The coupling plus an algorithm's contact forces (may be null), as one
+/// force model for an integrator or the quasi-static solver.
+class CouplingWithContacts : public ForceModel {
+ public:
+  CouplingWithContacts(CouplingForce coupling, ForceModel* contacts)
+      : coupling_(std::move(coupling)), contacts_(contacts) {}
+  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
+    ForceEvaluation total = coupling_.evaluate(state, with_jacobians);
+    if (contacts_) total += contacts_->evaluate(state, with_jacobians);
+    return total;
+  }
+
+ private:
+  CouplingForce coupling_;
+  ForceModel* contacts_;
 };
 
 }  // namespace hb

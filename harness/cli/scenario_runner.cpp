@@ -88,8 +88,9 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     std::string known;
     for (const AlgorithmSpec& spec : scenario.algorithms)
       known += (known.empty() ? "" : ", ") + spec.label;
-    throw InputError(scenario.path, "--algo",
-                     "no algorithm named or labelled \"" + *only + "\" (scenario has: " + known + ")");
+    throw InputError(
+        scenario.path, "--algo",
+        "no algorithm named or labelled \"" + *only + "\" (scenario has: " + known + ")");
   }
   return prepared;
 }
@@ -107,7 +108,8 @@ ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgor
   std::string reference_note;
   if (scenario.reference.analytic == "auto") {
     analytic = make_analytic_scene(scenario.context);
-    if (!analytic) reference_note = "no closed form: the scene is not one box with a sphere or box tool";
+    if (!analytic)
+      reference_note = "no closed form: the scene is not one box with a sphere or box tool";
   } else {
     reference_note = "analytic reference switched off by the scenario";
   }

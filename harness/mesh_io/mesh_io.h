@@ -15,5 +15,4 @@ namespace hb {
 /// failure. Does not validate closedness: call require_valid_mesh.
 TriangleMesh read_mesh_file(const std::string& path, double scale = 1.0);
 
-
 }  // namespace hb

@@ -14,7 +14,7 @@ struct BudgetVerdict {
   double limit = 0;
   std::optional<double> value;  ///< empty when the metric does not apply (the budget then fails)
   bool pass = false;
-  std::string message;          ///< why it failed, in words
+  std::string message;  ///< why it failed, in words
 };
 
 /// The metric a budget name refers to, in the budget's unit (e.g.

@@ -10,7 +10,7 @@ namespace hb {
 
 namespace {
 constexpr double kDirectionThresholdN = 0.05;  // below this a force has no reliable direction
-constexpr double kDirectionPeakShare = 0.1;     // direction counted under at least 10% of peak load
+constexpr double kDirectionPeakShare = 0.1;    // direction counted under at least 10% of peak load
 constexpr double kJitterCutoffHz = 100.0;
 
 double angle_deg(const Vec3& a, const Vec3& b) {
@@ -59,7 +59,8 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   if (!is_finite(display)) display = Wrench{};
   if (nonfinite) ++partial_.stability.nonfinite;
   if (result.flags & kFlagProxyReset) ++partial_.stability.proxy_resets;
-  if (result.flags & (kFlagForceSaturated | kFlagTorqueSaturated)) ++partial_.stability.saturated_ticks;
+  if (result.flags & (kFlagForceSaturated | kFlagTorqueSaturated))
+    ++partial_.stability.saturated_ticks;
 
   step_ns_.push_back(record.step_ns);
   if (record.step_ns > kTickNs) ++partial_.timing.over_budget;
@@ -105,13 +106,15 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   const double separation_m = proxy_finite ? raw_separation_m : 0.0;
   partial_.stability.max_proxy_separation_m =
       std::max(partial_.stability.max_proxy_separation_m, separation_m);
-  if (!partial_.stability.diverged && (!proxy_finite || separation_m > settings_.divergence_distance_m ||
-                                       (result.flags & kFlagProxyReset))) {
+  if (!partial_.stability.diverged &&
+      (!proxy_finite || separation_m > settings_.divergence_distance_m ||
+       (result.flags & kFlagProxyReset))) {
     partial_.stability.diverged = true;
     partial_.stability.diverged_at_tick = device.tick;
   }
   energy_ += (-display.force.dot(device.twist.v) - display.torque.dot(device.twist.w)) * dt;
-  partial_.stability.passivity_energy_min_j = std::min(partial_.stability.passivity_energy_min_j, energy_);
+  partial_.stability.passivity_energy_min_j =
+      std::min(partial_.stability.passivity_energy_min_j, energy_);
   partial_.stability.passivity_energy_final_j = energy_;
   if (last_force_) {
     partial_.stability.force_jump_max_n =
@@ -146,7 +149,8 @@ RunMetrics MetricsAccumulator::finish() const {
   if (!contact_step_ns_.empty()) m.timing.contact_step_ns = percentiles_of(contact_step_ns_);
   if (!slow_ns_.empty()) {
     m.timing.slow_update_ns = percentiles_of(slow_ns_);
-    const double seconds = static_cast<double>(m.timing.ticks) * 1e-9 * static_cast<double>(kTickNs);
+    const double seconds =
+        static_cast<double>(m.timing.ticks) * 1e-9 * static_cast<double>(kTickNs);
     m.timing.slow_loop_rate_hz = static_cast<double>(slow_ns_.size()) / seconds;
   }
   if (slow_age_count_ > 0) {
@@ -162,7 +166,8 @@ RunMetrics MetricsAccumulator::finish() const {
   // 10% of its peak in the run (and >= 0.05 N) and the rendered force is
   // not negligible; near contact onset and release a direction means little.
   double peak_ideal = 0;
-  for (const auto& [ideal, rendered] : force_pairs_) peak_ideal = std::max(peak_ideal, ideal.norm());
+  for (const auto& [ideal, rendered] : force_pairs_)
+    peak_ideal = std::max(peak_ideal, ideal.norm());
   const double threshold = std::max(kDirectionThresholdN, kDirectionPeakShare * peak_ideal);
   double dir_err_sq = 0;
   int64_t dir_err_count = 0;
@@ -171,14 +176,16 @@ RunMetrics MetricsAccumulator::finish() const {
     const double angle = angle_deg(rendered, ideal);
     dir_err_sq += angle * angle;
     ++dir_err_count;
-    m.accuracy.force_dir_err_max_deg = std::max(m.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
+    m.accuracy.force_dir_err_max_deg =
+        std::max(m.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
   }
   if (dir_err_count > 0) {
     m.accuracy.force_dir_err_rms_deg = std::sqrt(dir_err_sq / static_cast<double>(dir_err_count));
   }
   if (evaluated_pen_ticks_ > 0) {
     m.accuracy.penetration_ticks = pen_ticks_;
-    m.accuracy.penetration_rms_m = pen_ticks_ > 0 ? std::sqrt(pen_sq_ / static_cast<double>(pen_ticks_)) : 0.0;
+    m.accuracy.penetration_rms_m =
+        pen_ticks_ > 0 ? std::sqrt(pen_sq_ / static_cast<double>(pen_ticks_)) : 0.0;
   }
   if (m.transparency.free_space_ticks > 0) {
     m.transparency.free_space_force_rms_n =
@@ -195,7 +202,8 @@ RunMetrics MetricsAccumulator::finish() const {
     for (std::size_t i = 0; i < forces_.size(); ++i) mean += component[i] = forces_[i][axis];
     if (!forces_.empty()) mean /= static_cast<double>(forces_.size());
     for (double x : component) variance += (x - mean) * (x - mean);
-    hf += variance * energy_fraction_above(component, 1e9 / static_cast<double>(kTickNs), kJitterCutoffHz);
+    hf += variance *
+          energy_fraction_above(component, 1e9 / static_cast<double>(kTickNs), kJitterCutoffHz);
     total_weight += variance;
   }
   m.stability.force_hf_energy_fraction = total_weight > 0 ? hf / total_weight : 0.0;

@@ -16,9 +16,9 @@ namespace hb {
 
 /// Ground truth for one tick, computed outside the timed window.
 struct TickEvaluation {
-  std::optional<Wrench> ideal_display;     ///< analytic ideal displayed wrench (N, N·m, tool origin)
-  std::optional<double> penetration_m;     ///< proxy penetration into the scene by the reference (m)
-  std::optional<bool> reference_contact;   ///< the reference says the ideal proxy is in contact
+  std::optional<Wrench> ideal_display;  ///< analytic ideal displayed wrench (N, N·m, tool origin)
+  std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
+  std::optional<bool> reference_contact;  ///< the reference says the ideal proxy is in contact
 };
 
 /// Nearest-rank percentiles of a sample, in the sample's unit.
@@ -31,41 +31,42 @@ Percentiles percentiles_of(std::vector<int64_t> values);
 
 struct TimingMetrics {
   int64_t ticks = 0;
-  Percentiles step_ns;                      ///< all ticks
-  int64_t over_budget = 0;                  ///< ticks whose step took longer than 1 ms
+  Percentiles step_ns;                            ///< all ticks
+  int64_t over_budget = 0;                        ///< ticks whose step took longer than 1 ms
   std::optional<Percentiles> free_space_step_ns;  ///< ticks without contact
   std::optional<Percentiles> contact_step_ns;     ///< ticks with contact
   // Slow loop of a multi-rate algorithm; empty without one.
   std::optional<Percentiles> slow_update_ns;
-  std::optional<double> slow_loop_rate_hz;        ///< updates per second of virtual time
-  std::optional<double> slow_data_age_mean_ticks; ///< staleness of contact data seen by step()
+  std::optional<double> slow_loop_rate_hz;         ///< updates per second of virtual time
+  std::optional<double> slow_data_age_mean_ticks;  ///< staleness of contact data seen by step()
   std::optional<int64_t> slow_data_age_max_ticks;
 };
 
 struct AccuracyMetrics {
-  std::optional<double> force_err_rms_n;         ///< |F - F_ideal|, RMS over all ticks
+  std::optional<double> force_err_rms_n;  ///< |F - F_ideal|, RMS over all ticks
   std::optional<double> force_err_max_n;
   /// angle(F, F_ideal) on ticks under load: |F_ideal| >= max(0.05 N, 10% of
   /// its peak in the run) and |F| >= 0.05 N
   std::optional<double> force_dir_err_rms_deg;
   std::optional<double> force_dir_err_max_deg;
-  std::optional<double> torque_err_rms_nm;       ///< |tau - tau_ideal|, RMS over all ticks
-  std::optional<double> penetration_max_m;       ///< proxy penetration by the reference
-  std::optional<double> penetration_rms_m;       ///< RMS over ticks with penetration > 0
-  std::optional<int64_t> penetration_ticks;      ///< ticks with penetration > 0
+  std::optional<double> torque_err_rms_nm;   ///< |tau - tau_ideal|, RMS over all ticks
+  std::optional<double> penetration_max_m;   ///< proxy penetration by the reference
+  std::optional<double> penetration_rms_m;   ///< RMS over ticks with penetration > 0
+  std::optional<int64_t> penetration_ticks;  ///< ticks with penetration > 0
 };
 
 struct StabilityMetrics {
-  int64_t nonfinite = 0;             ///< ticks whose wrench was non-finite (zeroed before display)
-  bool diverged = false;             ///< proxy left the device by more than the divergence distance
+  int64_t nonfinite = 0;  ///< ticks whose wrench was non-finite (zeroed before display)
+  bool diverged = false;  ///< proxy left the device by more than the divergence distance
   std::optional<int64_t> diverged_at_tick;
-  int64_t proxy_resets = 0;          ///< ticks the renderer reset a non-finite proxy
-  int64_t saturated_ticks = 0;       ///< ticks clipped to the device's force or torque limit
-  double max_proxy_separation_m = 0; ///< max |x_proxy - x_device| of the tool frames (finite ticks)
-  int64_t proxy_nonfinite_ticks = 0; ///< ticks whose proxy pose (or its distance) was not finite
-  double passivity_energy_min_j = 0; ///< min over time of E = sum (F_c·v_h + tau_c·w_h) dt
+  int64_t proxy_resets = 0;     ///< ticks the renderer reset a non-finite proxy
+  int64_t saturated_ticks = 0;  ///< ticks clipped to the device's force or torque limit
+  double max_proxy_separation_m =
+      0;  ///< max |x_proxy - x_device| of the tool frames (finite ticks)
+  int64_t proxy_nonfinite_ticks = 0;  ///< ticks whose proxy pose (or its distance) was not finite
+  double passivity_energy_min_j = 0;  ///< min over time of E = sum (F_c·v_h + tau_c·w_h) dt
   double passivity_energy_final_j = 0;
-  double force_jump_max_n = 0;       ///< max |F(k) - F(k-1)|
+  double force_jump_max_n = 0;          ///< max |F(k) - F(k-1)|
   double force_hf_energy_fraction = 0;  ///< share of force signal energy above 100 Hz (no DC)
 };
 
@@ -76,9 +77,9 @@ struct TransparencyMetrics {
 };
 
 struct ContactMetrics {
-  int64_t contact_ticks = 0;   ///< ticks with at least one reported contact
+  int64_t contact_ticks = 0;  ///< ticks with at least one reported contact
   int64_t max_contacts = 0;
-  double mean_contacts = 0;    ///< over contact ticks
+  double mean_contacts = 0;  ///< over contact ticks
   WorkCounters total_work;
 };
 

@@ -9,8 +9,8 @@ struct RunContext {
   std::string commit;      ///< source commit the binary was configured from
   std::string build_type;  ///< CMake build type, e.g. "Release"
   std::string compiler;
-  std::string cpu;         ///< model name from /proc/cpuinfo
-  std::string date;        ///< UTC, ISO 8601
+  std::string cpu;   ///< model name from /proc/cpuinfo
+  std::string date;  ///< UTC, ISO 8601
   std::string hapticbench_version;
 };
 

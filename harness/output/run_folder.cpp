@@ -1,9 +1,10 @@
 #include "harness/output/run_folder.h"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
-#include <unistd.h>
 
 namespace hb {
 

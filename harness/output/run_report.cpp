@@ -13,8 +13,8 @@ json or_null(const std::optional<T>& value) {
 }
 
 json percentiles_json(const Percentiles& p) {
-  return {{"p50", p.p50}, {"p90", p.p90}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max},
-          {"count", p.count}};
+  return {{"p50", p.p50},   {"p90", p.p90}, {"p99", p.p99},
+          {"p999", p.p999}, {"max", p.max}, {"count", p.count}};
 }
 json percentiles_json(const std::optional<Percentiles>& p) {
   return p ? percentiles_json(*p) : json(nullptr);
@@ -65,7 +65,8 @@ json run_json(const AlgorithmRun& run) {
         {"contact_step_ns", percentiles_json(m.timing.contact_step_ns)},
         {"slow_loop", slow}}},
       {"accuracy",
-       {{"reference", run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
+       {{"reference",
+         run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
         {"reference_note", run.reference_note},
         {"force_err_rms_n", or_null(m.accuracy.force_err_rms_n)},
         {"force_err_max_n", or_null(m.accuracy.force_err_max_n)},
@@ -105,11 +106,20 @@ std::string xml_escape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;

@@ -3,10 +3,9 @@
 // junit.xml (one test case per budget per algorithm).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/run_metrics.h"
@@ -25,13 +24,13 @@ struct PreprocessInfo {
 struct AlgorithmRun {
   std::string name;
   std::string label;
-  std::string params_json;  ///< the params object as written in the scenario
+  std::string params_json;        ///< the params object as written in the scenario
   std::string slow_loop_latency;  ///< "1", "5", "measured"; empty without a slow loop
   PreprocessInfo preprocess;
   RunMetrics metrics;
   std::vector<BudgetVerdict> budgets;
-  std::string ticks_file;     ///< file name inside the run folder
-  std::string ticks_hash;     ///< determinism fingerprint (TicksCsvWriter)
+  std::string ticks_file;          ///< file name inside the run folder
+  std::string ticks_hash;          ///< determinism fingerprint (TicksCsvWriter)
   std::string analytic_reference;  ///< e.g. "sphere on box"; empty when none applies
   std::string reference_note;      ///< why a reference is absent, if it is
 };

@@ -25,11 +25,11 @@ struct ReplaySettings {
 /// after the timed window closed.
 struct TickRecord {
   const DeviceSample* device = nullptr;
-  TickResult result;             ///< result.contacts points into `contacts`
-  std::vector<Contact> contacts;  ///< copy of step()'s contacts, safe across the slow update
-  int64_t step_ns = 0;          ///< wall time of step(), steady clock
-  bool slow_started = false;    ///< a slow update started after this tick's step
-  int64_t slow_ns = 0;          ///< wall time of that slow update (0 if none)
+  TickResult result;               ///< result.contacts points into `contacts`
+  std::vector<Contact> contacts;   ///< copy of step()'s contacts, safe across the slow update
+  int64_t step_ns = 0;             ///< wall time of step(), steady clock
+  bool slow_started = false;       ///< a slow update started after this tick's step
+  int64_t slow_ns = 0;             ///< wall time of that slow update (0 if none)
   int64_t slow_latency_ticks = 0;  ///< ticks until its result is installed
   /// Age in ticks of the slow-loop data step() used (tick - start tick of the
   /// installed update); -1 before the first installation or without a slow loop.

@@ -184,8 +184,8 @@ TEST_CASE("a stiff coupling diverges with explicit Euler and not with implicit E
   // Whatever the proxy does, the device never sees more than its limit.
   auto ticks = read_ticks(work / "run/ticks_explicit_euler.csv");
   for (std::size_t k = 0; k < ticks["fx"].size(); ++k) {
-    const double f = std::hypot(std::stod(ticks["fx"][k]), std::stod(ticks["fy"][k]),
-                                std::stod(ticks["fz"][k]));
+    const double f =
+        std::hypot(std::stod(ticks["fx"][k]), std::stod(ticks["fy"][k]), std::stod(ticks["fz"][k]));
     REQUIRE(std::isfinite(f));
     REQUIRE(f <= 20.0 * (1 + 1e-12));
   }
@@ -197,9 +197,12 @@ std::string scenario_text(const std::string& scene, const std::string& trace,
                           const std::string& algorithm, const std::string& coupling) {
   return R"({ "name": "bad_input", "scene": [ )" + scene + R"( ],
   "tool": { "shape": { "type": "sphere", "radius": 0.02 }, "density": 1000 },
-  "trace": )" + trace + R"(,
-  "coupling": )" + coupling + R"(,
-  "algorithms": [ )" + algorithm + R"( ] })";
+  "trace": )" +
+         trace + R"(,
+  "coupling": )" +
+         coupling + R"(,
+  "algorithms": [ )" +
+         algorithm + R"( ] })";
 }
 
 TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
@@ -208,7 +211,8 @@ TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
   const std::string algo = R"({ "name": "coupling_only" })";
   const std::string coupling = R"({ "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 })";
   const std::string header = "t_ns,px,py,pz,qw,qx,qy,qz\n";
-  const std::string open_off = "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  const std::string open_off =
+      "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
   const std::string degenerate_off =
       "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
@@ -222,34 +226,49 @@ TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
        scenario_text(R"({ "mesh": "nowhere.off" })", press, algo, coupling),
        {},
        {"nowhere.off"}},
-      {"malformed_json", "{ \"name\": \"bad_input\", \"scene\": [ \n", {}, {"scenario.json", "line"}},
-      {"unknown_algorithm", scenario_text(box, press, R"({ "name": "no_such_algorithm" })", coupling),
-       {}, {"scenario.json", "/algorithms/0/name", "no_such_algorithm"}},
+      {"malformed_json",
+       "{ \"name\": \"bad_input\", \"scene\": [ \n",
+       {},
+       {"scenario.json", "line"}},
+      {"unknown_algorithm",
+       scenario_text(box, press, R"({ "name": "no_such_algorithm" })", coupling),
+       {},
+       {"scenario.json", "/algorithms/0/name", "no_such_algorithm"}},
       {"unknown_generator",
        scenario_text(box, R"({ "generator": "wiggle", "duration_s": 1 })", algo, coupling),
-       {}, {"scenario.json", "/trace/generator", "wiggle"}},
-      {"nan_in_trace", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+       {},
+       {"scenario.json", "/trace/generator", "wiggle"}},
+      {"nan_in_trace",
+       scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
        {{"trace.csv", header + "0,0,0,0.05,1,0,0,0\n1000000,nan,0,0.05,1,0,0,0\n"}},
        {"trace.csv", "line 3"}},
-      {"non_unit_quaternion", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+      {"non_unit_quaternion",
+       scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
        {{"trace.csv", header + "0,0,0,0.05,1,0,0,0\n1000000,0,0,0.05,0.5,0,0,0\n"}},
        {"trace.csv", "line 3"}},
-      {"non_monotonic_time", scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
+      {"non_monotonic_time",
+       scenario_text(box, R"({ "file": "trace.csv" })", algo, coupling),
        {{"trace.csv",
          header + "0,0,0,0.05,1,0,0,0\n2000000,0,0,0.05,1,0,0,0\n1000000,0,0,0.05,1,0,0,0\n"}},
        {"trace.csv", "line 4"}},
-      {"open_mesh", scenario_text(R"({ "mesh": "open.off" })", press, algo, coupling),
-       {{"open.off", open_off}}, {"open.off", "edge"}},
-      {"degenerate_mesh", scenario_text(R"({ "mesh": "flat.off" })", press, algo, coupling),
-       {{"flat.off", degenerate_off}}, {"flat.off", "triangle"}},
+      {"open_mesh",
+       scenario_text(R"({ "mesh": "open.off" })", press, algo, coupling),
+       {{"open.off", open_off}},
+       {"open.off", "edge"}},
+      {"degenerate_mesh",
+       scenario_text(R"({ "mesh": "flat.off" })", press, algo, coupling),
+       {{"flat.off", degenerate_off}},
+       {"flat.off", "triangle"}},
       {"negative_coupling_stiffness",
        scenario_text(box, press, algo, R"({ "k_t": -2000, "b_t": 5, "k_r": 5, "b_r": 0.05 })"),
-       {}, {"scenario.json", "/coupling/k_t"}},
+       {},
+       {"scenario.json", "/coupling/k_t"}},
       {"negative_contact_stiffness",
        scenario_text(box, press,
                      R"({ "name": "penalty_analytic", "params": { "contact_stiffness": -1 } })",
                      coupling),
-       {}, {"scenario.json", "contact_stiffness"}},
+       {},
+       {"scenario.json", "contact_stiffness"}},
   };
   for (const Case& c : cases) {
     SECTION(c.name) {
