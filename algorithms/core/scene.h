@@ -20,6 +20,9 @@ struct SceneObject {
   TriangleMesh mesh;           ///< m, object frame
   std::optional<Shape> shape;  ///< set when the object is an exact primitive
   std::string content_hash;    ///< hash of the geometry, for caches
+  /// The mesh may be open or self-intersecting: ground truth uses it for
+  /// distances only, never for inside/outside (scenario key "distance_only").
+  bool distance_only = false;
 };
 
 /// The virtual tool held by the device at its tool frame.

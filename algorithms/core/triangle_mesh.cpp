@@ -282,7 +282,7 @@ std::optional<MeshDefect> find_orientation_defect(const TriangleMesh& mesh) {
 
 }  // namespace
 
-std::optional<MeshDefect> find_mesh_defect(const TriangleMesh& mesh) {
+std::optional<MeshDefect> find_mesh_defect(const TriangleMesh& mesh, MeshRequirement requirement) {
   if (mesh.vertices.empty() || mesh.triangles.empty()) {
     return MeshDefect{"mesh", "mesh is empty (" + std::to_string(mesh.vertices.size()) +
                                   " vertices, " + std::to_string(mesh.triangles.size()) +
@@ -297,12 +297,14 @@ std::optional<MeshDefect> find_mesh_defect(const TriangleMesh& mesh) {
   if (auto defect = find_degenerate_triangle(mesh)) return defect;
   const EdgeIncidence incidence = build_edge_incidence(mesh);
   if (auto defect = find_duplicate_triangle(mesh, incidence)) return defect;
+  if (requirement == MeshRequirement::kSurface) return std::nullopt;
   if (auto defect = find_edge_defect(mesh, incidence)) return defect;
   return find_orientation_defect(mesh);
 }
 
-void require_valid_mesh(const TriangleMesh& mesh, const std::string& source) {
-  if (auto defect = find_mesh_defect(mesh)) {
+void require_valid_mesh(const TriangleMesh& mesh, const std::string& source,
+                        MeshRequirement requirement) {
+  if (auto defect = find_mesh_defect(mesh, requirement)) {
     throw InputError(source, defect->location, defect->message);
   }
 }

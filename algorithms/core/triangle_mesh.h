@@ -30,14 +30,22 @@ struct MeshDefect {
   std::string message;   ///< what is wrong and what was expected
 };
 
+/// What a mesh must be: a closed solid (tools, meshes used for inside/outside
+/// ground truth), or only a clean surface (a scene mesh kept for distances).
+enum class MeshRequirement { kClosedSolid, kSurface };
+
 /// Checks that the mesh bounds a solid: indices in range, no degenerate
 /// (zero-area) or duplicate triangles, every edge shared by exactly two
 /// triangles (closed, manifold), consistent orientation, and positive
 /// enclosed volume (outward normals). Returns the first defect found.
-std::optional<MeshDefect> find_mesh_defect(const TriangleMesh& mesh);
+/// With kSurface, only indices, coordinates, degenerate and duplicate
+/// triangles are checked.
+std::optional<MeshDefect> find_mesh_defect(
+    const TriangleMesh& mesh, MeshRequirement requirement = MeshRequirement::kClosedSolid);
 
 /// Throws InputError(source, defect.location, defect.message) on a defect.
-void require_valid_mesh(const TriangleMesh& mesh, const std::string& source);
+void require_valid_mesh(const TriangleMesh& mesh, const std::string& source,
+                        MeshRequirement requirement = MeshRequirement::kClosedSolid);
 
 /// Applies a rigid pose to every vertex (result in the pose's parent frame).
 TriangleMesh transformed(const TriangleMesh& mesh, const Pose& pose);

@@ -70,7 +70,7 @@ int run_command(const std::vector<std::string>& args) {
   // Load and build everything first: bad input anywhere stops the command
   // before any run folder is written.
   std::vector<Scenario> scenarios;
-  std::vector<std::vector<PreparedAlgorithm>> prepared;
+  std::vector<PreparedScenario> prepared;
   try {
     for (const std::string& path : parsed->scenarios) {
       scenarios.push_back(load_scenario(path));
@@ -81,7 +81,7 @@ int run_command(const std::vector<std::string>& args) {
                                scenarios[i].path + "; run folders would collide");
     }
     for (const Scenario& scenario : scenarios)
-      prepared.push_back(prepare_algorithms(scenario, parsed->algo));
+      prepared.push_back(prepare_scenario(scenario, parsed->algo));
   } catch (const InputError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
@@ -90,7 +90,7 @@ int run_command(const std::vector<std::string>& args) {
   bool all_pass = true;
   for (std::size_t s = 0; s < scenarios.size(); ++s) {
     const Scenario& scenario = scenarios[s];
-    ScenarioOutcome outcome = run_prepared(scenario, prepared[s]);
+    ScenarioOutcome outcome = run_prepared(prepared[s]);
     const fs::path folder = run_folder_for(*parsed, scenario);
     StagedRunFolder staged(folder);
     for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)

@@ -29,17 +29,32 @@ ParamSet split_replay_params(const AlgorithmSpec& spec, PreparedAlgorithm& prepa
 // Ground truth and logging for one algorithm's replay.
 class EvaluatingObserver : public TickObserver {
  public:
-  EvaluatingObserver(const std::optional<AnalyticScene>& analytic, MetricsSettings settings)
-      : analytic_(analytic), metrics_(settings) {}
+  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings)
+      : truth_(truth), metrics_(settings) {}
 
   void on_tick(const TickRecord& record) override {
     TickEvaluation evaluation;
-    if (analytic_) {
-      const IdealRendering ideal = ideal_rigid_contact(*analytic_, record.device->pose);
+    const bool proxy_finite = is_finite(record.result.proxy);
+    if (truth_.analytic) {
+      const IdealRendering ideal = ideal_rigid_contact(*truth_.analytic, record.device->pose);
       evaluation.ideal_display = ideal.display;
       evaluation.reference_contact = ideal.in_contact;
-      if (is_finite(record.result.proxy))
-        evaluation.penetration_m = exact_penetration_depth(*analytic_, record.result.proxy);
+      if (proxy_finite)
+        evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
+    }
+    if (truth_.oracle) {
+      evaluation.oracle =
+          truth_.oracle->evaluate(record.device->tick, record.result.proxy, record.result.contacts);
+      // Without a closed form, the penetration is the oracle's: Embree on
+      // every tick, else CGAL on its ticks.
+      if (!evaluation.penetration_m && !evaluation.oracle->broad_phase_skipped) {
+        if (evaluation.oracle->embree)
+          evaluation.penetration_m = evaluation.oracle->embree->max_depth_m;
+        else if (evaluation.oracle->cgal)
+          evaluation.penetration_m = evaluation.oracle->cgal->max_depth_m;
+      } else if (!evaluation.penetration_m && proxy_finite) {
+        evaluation.penetration_m = 0.0;  // bounds clear of the scene: no penetration
+      }
     }
     metrics_.add(record, evaluation);
     ticks_.add(record, evaluation);
@@ -49,10 +64,17 @@ class EvaluatingObserver : public TickObserver {
   const TicksCsvWriter& ticks() const { return ticks_; }
 
  private:
-  const std::optional<AnalyticScene>& analytic_;
+  GroundTruth& truth_;
   MetricsAccumulator metrics_;
   TicksCsvWriter ticks_;
 };
+
+std::string penetration_source(const GroundTruth& truth) {
+  if (truth.analytic) return "analytic";
+  if (truth.oracle && truth.oracle->has_embree()) return "embree";
+  if (truth.oracle && truth.oracle->has_cgal()) return "cgal";
+  return "";
+}
 
 std::string analytic_reference_name(const RenderContext& context) {
   return "ideal rigid contact: " + shape_type_name(context.tool.shape->type) + " tool on box";
@@ -64,6 +86,7 @@ std::string with_source(const InputError& error, const std::string& path) {
 
 }  // namespace
 
+namespace {
 std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
                                                   const std::optional<std::string>& only) {
   std::vector<PreparedAlgorithm> prepared;
@@ -95,7 +118,47 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
   return prepared;
 }
 
-ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgorithm>& algorithms) {
+GroundTruth prepare_ground_truth(const Scenario& scenario) {
+  GroundTruth truth;
+  if (scenario.reference.analytic == "auto") {
+    truth.analytic = make_analytic_scene(scenario.context, &truth.analytic_note);
+    if (truth.analytic) truth.analytic_name = analytic_reference_name(scenario.context);
+  } else {
+    truth.analytic_note = "analytic reference switched off by the scenario";
+  }
+  const std::string& oracle = scenario.reference.oracle;
+  if (oracle != "none") {
+    OracleEvaluationSettings settings;
+    settings.use_embree = oracle == "embree" || oracle == "both";
+    settings.use_cgal = oracle == "cgal" || oracle == "both";
+    settings.exact_every = scenario.reference.exact_every;
+    settings.sample_spacing_m = scenario.reference.sample_spacing_m;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      truth.oracle = std::make_unique<OracleEvaluator>(scenario.context, settings);
+    } catch (const InputError& error) {
+      // The oracle names the object; the scenario names where it comes from.
+      throw InputError(with_source(error, scenario.path), error.location(),
+                       error.message() + " (scenario " + scenario.path + ")");
+    }
+    truth.oracle_build_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return truth;
+}
+}  // namespace
+
+PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only) {
+  PreparedScenario prepared;
+  prepared.scenario = &scenario;
+  prepared.algorithms = prepare_algorithms(scenario, only);
+  prepared.truth = prepare_ground_truth(scenario);
+  return prepared;
+}
+
+ScenarioOutcome run_prepared(PreparedScenario& prepared) {
+  const Scenario& scenario = *prepared.scenario;
+  GroundTruth& truth = prepared.truth;
   ScenarioOutcome outcome;
   ScenarioRun& report = outcome.report;
   report.scenario_name = scenario.name;
@@ -103,15 +166,14 @@ ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgor
   report.scenario_hash = scenario.content_hash;
   report.trace_description = scenario.trace_description;
   report.context = current_run_context();
-
-  std::optional<AnalyticScene> analytic;
-  std::string reference_note;
-  if (scenario.reference.analytic == "auto") {
-    analytic = make_analytic_scene(scenario.context);
-    if (!analytic)
-      reference_note = "no closed form: the scene is not one box with a sphere or box tool";
-  } else {
-    reference_note = "analytic reference switched off by the scenario";
+  if (truth.oracle) {
+    OracleDescription& d = report.oracle.emplace();
+    d.backends = scenario.reference.oracle;
+    d.exact_every = scenario.reference.exact_every;
+    d.tool_samples = static_cast<int64_t>(truth.oracle->sample_count());
+    d.sample_spacing_m = truth.oracle->sample_spacing_m();
+    d.distance_only_objects = truth.oracle->distance_only_objects();
+    d.build_seconds = truth.oracle_build_seconds;
   }
 
   MetricsSettings metrics_settings;
@@ -119,8 +181,8 @@ ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgor
   const double tool_radius = tool.mesh.radius_about(tool.mass.centre_of_mass);
   metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
 
-  for (PreparedAlgorithm& algorithm : algorithms) {
-    EvaluatingObserver observer(analytic, metrics_settings);
+  for (PreparedAlgorithm& algorithm : prepared.algorithms) {
+    EvaluatingObserver observer(truth, metrics_settings);
     replay(*algorithm.renderer, scenario.device_samples, algorithm.replay, observer);
 
     AlgorithmRun run;
@@ -134,8 +196,9 @@ ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgor
       run.budgets.push_back(evaluate_budget(budget.name, budget.limit, run.metrics));
     run.ticks_file = "ticks_" + run.label + ".csv";
     run.ticks_hash = observer.ticks().deterministic_hash();
-    run.analytic_reference = analytic ? analytic_reference_name(scenario.context) : "";
-    run.reference_note = reference_note;
+    run.analytic_reference = truth.analytic_name;
+    run.reference_note = truth.analytic_note;
+    run.penetration_source = penetration_source(truth);
     report.runs.push_back(std::move(run));
     outcome.ticks_csv.push_back(observer.ticks().text());
   }

@@ -9,6 +9,8 @@
 
 #include "algorithms/proxy/renderer.h"
 #include "harness/output/run_report.h"
+#include "harness/reference/analytic_reference.h"
+#include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
 #include "harness/scenario/scenario.h"
 
@@ -23,11 +25,28 @@ struct PreparedAlgorithm {
   PreprocessInfo preprocess;
 };
 
+/// The ground truth a scenario asks for, built once and shared by its algorithms.
+struct GroundTruth {
+  std::optional<AnalyticScene> analytic;
+  std::string analytic_name;  ///< e.g. "ideal rigid contact: sphere tool on box"
+  std::string analytic_note;  ///< why there is no analytic reference, if there is none
+  std::unique_ptr<OracleEvaluator> oracle;  ///< null when reference.oracle is "none"
+  double oracle_build_seconds = 0;
+};
+
+/// A scenario with everything built: nothing left that bad input could stop.
+struct PreparedScenario {
+  const Scenario* scenario = nullptr;
+  std::vector<PreparedAlgorithm> algorithms;
+  GroundTruth truth;
+};
+
 /// Builds the renderers of the scenario (all of them, or those whose name or
-/// label is `only`). Throws InputError naming the scenario file and the
-/// field for unknown algorithms or bad parameters, before anything runs.
-std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
-                                                  const std::optional<std::string>& only);
+/// label is `only`) and its ground truth. Throws InputError naming the
+/// scenario file (or the offending mesh) and the field for unknown
+/// algorithms, bad parameters or a scene the oracles refuse, before
+/// anything runs.
+PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only);
 
 /// The outcome of a scenario: the report and each algorithm's ticks CSV.
 struct ScenarioOutcome {
@@ -36,6 +55,6 @@ struct ScenarioOutcome {
 };
 
 /// Replays every prepared algorithm and evaluates metrics and budgets.
-ScenarioOutcome run_prepared(const Scenario& scenario, std::vector<PreparedAlgorithm>& algorithms);
+ScenarioOutcome run_prepared(PreparedScenario& prepared);
 
 }  // namespace hb

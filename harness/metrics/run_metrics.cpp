@@ -139,6 +139,48 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     partial_.contacts.max_contacts = std::max(partial_.contacts.max_contacts, n);
   }
   add_work(partial_.contacts.total_work, result.work);
+  if (evaluation.oracle) add_oracle(*evaluation.oracle);
+}
+
+namespace {
+void add_backend(std::optional<OracleBackendMetrics>& metrics, const PenetrationResult& result,
+                 int64_t ns, std::vector<int64_t>& all_ns, double& depth_sq) {
+  if (!metrics) metrics.emplace();
+  ++metrics->ticks_evaluated;
+  all_ns.push_back(ns);
+  metrics->inside_samples_max = std::max(metrics->inside_samples_max, result.inside);
+  if (result.inside > 0) {
+    ++metrics->penetrating_ticks;
+    metrics->penetration_max_m = std::max(metrics->penetration_max_m, result.max_depth_m);
+    depth_sq += result.max_depth_m * result.max_depth_m;
+  }
+}
+}  // namespace
+
+void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
+  if (!partial_.oracle) partial_.oracle.emplace();
+  OracleMetrics& m = *partial_.oracle;
+  if (oracle.broad_phase_skipped) ++m.broad_phase_skipped_ticks;
+  if (oracle.embree)
+    add_backend(m.embree, *oracle.embree, oracle.embree_ns, embree_sums_.ns, embree_sums_.depth_sq);
+  if (oracle.cgal)
+    add_backend(m.cgal, *oracle.cgal, oracle.cgal_ns, cgal_sums_.ns, cgal_sums_.depth_sq);
+  m.inside_disagreements += oracle.inside_disagreements;
+  if (oracle.intersection_volume_m3) {
+    ++m.volume_evaluations;
+    volume_ns_.push_back(oracle.volume_ns);
+    m.intersection_volume_max_m3 =
+        std::max(m.intersection_volume_max_m3.value_or(0.0), *oracle.intersection_volume_m3);
+  }
+  for (const ContactCheck& check : oracle.contact_checks) {
+    ++m.contacts_checked;
+    contact_normal_sq_ += check.normal_error_deg * check.normal_error_deg;
+    contact_depth_sq_ += check.depth_error_m * check.depth_error_m;
+    m.contact_normal_err_max_deg =
+        std::max(m.contact_normal_err_max_deg.value_or(0.0), check.normal_error_deg);
+    m.contact_depth_err_max_m =
+        std::max(m.contact_depth_err_max_m.value_or(0.0), std::abs(check.depth_error_m));
+  }
 }
 
 RunMetrics MetricsAccumulator::finish() const {
@@ -194,6 +236,23 @@ RunMetrics MetricsAccumulator::finish() const {
   if (m.contacts.contact_ticks > 0) {
     m.contacts.mean_contacts =
         static_cast<double>(contacts_sum_) / static_cast<double>(m.contacts.contact_ticks);
+  }
+  if (m.oracle) {
+    auto finish_backend = [](std::optional<OracleBackendMetrics>& backend, const BackendSums& sums) {
+      if (!backend) return;
+      backend->evaluation_ns = percentiles_of(sums.ns);
+      if (backend->penetrating_ticks > 0)
+        backend->penetration_rms_m =
+            std::sqrt(sums.depth_sq / static_cast<double>(backend->penetrating_ticks));
+    };
+    finish_backend(m.oracle->embree, embree_sums_);
+    finish_backend(m.oracle->cgal, cgal_sums_);
+    if (!volume_ns_.empty()) m.oracle->volume_ns = percentiles_of(volume_ns_);
+    if (m.oracle->contacts_checked > 0) {
+      const auto n = static_cast<double>(m.oracle->contacts_checked);
+      m.oracle->contact_normal_err_rms_deg = std::sqrt(contact_normal_sq_ / n);
+      m.oracle->contact_depth_err_rms_m = std::sqrt(contact_depth_sq_ / n);
+    }
   }
   double hf = 0, total_weight = 0;
   for (int axis = 0; axis < 3; ++axis) {

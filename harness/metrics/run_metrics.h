@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "algorithms/core/pose.h"
+#include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
 
 namespace hb {
@@ -19,6 +20,7 @@ struct TickEvaluation {
   std::optional<Wrench> ideal_display;  ///< analytic ideal displayed wrench (N, N·m, tool origin)
   std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
   std::optional<bool> reference_contact;  ///< the reference says the ideal proxy is in contact
+  std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
 };
 
 /// Nearest-rank percentiles of a sample, in the sample's unit.
@@ -83,12 +85,38 @@ struct ContactMetrics {
   WorkCounters total_work;
 };
 
+/// One oracle backend over a run.
+struct OracleBackendMetrics {
+  int64_t ticks_evaluated = 0;
+  double penetration_max_m = 0;      ///< deepest tool sample over the run
+  double penetration_rms_m = 0;      ///< RMS over penetrating ticks of each tick's deepest sample
+  int64_t penetrating_ticks = 0;
+  int64_t inside_samples_max = 0;    ///< most tool samples inside the scene at one tick
+  Percentiles evaluation_ns;         ///< cost per evaluated tick, apart from step()
+};
+
+struct OracleMetrics {
+  std::optional<OracleBackendMetrics> embree;
+  std::optional<OracleBackendMetrics> cgal;
+  int64_t broad_phase_skipped_ticks = 0;  ///< ticks with the tool's bounds clear of the scene
+  int64_t inside_disagreements = 0;       ///< samples Embree and CGAL classified differently
+  std::optional<double> intersection_volume_max_m3;
+  int64_t volume_evaluations = 0;
+  std::optional<Percentiles> volume_ns;
+  int64_t contacts_checked = 0;           ///< reported contacts checked against the oracle
+  std::optional<double> contact_normal_err_rms_deg;
+  std::optional<double> contact_normal_err_max_deg;
+  std::optional<double> contact_depth_err_rms_m;
+  std::optional<double> contact_depth_err_max_m;  ///< largest |reported - oracle| depth
+};
+
 struct RunMetrics {
   TimingMetrics timing;
   AccuracyMetrics accuracy;
   StabilityMetrics stability;
   TransparencyMetrics transparency;
   ContactMetrics contacts;
+  std::optional<OracleMetrics> oracle;  ///< empty when the scenario asks for no oracle
 };
 
 struct MetricsSettings {
@@ -103,7 +131,16 @@ class MetricsAccumulator {
   RunMetrics finish() const;
 
  private:
+  void add_oracle(const OracleTickEvaluation& oracle);
+
   MetricsSettings settings_;
+  struct BackendSums {
+    std::vector<int64_t> ns;
+    double depth_sq = 0;
+  };
+  BackendSums embree_sums_, cgal_sums_;
+  std::vector<int64_t> volume_ns_;
+  double contact_normal_sq_ = 0, contact_depth_sq_ = 0;
   std::vector<int64_t> step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;
   std::vector<Vec3> forces_;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;

@@ -28,6 +28,32 @@ json work_json(const WorkCounters& w) {
           {"solver_iterations", w.solver_iterations}};
 }
 
+json backend_json(const std::optional<OracleBackendMetrics>& b) {
+  if (!b) return nullptr;
+  return {{"ticks_evaluated", b->ticks_evaluated},
+          {"penetration_max_m", b->penetration_max_m},
+          {"penetration_rms_m", b->penetration_rms_m},
+          {"penetrating_ticks", b->penetrating_ticks},
+          {"inside_samples_max", b->inside_samples_max},
+          {"evaluation_ns", percentiles_json(b->evaluation_ns)}};
+}
+
+json oracle_json(const std::optional<OracleMetrics>& o) {
+  if (!o) return nullptr;
+  return {{"embree", backend_json(o->embree)},
+          {"cgal", backend_json(o->cgal)},
+          {"broad_phase_skipped_ticks", o->broad_phase_skipped_ticks},
+          {"inside_disagreements", o->inside_disagreements},
+          {"intersection_volume_max_m3", or_null(o->intersection_volume_max_m3)},
+          {"volume_evaluations", o->volume_evaluations},
+          {"volume_ns", percentiles_json(o->volume_ns)},
+          {"contacts_checked", o->contacts_checked},
+          {"contact_normal_err_rms_deg", or_null(o->contact_normal_err_rms_deg)},
+          {"contact_normal_err_max_deg", or_null(o->contact_normal_err_max_deg)},
+          {"contact_depth_err_rms_m", or_null(o->contact_depth_err_rms_m)},
+          {"contact_depth_err_max_m", or_null(o->contact_depth_err_max_m)}};
+}
+
 json run_json(const AlgorithmRun& run) {
   const RunMetrics& m = run.metrics;
   json params = json::parse(run.params_json.empty() ? "{}" : run.params_json);
@@ -68,6 +94,8 @@ json run_json(const AlgorithmRun& run) {
        {{"reference",
          run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
         {"reference_note", run.reference_note},
+        {"penetration_source",
+         run.penetration_source.empty() ? json(nullptr) : json(run.penetration_source)},
         {"force_err_rms_n", or_null(m.accuracy.force_err_rms_n)},
         {"force_err_max_n", or_null(m.accuracy.force_err_max_n)},
         {"force_dir_err_rms_deg", or_null(m.accuracy.force_dir_err_rms_deg)},
@@ -97,6 +125,7 @@ json run_json(const AlgorithmRun& run) {
         {"max_contacts", m.contacts.max_contacts},
         {"mean_contacts", m.contacts.mean_contacts},
         {"work", work_json(m.contacts.total_work)}}},
+      {"oracle", oracle_json(m.oracle)},
       {"determinism", {{"ticks_hash", run.ticks_hash}}},
       {"budgets", budgets},
   };
@@ -136,6 +165,15 @@ bool ScenarioRun::all_budgets_pass() const {
 json summary_json(const ScenarioRun& run) {
   json runs = json::array();
   for (const AlgorithmRun& r : run.runs) runs.push_back(run_json(r));
+  json oracle = nullptr;
+  if (run.oracle) {
+    oracle = {{"backends", run.oracle->backends},
+              {"exact_every", run.oracle->exact_every},
+              {"tool_samples", run.oracle->tool_samples},
+              {"sample_spacing_m", run.oracle->sample_spacing_m},
+              {"distance_only_objects", run.oracle->distance_only_objects},
+              {"build_seconds", run.oracle->build_seconds}};
+  }
   return {{"schema_version", 1},
           {"context",
            {{"commit", run.context.commit},
@@ -149,6 +187,7 @@ json summary_json(const ScenarioRun& run) {
             {"path", run.scenario_path},
             {"hash", run.scenario_hash},
             {"trace", run.trace_description}}},
+          {"oracle", oracle},
           {"runs", runs}};
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,17 @@ struct AlgorithmRun {
   std::string ticks_hash;          ///< determinism fingerprint (TicksCsvWriter)
   std::string analytic_reference;  ///< e.g. "sphere on box"; empty when none applies
   std::string reference_note;      ///< why a reference is absent, if it is
+  std::string penetration_source;  ///< "analytic", "embree", "cgal" or empty
+};
+
+/// How the scenario's oracles were set up (shared by its runs).
+struct OracleDescription {
+  std::string backends;  ///< "embree", "cgal" or "both"
+  int64_t exact_every = 0;
+  int64_t tool_samples = 0;
+  double sample_spacing_m = 0;
+  std::vector<std::string> distance_only_objects;
+  double build_seconds = 0;
 };
 
 struct ScenarioRun {
@@ -41,6 +53,7 @@ struct ScenarioRun {
   std::string scenario_hash;
   std::string trace_description;
   RunContext context;
+  std::optional<OracleDescription> oracle;
   std::vector<AlgorithmRun> runs;
 
   bool all_budgets_pass() const;

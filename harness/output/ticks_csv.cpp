@@ -9,7 +9,8 @@ const std::string& ticks_csv_header() {
       "tick,t_ns,dev_px,dev_py,dev_pz,dev_qw,dev_qx,dev_qy,dev_qz,"
       "proxy_px,proxy_py,proxy_pz,proxy_qw,proxy_qx,proxy_qy,proxy_qz,"
       "fx,fy,fz,tx,ty,tz,contacts,penetration_m,step_ns,flags,"
-      "ref_fx,ref_fy,ref_fz,ref_tx,ref_ty,ref_tz,slow_update_ns,slow_data_age_ticks";
+      "ref_fx,ref_fy,ref_fz,ref_tx,ref_ty,ref_tz,slow_update_ns,slow_data_age_ticks,"
+      "embree_pen_m,embree_inside,cgal_pen_m,cgal_inside,cgal_volume_m3,oracle_ns";
   return header;
 }
 
@@ -72,7 +73,26 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
   slow_age += ',';
   if (record.slow_data_age_ticks >= 0) append_integer(slow_age, record.slow_data_age_ticks);
 
-  hash_.add(head).add(tail).add(slow_age).add("\n");
+  // Oracle columns: empty when not evaluated at this tick.
+  std::string oracle;
+  std::string oracle_ns = ",";
+  if (const auto& o = evaluation.oracle) {
+    auto backend = [&](const std::optional<PenetrationResult>& r) {
+      oracle += ',';
+      if (r) append_number(oracle, r->max_depth_m);
+      oracle += ',';
+      if (r) append_integer(oracle, r->inside);
+    };
+    backend(o->embree);
+    backend(o->cgal);
+    oracle += ',';
+    if (o->intersection_volume_m3) append_number(oracle, *o->intersection_volume_m3);
+    if (!o->broad_phase_skipped) append_integer(oracle_ns, o->embree_ns + o->cgal_ns + o->volume_ns);
+  } else {
+    oracle = ",,,,,";
+  }
+
+  hash_.add(head).add(tail).add(slow_age).add(oracle).add("\n");
 
   text_ += head;
   text_ += ',';
@@ -81,6 +101,8 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
   text_ += ',';
   if (record.slow_started) append_integer(text_, record.slow_ns);
   text_ += slow_age;
+  text_ += oracle;
+  text_ += oracle_ns;
   text_ += '\n';
 }
 

@@ -239,6 +239,11 @@ std::string JsonField::string(const std::string& expected) const {
   return value_->get<std::string>();
 }
 
+bool JsonField::boolean(const std::string& expected) const {
+  if (!value_->is_boolean()) fail(expected);
+  return value_->get<bool>();
+}
+
 std::string JsonField::choice(std::initializer_list<std::string_view> allowed) const {
   std::string expected = "expected one of";
   for (std::string_view option : allowed)

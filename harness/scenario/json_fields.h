@@ -61,6 +61,7 @@ class JsonField {
   /// A whole number in [min, max] (JSON integer or a float with no fraction).
   int64_t integer(int64_t min, int64_t max, const std::string& expected) const;
   std::string string(const std::string& expected) const;
+  bool boolean(const std::string& expected) const;
   /// A string equal to one of `allowed`.
   std::string choice(std::initializer_list<std::string_view> allowed) const;
   /// An array of exactly n finite numbers.

@@ -239,8 +239,10 @@ class ScenarioReader {
     return shape;
   }
 
-  // `mesh` (+ `scale`) or `shape`, exactly one.
-  Geometry read_geometry(const JsonField& entry) {
+  // `mesh` (+ `scale`) or `shape`, exactly one. A mesh must be a closed
+  // solid unless `requirement` says a clean surface is enough.
+  Geometry read_geometry(const JsonField& entry,
+                         MeshRequirement requirement = MeshRequirement::kClosedSolid) {
     const bool has_mesh = entry.has("mesh");
     const bool has_shape = entry.has("shape");
     if (has_mesh == has_shape)
@@ -267,7 +269,7 @@ class ScenarioReader {
     std::string file_hash;
     try {
       geometry.mesh = read_mesh_file(path, scale);
-      require_valid_mesh(geometry.mesh, path);
+      require_valid_mesh(geometry.mesh, path, requirement);
       file_hash = file_content_hash(path);
     } catch (const InputError& error) {
       throw with_reference_note(error, path_, mesh_field.pointer());
@@ -281,9 +283,14 @@ class ScenarioReader {
 
   SceneObject read_scene_object(const JsonField& entry, std::size_t index) {
     entry.require_object("expected a scene object {\"mesh\"|\"shape\", \"pose\", \"name\"}");
-    entry.reject_unknown_keys({"name", "mesh", "scale", "shape", "pose"});
+    entry.reject_unknown_keys({"name", "mesh", "scale", "shape", "pose", "distance_only"});
     SceneObject object;
-    Geometry geometry = read_geometry(entry);
+    // "distance_only": true admits an open or self-intersecting mesh, for
+    // which ground truth can give distances but not inside/outside.
+    if (entry.has("distance_only"))
+      object.distance_only = entry.existing_member("distance_only").boolean("expected true or false");
+    Geometry geometry = read_geometry(
+        entry, object.distance_only ? MeshRequirement::kSurface : MeshRequirement::kClosedSolid);
     object.mesh = std::move(geometry.mesh);
     object.shape = geometry.shape;
     object.content_hash = geometry.content_hash;
@@ -508,8 +515,9 @@ class ScenarioReader {
   }
 
   ReferenceSpec read_reference(const JsonField& field) const {
-    field.require_object("expected {\"oracle\", \"exact_every\", \"analytic\"}");
-    field.reject_unknown_keys({"oracle", "exact_every", "analytic"});
+    field.require_object(
+        "expected {\"oracle\", \"exact_every\", \"analytic\", \"sample_spacing_m\"}");
+    field.reject_unknown_keys({"oracle", "exact_every", "analytic", "sample_spacing_m"});
     ReferenceSpec reference;
     if (field.has("oracle"))
       reference.oracle = field.existing_member("oracle").choice({"none", "embree", "cgal", "both"});
@@ -519,6 +527,9 @@ class ScenarioReader {
                                            "expected a whole number of ticks >= 1");
     if (field.has("analytic"))
       reference.analytic = field.existing_member("analytic").choice({"auto", "none"});
+    if (field.has("sample_spacing_m"))
+      reference.sample_spacing_m = field.existing_member("sample_spacing_m")
+                                       .positive_number("expected a positive spacing in metres");
     return reference;
   }
 

@@ -24,6 +24,9 @@ struct ReferenceSpec {
   std::string oracle = "none";    ///< none, embree, cgal, both
   int64_t exact_every = 10;       ///< CGAL evaluation period in ticks
   std::string analytic = "auto";  ///< auto or none
+  /// Spacing (m) of the tool surface samples whose penetration the oracles
+  /// measure; 0 = automatic (a fortieth of the tool's bounding diameter).
+  double sample_spacing_m = 0;
 };
 
 /// A budget a run must meet, e.g. {"tick_p99_us", 1000}.

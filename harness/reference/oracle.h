@@ -1,0 +1,82 @@
+// Ground-truth oracles on real meshes: what a query wants is stated in a
+// Request, what it gets back in a Result (only what was asked is computed).
+// Two backends share this interface: Embree (fast, float BVH with distances
+// recomputed in double) and CGAL (exact predicates, AABB-tree distances,
+// exact intersection volume). Their heavy headers stay in oracle_embree.cpp
+// and oracle_cgal.cpp. All coordinates are metres, world frame.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/core/triangle_mesh.h"
+
+namespace hb {
+
+/// Per-point queries against the whole scene (union of its objects).
+struct PointQueryRequest {
+  std::span<const Vec3> points;  ///< m, world frame
+  bool want_inside = true;       ///< inside any closed scene object?
+  bool want_closest = false;     ///< closest point on the scene surface, distance, normal
+};
+
+struct PointQueryResult {
+  std::vector<uint8_t> inside;     ///< 1 inside a closed scene object (want_inside)
+  std::vector<double> distance;    ///< m, unsigned distance to the nearest scene triangle
+  std::vector<Vec3> closest;       ///< m, the nearest point on the scene surface
+  std::vector<Vec3> normal;        ///< unit outward normal of the nearest triangle
+  std::vector<int32_t> object;     ///< index of the scene object the nearest triangle is in
+};
+
+/// Penetration of a set of points (e.g. tool surface samples at a pose).
+struct PenetrationResult {
+  int64_t points = 0;         ///< points tested
+  int64_t inside = 0;         ///< points inside the scene
+  double max_depth_m = 0;     ///< largest distance to the surface of an inside point
+  double rms_depth_m = 0;     ///< RMS over inside points (0 when none)
+};
+
+class Oracle {
+ public:
+  virtual ~Oracle() = default;
+  /// "embree" or "cgal".
+  virtual std::string_view name() const = 0;
+  /// Answers what the request asks, resizing only the wanted result vectors.
+  virtual void query_points(const PointQueryRequest& request, PointQueryResult& result) const = 0;
+  /// Exact volume (m³) of the intersection of a closed tool mesh, given in
+  /// world coordinates, with the scene; nullopt when the backend cannot
+  /// compute it (Embree) or the scene has distance-only objects.
+  virtual std::optional<double> intersection_volume(const TriangleMesh& tool_in_world) const = 0;
+  /// Names of scene objects used for distances only (marked distance_only).
+  virtual const std::vector<std::string>& distance_only_objects() const = 0;
+  /// World-frame bounds of the scene.
+  virtual Eigen::AlignedBox3d bounds() const = 0;
+
+  /// Penetration of the points: inside test for every point, then the
+  /// distance to the surface of each point found inside.
+  PenetrationResult penetration(std::span<const Vec3> points) const;
+};
+
+/// Builds the Embree oracle for the scene (each object's mesh placed by its
+/// pose). An object whose mesh is open or self-intersecting is refused with
+/// InputError(object name, "/scene/<i>", why) unless the object is marked
+/// distance_only, in which case it serves distances only and is listed by
+/// distance_only_objects().
+std::unique_ptr<Oracle> make_embree_oracle(const std::vector<SceneObject>& scene);
+
+/// Builds the CGAL oracle; same rules.
+std::unique_ptr<Oracle> make_cgal_oracle(const std::vector<SceneObject>& scene);
+
+/// Why a scene object cannot be used for inside/outside, or nullopt: open
+/// boundary, non-manifold, or self-intersecting (CGAL's exact test). Shared
+/// by both backends so they refuse the same objects.
+std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh);
+
+}  // namespace hb
