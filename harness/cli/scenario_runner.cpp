@@ -52,7 +52,7 @@ class EvaluatingObserver : public TickObserver {
           evaluation.penetration_m = evaluation.oracle->embree->max_depth_m;
         else if (evaluation.oracle->cgal)
           evaluation.penetration_m = evaluation.oracle->cgal->max_depth_m;
-      } else if (!evaluation.penetration_m && proxy_finite) {
+      } else if (!evaluation.penetration_m && proxy_finite && truth_.oracle->measures_penetration()) {
         evaluation.penetration_m = 0.0;  // bounds clear of the scene: no penetration
       }
     }
@@ -71,8 +71,9 @@ class EvaluatingObserver : public TickObserver {
 
 std::string penetration_source(const GroundTruth& truth) {
   if (truth.analytic) return "analytic";
-  if (truth.oracle && truth.oracle->has_embree()) return "embree";
-  if (truth.oracle && truth.oracle->has_cgal()) return "cgal";
+  if (!truth.oracle || !truth.oracle->measures_penetration()) return "";
+  if (truth.oracle->has_embree()) return "embree";
+  if (truth.oracle->has_cgal()) return "cgal";
   return "";
 }
 

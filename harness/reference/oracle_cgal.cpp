@@ -173,6 +173,17 @@ std::string with_advice(const std::string& why) {
          "it for distances only)";
 }
 
+// Indices in range and finite coordinates: what the mesh must have before
+// CGAL may read it.
+bool is_readable(const TriangleMesh& mesh) {
+  const auto vertex_count = static_cast<long long>(mesh.vertices.size());
+  for (const auto& triangle : mesh.triangles)
+    for (int v : triangle)
+      if (v < 0 || v >= vertex_count) return false;
+  return std::all_of(mesh.vertices.begin(), mesh.vertices.end(),
+                     [](const Vec3& v) { return v.allFinite(); });
+}
+
 // A closed scene object: its world-frame mesh, the AABB tree of its faces,
 // and the exact inside/outside classifier on that tree. Never moved once
 // built: the tree points into the mesh and the classifier into the tree.
@@ -240,7 +251,12 @@ class CgalOracle final : public Oracle {
     const std::size_t n = request.points.size();
     if (request.want_inside) {
       result.inside.assign(n, 0);
-      for (std::size_t k = 0; k < n; ++k) result.inside[k] = is_inside(request.points[k]) ? 1 : 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        // A non-finite point (a diverged proxy) is inside nothing; exact
+        // predicates must never see it.
+        const Vec3& p = request.points[k];
+        result.inside[k] = p.allFinite() && is_inside(p) ? 1 : 0;
+      }
     }
     if (request.want_closest) {
       result.distance.resize(n);
@@ -249,8 +265,9 @@ class CgalOracle final : public Oracle {
       result.object.resize(n);
       for (std::size_t k = 0; k < n; ++k) {
         const Vec3& p = request.points[k];
-        if (soup_.empty()) {  // nothing to be close to
-          result.distance[k] = std::numeric_limits<double>::infinity();
+        if (soup_.empty() || !p.allFinite()) {  // nothing to be close to, or no point
+          result.distance[k] = soup_.empty() ? std::numeric_limits<double>::infinity()
+                                             : std::numeric_limits<double>::quiet_NaN();
           result.closest[k] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
           result.normal[k] = Vec3::Zero();
           result.object[k] = -1;
@@ -267,6 +284,7 @@ class CgalOracle final : public Oracle {
   }
 
   std::optional<double> intersection_volume(const TriangleMesh& tool_in_world) const override {
+    if (!is_readable(tool_in_world)) return std::nullopt;
     const Eigen::AlignedBox3d tool_bounds = tool_in_world.bounds();
     // Corefinement can throw on degenerate or self-intersecting input
     // (CGAL::Failure_exception, Corefinement::Self_intersection_exception):

@@ -63,8 +63,11 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
   world_samples_.resize(tool_samples_.size());
   if (settings.use_embree) embree_ = make_embree_oracle(context.scene);
   if (settings.use_cgal) cgal_ = make_cgal_oracle(context.scene);
-  scene_bounds_ = (embree_ ? embree_ : cgal_) ? (embree_ ? embree_ : cgal_)->bounds()
-                                              : Eigen::AlignedBox3d();
+  const Oracle* any = embree_ ? embree_.get() : cgal_.get();
+  if (any) {
+    scene_bounds_ = any->bounds();
+    measures_penetration_ = any->distance_only_objects().size() < context.scene.size();
+  }
 }
 
 OracleEvaluator::~OracleEvaluator() = default;
@@ -92,7 +95,7 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
   inside_request.want_inside = true;
 
   PointQueryResult embree_inside;
-  if (embree_) {
+  if (embree_ && measures_penetration_) {
     const auto start = std::chrono::steady_clock::now();
     embree_->query_points(inside_request, embree_inside);
     out.embree = penetration_of(*embree_, world_samples_, embree_inside.inside);
@@ -100,13 +103,13 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
   }
 
   const bool exact_tick = settings_.exact_every > 0 && tick % settings_.exact_every == 0;
-  if (cgal_ && exact_tick) {
+  if (cgal_ && exact_tick && measures_penetration_) {
     const auto start = std::chrono::steady_clock::now();
     PointQueryResult cgal_inside;
     cgal_->query_points(inside_request, cgal_inside);
     out.cgal = penetration_of(*cgal_, world_samples_, cgal_inside.inside);
     out.cgal_ns = ns_since(start);
-    if (embree_) {
+    if (out.embree) {
       for (std::size_t i = 0; i < world_samples_.size(); ++i)
         if (embree_inside.inside[i] != cgal_inside.inside[i]) ++out.inside_disagreements;
     }

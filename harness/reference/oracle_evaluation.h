@@ -60,6 +60,9 @@ class OracleEvaluator {
   const std::vector<std::string>& distance_only_objects() const;
   bool has_embree() const { return embree_ != nullptr; }
   bool has_cgal() const { return cgal_ != nullptr; }
+  /// False when every scene object is distance_only: no inside/outside, so
+  /// no penetration (contacts are still checked by distance).
+  bool measures_penetration() const { return measures_penetration_; }
 
  private:
   OracleEvaluationSettings settings_;
@@ -71,6 +74,7 @@ class OracleEvaluator {
   std::unique_ptr<Oracle> embree_;
   std::unique_ptr<Oracle> cgal_;
   Eigen::AlignedBox3d scene_bounds_;
+  bool measures_penetration_ = true;
 };
 
 }  // namespace hb

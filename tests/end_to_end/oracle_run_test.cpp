@@ -1,0 +1,146 @@
+// End-to-end: ground truth from the Embree and CGAL oracles in a run.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/core/shapes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_oracle_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+int hapticbench(const std::string& args, const fs::path& work) {
+  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
+                              "' " + args + " > stdout.txt 2> stderr.txt";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A tool resting on the top face (z = 0) of a 40 cm plate, its lowest
+// point `depth` below the face, seen by both oracles on every tick.
+std::string rest_scenario(const std::string& tool_shape, double centre_z) {
+  return R"({ "name": "rest_on_plate",
+    "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] },
+                 "pose": { "p": [0, 0, -0.01], "q": [1, 0, 0, 0] } } ],
+    "tool": { "shape": )" +
+         tool_shape + R"(, "density": 1000 },
+    "trace": { "generator": "rest", "duration_s": 0.05,
+               "params": { "p": [0.013, -0.007, )" +
+         std::to_string(centre_z) + R"(] } },
+    "algorithms": [ { "name": "coupling_only" } ],
+    "reference": { "oracle": "both", "exact_every": 1, "analytic": "auto", "sample_spacing_m": 0.002 } })";
+}
+
+TEST_CASE("a box tool resting 3 mm deep: both oracles give the depth and CGAL the volume") {
+  const fs::path work = scratch("box");
+  const double depth = 0.003, half = 0.02;
+  std::ofstream(work / "scenario.json")
+      << rest_scenario(R"({ "type": "box", "size": [0.04, 0.04, 0.04] })", half - depth);
+  REQUIRE(hapticbench("run scenario.json --out run", work) == 0);
+  const json summary = json::parse(read_file(work / "run/summary.json"));
+  const json& run = summary.at("runs").at(0);
+  const json& oracle = run.at("oracle");
+  // The deepest points of a box tool are its bottom vertices, which are samples.
+  CHECK(oracle.at("embree").at("penetration_max_m").get<double>() == Approx(depth).margin(1e-9));
+  CHECK(oracle.at("cgal").at("penetration_max_m").get<double>() == Approx(depth).margin(1e-9));
+  CHECK(oracle.at("intersection_volume_max_m3").get<double>() ==
+        Approx(0.04 * 0.04 * depth).epsilon(1e-9));
+  CHECK(oracle.at("inside_disagreements") == 0);
+  CHECK(oracle.at("embree").at("ticks_evaluated") == 50);
+  CHECK(oracle.at("cgal").at("ticks_evaluated") == 50);
+  // The analytic reference agrees, and is what the accuracy block reports.
+  CHECK(run.at("accuracy").at("penetration_max_m").get<double>() == Approx(depth).margin(1e-12));
+  CHECK(run.at("accuracy").at("penetration_source") == "analytic");
+  CHECK(summary.at("oracle").at("backends") == "both");
+  CHECK(summary.at("oracle").at("tool_samples").get<int>() > 100);
+}
+
+TEST_CASE("a sphere tool resting 3 mm deep: the oracles' depth is within the tessellation bound") {
+  const fs::path work = scratch("sphere");
+  const double depth = 0.003, radius = 0.02;
+  std::ofstream(work / "scenario.json")
+      << rest_scenario(R"({ "type": "sphere", "radius": 0.02, "subdivisions": 3 })",
+                       radius - depth);
+  REQUIRE(hapticbench("run scenario.json --out run", work) == 0);
+  const json run = json::parse(read_file(work / "run/summary.json")).at("runs").at(0);
+  // The sampled mesh lies inside the sphere and no face is farther from it
+  // than the sagitta of the mesh: its deepest point is that much shallower
+  // at most, and never deeper.
+  hb::Shape sphere;
+  sphere.type = hb::ShapeType::kSphere;
+  sphere.radius = radius;
+  sphere.subdivisions = 3;
+  const hb::TriangleMesh mesh = hb::shape_mesh(sphere);
+  double nearest_face = radius;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const hb::Vec3 n = mesh.face_normal(t);
+    nearest_face = std::min(nearest_face, n.dot(mesh.vertices[mesh.triangles[t][0]]));
+  }
+  const double sagitta = radius - nearest_face;
+  for (const char* backend : {"embree", "cgal"}) {
+    INFO(backend);
+    const double measured = run.at("oracle").at(backend).at("penetration_max_m").get<double>();
+    CHECK(measured <= depth + 1e-12);
+    CHECK(measured >= depth - sagitta);
+  }
+}
+
+TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only") {
+  const fs::path work = scratch("self_intersecting");
+  // Two unit cubes, the second shifted by half a unit, in one mesh.
+  std::string off = "OFF\n16 24 0\n";
+  for (double shift : {0.0, 0.5})
+    for (int i = 0; i < 8; ++i)
+      off += std::to_string((i & 1) * 0.1 + shift * 0.1) + " " + std::to_string(((i >> 1) & 1) * 0.1) +
+             " " + std::to_string(((i >> 2) & 1) * 0.1) + "\n";
+  const int faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                            {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (int base : {0, 8})
+    for (const auto& f : faces)
+      off += "3 " + std::to_string(f[0] + base) + " " + std::to_string(f[1] + base) + " " +
+             std::to_string(f[2] + base) + "\n";
+  std::ofstream(work / "two_cubes.off") << off;
+  auto scenario = [](const std::string& extra) {
+    return R"({ "name": "self_intersecting",
+      "scene": [ { "mesh": "two_cubes.off", "pose": { "p": [0, 0, -0.1] })" + extra + R"( } ],
+      "tool": { "shape": { "type": "sphere", "radius": 0.01 }, "density": 1000 },
+      "trace": { "generator": "rest", "duration_s": 0.02, "params": { "p": [0.05, 0.05, 0.005] } },
+      "algorithms": [ { "name": "coupling_only" } ],
+      "reference": { "oracle": "both", "exact_every": 1 } })";
+  };
+  std::ofstream(work / "refused.json") << scenario("");
+  CHECK(hapticbench("run refused.json --out run", work) == 2);
+  const std::string message = read_file(work / "stderr.txt");
+  CHECK(message.find("self-intersecting") != std::string::npos);
+  CHECK(message.find("/scene/0") != std::string::npos);
+  CHECK_FALSE(fs::exists(work / "run"));
+
+  std::ofstream(work / "accepted.json") << scenario(R"(, "distance_only": true)");
+  REQUIRE(hapticbench("run accepted.json --out run", work) == 0);
+  const json summary = json::parse(read_file(work / "run/summary.json"));
+  CHECK(summary.at("oracle").at("distance_only_objects").size() == 1);
+  // Inside/outside is meaningless for it, so there is no penetration figure at all.
+  const json& run = summary.at("runs").at(0);
+  CHECK(run.at("accuracy").at("penetration_max_m").is_null());
+  CHECK(run.at("oracle").at("embree").is_null());
+}
+
+}  // namespace
