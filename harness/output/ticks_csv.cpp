@@ -14,6 +14,11 @@ const std::string& ticks_csv_header() {
   return header;
 }
 
+const std::vector<std::string>& ticks_csv_timing_columns() {
+  static const std::vector<std::string> columns = {"step_ns", "slow_update_ns", "oracle_ns"};
+  return columns;
+}
+
 namespace {
 // Shortest text that reads back to the same double: exact and compact.
 void append_number(std::string& out, double value) {

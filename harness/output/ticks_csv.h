@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "algorithms/core/content_hash.h"
 #include "harness/metrics/run_metrics.h"
@@ -13,6 +14,10 @@ namespace hb {
 
 /// The header row, without newline.
 const std::string& ticks_csv_header();
+
+/// The wall-clock columns (step_ns, slow_update_ns, oracle_ns): the only
+/// ones that differ between two runs of one scenario on one build.
+const std::vector<std::string>& ticks_csv_timing_columns();
 
 class TicksCsvWriter {
  public:
