@@ -144,3 +144,41 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
 }
 
 }  // namespace
+
+namespace {
+
+TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
+  const fs::path work = scratch("meshes");
+  const fs::path suite = fs::path(HAPTICBENCH_SOURCE_DIR) / "scenarios/meshes";
+  REQUIRE(hapticbench("run " + suite.string() + "/*.json --out runs", work) == 0);
+  int scenarios = 0;
+  for (const auto& entry : fs::directory_iterator(work / "runs")) {
+    ++scenarios;
+    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    INFO(summary.at("scenario").at("name"));
+    const bool distance_only = !summary.at("oracle").at("distance_only_objects").empty();
+    for (const json& run : summary.at("runs")) {
+      const json& oracle = run.at("oracle");
+      CHECK(oracle.at("inside_disagreements") == 0);
+      CHECK(run.at("stability").at("nonfinite") == 0);
+      if (distance_only) {
+        // No inside/outside for an open scene mesh: no penetration at all, not a zero.
+        CHECK(oracle.at("embree").is_null());
+        CHECK(run.at("accuracy").at("penetration_max_m").is_null());
+        continue;
+      }
+      CHECK(oracle.at("broad_phase_skipped_ticks").get<int>() >= 0);
+      const double embree = oracle.at("embree").at("penetration_max_m");
+      const double cgal = oracle.at("cgal").at("penetration_max_m");
+      CHECK(embree > 0);  // every trace reaches into its scene
+      CHECK(cgal > 0);
+      // CGAL sees every exact_every-th tick only, so it can miss the deepest one.
+      CHECK(cgal <= embree + 1e-12);
+      CHECK(oracle.at("intersection_volume_max_m3").get<double>() > 0);
+      CHECK(run.at("accuracy").at("penetration_source") == "embree");
+    }
+  }
+  CHECK(scenarios >= 5);
+}
+
+}  // namespace
