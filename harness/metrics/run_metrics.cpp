@@ -187,6 +187,10 @@ RunMetrics MetricsAccumulator::finish() const {
   RunMetrics m = partial_;
   m.timing.ticks = static_cast<int64_t>(step_ns_.size());
   m.timing.step_ns = percentiles_of(step_ns_);
+  constexpr std::size_t kSampleSize = 1000;
+  const std::size_t stride = (step_ns_.size() + kSampleSize - 1) / kSampleSize;
+  for (std::size_t i = 0; stride > 0 && i < step_ns_.size(); i += stride)
+    m.timing.step_ns_sample.push_back(step_ns_[i]);
   if (!free_step_ns_.empty()) m.timing.free_space_step_ns = percentiles_of(free_step_ns_);
   if (!contact_step_ns_.empty()) m.timing.contact_step_ns = percentiles_of(contact_step_ns_);
   if (!slow_ns_.empty()) {

@@ -34,6 +34,9 @@ Percentiles percentiles_of(std::vector<int64_t> values);
 struct TimingMetrics {
   int64_t ticks = 0;
   Percentiles step_ns;                            ///< all ticks
+  /// step() times of at most 1000 ticks spread evenly over the run, in tick
+  /// order: enough for a rank test against another run without its ticks CSV.
+  std::vector<int64_t> step_ns_sample;
   int64_t over_budget = 0;                        ///< ticks whose step took longer than 1 ms
   std::optional<Percentiles> free_space_step_ns;  ///< ticks without contact
   std::optional<Percentiles> contact_step_ns;     ///< ticks with contact

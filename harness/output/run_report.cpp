@@ -87,6 +87,7 @@ json run_json(const AlgorithmRun& run) {
        {{"ticks", m.timing.ticks},
         {"step_ns", percentiles_json(m.timing.step_ns)},
         {"over_budget", m.timing.over_budget},
+        {"step_ns_sample", m.timing.step_ns_sample},
         {"free_space_step_ns", percentiles_json(m.timing.free_space_step_ns)},
         {"contact_step_ns", percentiles_json(m.timing.contact_step_ns)},
         {"slow_loop", slow}}},
