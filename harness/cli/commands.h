@@ -14,5 +14,8 @@ int run_command(const std::vector<std::string>& args);       ///< hapticbench ru
 int validate_command(const std::vector<std::string>& args);  ///< hapticbench validate
 int list_command(const std::vector<std::string>& args);      ///< hapticbench list
 int generate_command(const std::vector<std::string>& args);  ///< hapticbench generate
+int report_command(const std::vector<std::string>& args);    ///< hapticbench report
+int compare_command(const std::vector<std::string>& args);   ///< hapticbench compare
+int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sweep
 
 }  // namespace hb

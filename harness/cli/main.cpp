@@ -14,6 +14,9 @@ constexpr const char* kUsage =
     "  validate FILE...                            check a scenario, mesh or trace file\n"
     "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
     "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
+    "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
+    "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
+    "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
     "exit codes: 0 ok, 1 a budget failed, 2 bad input or usage, 3 internal error\n";
 }  // namespace
 
@@ -29,6 +32,9 @@ int main(int argc, char** argv) {
     if (command == "validate") return hb::validate_command(args);
     if (command == "list") return hb::list_command(args);
     if (command == "generate") return hb::generate_command(args);
+    if (command == "report") return hb::report_command(args);
+    if (command == "compare") return hb::compare_command(args);
+    if (command == "sweep") return hb::sweep_command(args);
     if (command == "-h" || command == "--help" || command == "help") {
       std::cout << kUsage;
       return hb::kExitOk;

@@ -7,8 +7,8 @@
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_table.h"
+#include "harness/cli/scenario_run_folder.h"
 #include "harness/cli/scenario_runner.h"
-#include "harness/output/run_folder.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -92,12 +92,7 @@ int run_command(const std::vector<std::string>& args) {
     const Scenario& scenario = scenarios[s];
     ScenarioOutcome outcome = run_prepared(prepared[s]);
     const fs::path folder = run_folder_for(*parsed, scenario);
-    StagedRunFolder staged(folder);
-    for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)
-      staged.write_file(outcome.report.runs[i].ticks_file, outcome.ticks_csv[i]);
-    staged.write_file("summary.json", summary_json(outcome.report).dump(2) + "\n");
-    staged.write_file("junit.xml", junit_xml(outcome.report));
-    staged.commit();
+    write_scenario_run_folder(folder, outcome);
 
     std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
     print_run_table(std::cout, outcome.report);

@@ -41,6 +41,8 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
     out << line;
     for (const BudgetVerdict& b : r.budgets)
       if (!b.pass) out << "    budget failed: " << b.message << "\n";
+    if (r.passes_agree && !*r.passes_agree)
+      out << "    NOT DETERMINISTIC: the timing and evaluation replays computed different forces\n";
   }
 }
 

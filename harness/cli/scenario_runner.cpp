@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
+#include <string_view>
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
@@ -26,13 +28,52 @@ ParamSet split_replay_params(const AlgorithmSpec& spec, PreparedAlgorithm& prepa
   return renderer_params;
 }
 
-// Ground truth and logging for one algorithm's replay.
+// Hash of what a replay computed at each tick (display and proxy), to
+// check that the timing pass and the evaluation pass computed the same.
+void add_result(ContentHash& hash, const TickResult& result) {
+  const double values[] = {
+      result.display.force.x(),  result.display.force.y(),  result.display.force.z(),
+      result.display.torque.x(), result.display.torque.y(), result.display.torque.z(),
+      result.proxy.p.x(),        result.proxy.p.y(),        result.proxy.p.z(),
+      result.proxy.q.w(),        result.proxy.q.x(),        result.proxy.q.y(),
+      result.proxy.q.z()};
+  hash.add(std::string_view(reinterpret_cast<const char*>(values), sizeof values));
+}
+
+// First pass: step() with nothing else between the ticks, so the ground
+// truth of the second pass cannot evict the algorithm's data from the
+// caches and inflate its measured times.
+class TimingObserver : public TickObserver {
+ public:
+  void on_tick(const TickRecord& record) override {
+    step_ns.push_back(record.step_ns);
+    slow_ns.push_back(record.slow_ns);
+    add_result(results, record.result);
+  }
+  std::vector<int64_t> step_ns, slow_ns;
+  ContentHash results;
+};
+
+// Ground truth and logging for one algorithm's replay. With timings from a
+// timing pass, the tick records take their wall-clock times from it.
 class EvaluatingObserver : public TickObserver {
  public:
-  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings)
-      : truth_(truth), metrics_(settings) {}
+  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings, const TimingObserver* timing)
+      : truth_(truth), metrics_(settings), timing_(timing) {}
 
-  void on_tick(const TickRecord& record) override {
+  void on_tick(const TickRecord& measured) override {
+    TickRecord record_with_timing;
+    const TickRecord* record_ptr = &measured;
+    if (timing_) {
+      record_with_timing = measured;
+      record_with_timing.result.contacts = measured.result.contacts;
+      record_with_timing.step_ns = timing_->step_ns[tick_index_];
+      record_with_timing.slow_ns = timing_->slow_ns[tick_index_];
+      record_ptr = &record_with_timing;
+    }
+    ++tick_index_;
+    const TickRecord& record = *record_ptr;
+    add_result(results_, record.result);
     TickEvaluation evaluation;
     const bool proxy_finite = is_finite(record.result.proxy);
     if (truth_.analytic) {
@@ -52,7 +93,8 @@ class EvaluatingObserver : public TickObserver {
           evaluation.penetration_m = evaluation.oracle->embree->max_depth_m;
         else if (evaluation.oracle->cgal)
           evaluation.penetration_m = evaluation.oracle->cgal->max_depth_m;
-      } else if (!evaluation.penetration_m && proxy_finite && truth_.oracle->measures_penetration()) {
+      } else if (!evaluation.penetration_m && proxy_finite &&
+                 truth_.oracle->measures_penetration()) {
         evaluation.penetration_m = 0.0;  // bounds clear of the scene: no penetration
       }
     }
@@ -62,10 +104,14 @@ class EvaluatingObserver : public TickObserver {
 
   RunMetrics metrics() const { return metrics_.finish(); }
   const TicksCsvWriter& ticks() const { return ticks_; }
+  const ContentHash& results() const { return results_; }
 
  private:
   GroundTruth& truth_;
   MetricsAccumulator metrics_;
+  const TimingObserver* timing_;
+  std::size_t tick_index_ = 0;
+  ContentHash results_;
   TicksCsvWriter ticks_;
 };
 
@@ -149,7 +195,8 @@ GroundTruth prepare_ground_truth(const Scenario& scenario) {
 }
 }  // namespace
 
-PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only) {
+PreparedScenario prepare_scenario(const Scenario& scenario,
+                                  const std::optional<std::string>& only) {
   PreparedScenario prepared;
   prepared.scenario = &scenario;
   prepared.algorithms = prepare_algorithms(scenario, only);
@@ -183,7 +230,15 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared) {
   metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
 
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
-    EvaluatingObserver observer(truth, metrics_settings);
+    // Two passes when the slow loop's latency is fixed (the passes then
+    // compute the same); with a measured latency the second pass could
+    // differ, so it is timed and evaluated at once.
+    std::optional<TimingObserver> timing;
+    if (algorithm.replay.slow_loop_latency_ticks) {
+      timing.emplace();
+      replay(*algorithm.renderer, scenario.device_samples, algorithm.replay, *timing);
+    }
+    EvaluatingObserver observer(truth, metrics_settings, timing ? &*timing : nullptr);
     replay(*algorithm.renderer, scenario.device_samples, algorithm.replay, observer);
 
     AlgorithmRun run;
@@ -197,6 +252,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared) {
       run.budgets.push_back(evaluate_budget(budget.name, budget.limit, run.metrics));
     run.ticks_file = "ticks_" + run.label + ".csv";
     run.ticks_hash = observer.ticks().deterministic_hash();
+    run.timing_pass = timing ? "separate" : "combined";
+    if (timing) run.passes_agree = timing->results.value() == observer.results().value();
     run.analytic_reference = truth.analytic_name;
     run.reference_note = truth.analytic_note;
     run.penetration_source = penetration_source(truth);

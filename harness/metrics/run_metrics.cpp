@@ -242,7 +242,8 @@ RunMetrics MetricsAccumulator::finish() const {
         static_cast<double>(contacts_sum_) / static_cast<double>(m.contacts.contact_ticks);
   }
   if (m.oracle) {
-    auto finish_backend = [](std::optional<OracleBackendMetrics>& backend, const BackendSums& sums) {
+    auto finish_backend = [](std::optional<OracleBackendMetrics>& backend,
+                             const BackendSums& sums) {
       if (!backend) return;
       backend->evaluation_ns = percentiles_of(sums.ns);
       if (backend->penetrating_ticks > 0)

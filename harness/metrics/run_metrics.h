@@ -19,7 +19,7 @@ namespace hb {
 struct TickEvaluation {
   std::optional<Wrench> ideal_display;  ///< analytic ideal displayed wrench (N, N·m, tool origin)
   std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
-  std::optional<bool> reference_contact;  ///< the reference says the ideal proxy is in contact
+  std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
 };
 
@@ -33,7 +33,7 @@ Percentiles percentiles_of(std::vector<int64_t> values);
 
 struct TimingMetrics {
   int64_t ticks = 0;
-  Percentiles step_ns;                            ///< all ticks
+  Percentiles step_ns;  ///< all ticks
   /// step() times of at most 1000 ticks spread evenly over the run, in tick
   /// order: enough for a rank test against another run without its ticks CSV.
   std::vector<int64_t> step_ns_sample;
@@ -91,11 +91,11 @@ struct ContactMetrics {
 /// One oracle backend over a run.
 struct OracleBackendMetrics {
   int64_t ticks_evaluated = 0;
-  double penetration_max_m = 0;      ///< deepest tool sample over the run
-  double penetration_rms_m = 0;      ///< RMS over penetrating ticks of each tick's deepest sample
+  double penetration_max_m = 0;  ///< deepest tool sample over the run
+  double penetration_rms_m = 0;  ///< RMS over penetrating ticks of each tick's deepest sample
   int64_t penetrating_ticks = 0;
-  int64_t inside_samples_max = 0;    ///< most tool samples inside the scene at one tick
-  Percentiles evaluation_ns;         ///< cost per evaluated tick, apart from step()
+  int64_t inside_samples_max = 0;  ///< most tool samples inside the scene at one tick
+  Percentiles evaluation_ns;       ///< cost per evaluated tick, apart from step()
 };
 
 struct OracleMetrics {
@@ -106,7 +106,7 @@ struct OracleMetrics {
   std::optional<double> intersection_volume_max_m3;
   int64_t volume_evaluations = 0;
   std::optional<Percentiles> volume_ns;
-  int64_t contacts_checked = 0;           ///< reported contacts checked against the oracle
+  int64_t contacts_checked = 0;  ///< reported contacts checked against the oracle
   std::optional<double> contact_normal_err_rms_deg;
   std::optional<double> contact_normal_err_max_deg;
   std::optional<double> contact_depth_err_rms_m;

@@ -127,7 +127,10 @@ json run_json(const AlgorithmRun& run) {
         {"mean_contacts", m.contacts.mean_contacts},
         {"work", work_json(m.contacts.total_work)}}},
       {"oracle", oracle_json(m.oracle)},
-      {"determinism", {{"ticks_hash", run.ticks_hash}}},
+      {"determinism",
+       {{"ticks_hash", run.ticks_hash},
+        {"timing_pass", run.timing_pass},
+        {"passes_agree", or_null(run.passes_agree)}}},
       {"budgets", budgets},
   };
 }

@@ -30,8 +30,14 @@ struct AlgorithmRun {
   PreprocessInfo preprocess;
   RunMetrics metrics;
   std::vector<BudgetVerdict> budgets;
-  std::string ticks_file;          ///< file name inside the run folder
-  std::string ticks_hash;          ///< determinism fingerprint (TicksCsvWriter)
+  std::string ticks_file;  ///< file name inside the run folder
+  std::string ticks_hash;  ///< determinism fingerprint (TicksCsvWriter)
+  /// "separate": step times from a replay with no ground truth between
+  /// ticks, metrics from a second replay; "combined": one replay (measured
+  /// slow-loop latency, whose result depends on timing).
+  std::string timing_pass;
+  /// With separate passes: both computed the same displays and proxies.
+  std::optional<bool> passes_agree;
   std::string analytic_reference;  ///< e.g. "sphere on box"; empty when none applies
   std::string reference_note;      ///< why a reference is absent, if it is
   std::string penetration_source;  ///< "analytic", "embree", "cgal" or empty

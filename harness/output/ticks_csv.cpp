@@ -92,7 +92,8 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
     backend(o->cgal);
     oracle += ',';
     if (o->intersection_volume_m3) append_number(oracle, *o->intersection_volume_m3);
-    if (!o->broad_phase_skipped) append_integer(oracle_ns, o->embree_ns + o->cgal_ns + o->volume_ns);
+    if (!o->broad_phase_skipped)
+      append_integer(oracle_ns, o->embree_ns + o->cgal_ns + o->volume_ns);
   } else {
     oracle = ",,,,,";
   }

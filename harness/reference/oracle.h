@@ -28,19 +28,19 @@ struct PointQueryRequest {
 };
 
 struct PointQueryResult {
-  std::vector<uint8_t> inside;     ///< 1 inside a closed scene object (want_inside)
-  std::vector<double> distance;    ///< m, unsigned distance to the nearest scene triangle
-  std::vector<Vec3> closest;       ///< m, the nearest point on the scene surface
-  std::vector<Vec3> normal;        ///< unit outward normal of the nearest triangle
-  std::vector<int32_t> object;     ///< index of the scene object the nearest triangle is in
+  std::vector<uint8_t> inside;   ///< 1 inside a closed scene object (want_inside)
+  std::vector<double> distance;  ///< m, unsigned distance to the nearest scene triangle
+  std::vector<Vec3> closest;     ///< m, the nearest point on the scene surface
+  std::vector<Vec3> normal;      ///< unit outward normal of the nearest triangle
+  std::vector<int32_t> object;   ///< index of the scene object the nearest triangle is in
 };
 
 /// Penetration of a set of points (e.g. tool surface samples at a pose).
 struct PenetrationResult {
-  int64_t points = 0;         ///< points tested
-  int64_t inside = 0;         ///< points inside the scene
-  double max_depth_m = 0;     ///< largest distance to the surface of an inside point
-  double rms_depth_m = 0;     ///< RMS over inside points (0 when none)
+  int64_t points = 0;      ///< points tested
+  int64_t inside = 0;      ///< points inside the scene
+  double max_depth_m = 0;  ///< largest distance to the surface of an inside point
+  double rms_depth_m = 0;  ///< RMS over inside points (0 when none)
 };
 
 class Oracle {

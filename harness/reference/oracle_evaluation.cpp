@@ -19,7 +19,8 @@ int64_t ns_since(std::chrono::steady_clock::time_point start) {
 Eigen::AlignedBox3d world_bounds(const Eigen::AlignedBox3d& body_box, const Pose& pose) {
   Eigen::AlignedBox3d box;
   for (int corner = 0; corner < 8; ++corner)
-    box.extend(pose.transform_point(body_box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))));
+    box.extend(pose.transform_point(
+        body_box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))));
   return box;
 }
 

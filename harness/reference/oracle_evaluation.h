@@ -33,14 +33,14 @@ struct ContactCheck {
 };
 
 struct OracleTickEvaluation {
-  bool broad_phase_skipped = false;      ///< tool bounds clear of the scene: nothing evaluated
+  bool broad_phase_skipped = false;  ///< tool bounds clear of the scene: nothing evaluated
   std::optional<PenetrationResult> embree;
-  int64_t embree_ns = 0;                 ///< wall time of the Embree evaluation
+  int64_t embree_ns = 0;  ///< wall time of the Embree evaluation
   std::optional<PenetrationResult> cgal;
-  int64_t cgal_ns = 0;                   ///< wall time of the CGAL penetration evaluation
+  int64_t cgal_ns = 0;                           ///< wall time of the CGAL penetration evaluation
   std::optional<double> intersection_volume_m3;  ///< CGAL, when the tool touches the scene
   int64_t volume_ns = 0;
-  int64_t inside_disagreements = 0;      ///< samples Embree and CGAL classify differently
+  int64_t inside_disagreements = 0;  ///< samples Embree and CGAL classify differently
   std::vector<ContactCheck> contact_checks;
 };
 

@@ -53,18 +53,19 @@ std::string short_text(double value) {
 }
 
 // Names and labels become folder and file names (run folder, ticks_<label>.csv).
+// '=' is there for sweep jobs, named "<scenario>__<key>=<value>__...".
 bool is_file_name_safe(const std::string& name) {
   if (name.empty() || name == "." || name == "..") return false;
   for (char c : name) {
     const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                    c == '_' || c == '.' || c == '-';
+                    c == '_' || c == '.' || c == '-' || c == '=';
     if (!ok) return false;
   }
   return true;
 }
 
 const char* const kSafeNameExpected =
-    "expected a non-empty string of letters, digits, '_', '.' and '-'";
+    "expected a non-empty string of letters, digits, '_', '.', '-' and '='";
 
 std::string read_file_bytes(const std::string& path) {
   std::error_code error;
@@ -97,12 +98,10 @@ struct Geometry {
 // Loads and resolves one scenario file; one instance per load.
 class ScenarioReader {
  public:
-  explicit ScenarioReader(std::string path) : path_(std::move(path)) {
-    directory_ = std::filesystem::path(path_).parent_path();
-  }
+  ScenarioReader(std::string path, std::filesystem::path base_dir)
+      : path_(std::move(path)), directory_(std::move(base_dir)) {}
 
-  Scenario read() {
-    const std::string bytes = read_file_bytes(path_);
+  Scenario read(const std::string& bytes) {
     scenario_hash_.add(bytes);
     const Json document = parse_json_document(bytes, path_);
     const JsonField root(document, path_, "");
@@ -146,7 +145,7 @@ class ScenarioReader {
   }
 
  private:
-  // Paths in a scenario are relative to the scenario file.
+  // Paths in a scenario are relative to its base folder (the scenario file's own).
   std::string resolve(const std::string& relative) const {
     const std::filesystem::path path(relative);
     if (path.is_absolute() || directory_.empty()) return path.lexically_normal().string();
@@ -288,7 +287,8 @@ class ScenarioReader {
     // "distance_only": true admits an open or self-intersecting mesh, for
     // which ground truth can give distances but not inside/outside.
     if (entry.has("distance_only"))
-      object.distance_only = entry.existing_member("distance_only").boolean("expected true or false");
+      object.distance_only =
+          entry.existing_member("distance_only").boolean("expected true or false");
     Geometry geometry = read_geometry(
         entry, object.distance_only ? MeshRequirement::kSurface : MeshRequirement::kClosedSolid);
     object.mesh = std::move(geometry.mesh);
@@ -572,6 +572,13 @@ const std::vector<std::string>& known_budget_names() {
   return names;
 }
 
-Scenario load_scenario(const std::string& path) { return ScenarioReader(path).read(); }
+Scenario load_scenario(const std::string& path) {
+  return load_scenario_json(read_file_bytes(path), path, std::filesystem::path(path).parent_path());
+}
+
+Scenario load_scenario_json(const std::string& json_text, const std::string& source_path,
+                            const std::filesystem::path& base_dir) {
+  return ScenarioReader(source_path, base_dir).read(json_text);
+}
 
 }  // namespace hb

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,16 @@ const std::vector<std::string>& known_budget_names();
 /// validated, shapes meshed, mass properties computed, the trace read or
 /// generated and resampled to 1 kHz. Throws InputError naming the file, the
 /// JSON path of the field (e.g. "/tool/density") and what was expected.
+/// Same as load_scenario_json on the file's bytes with its own folder as
+/// base_dir.
 Scenario load_scenario(const std::string& path);
+
+/// Loads a scenario from JSON text that did not come from a file of its own
+/// (e.g. a sweep job: a scenario with values replaced). source_path is what
+/// errors name and what Scenario::path holds; relative mesh and trace paths
+/// resolve against base_dir (as written when base_dir is empty). The content
+/// hash covers json_text and every file it names.
+Scenario load_scenario_json(const std::string& json_text, const std::string& source_path,
+                            const std::filesystem::path& base_dir);
 
 }  // namespace hb

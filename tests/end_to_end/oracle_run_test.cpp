@@ -1,6 +1,4 @@
 // End-to-end: ground truth from the Embree and CGAL oracles in a run.
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
@@ -9,30 +7,12 @@
 #include <string>
 
 #include "algorithms/core/shapes.h"
+#include "tests/support/cli_runner.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_oracle_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-int hapticbench(const std::string& args, const fs::path& work) {
-  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
-                              "' " + args + " > stdout.txt 2> stderr.txt";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 // A tool resting on the top face (z = 0) of a 40 cm plate, its lowest
 // point `depth` below the face, seen by both oracles on every tick.
@@ -50,12 +30,13 @@ std::string rest_scenario(const std::string& tool_shape, double centre_z) {
 }
 
 TEST_CASE("a box tool resting 3 mm deep: both oracles give the depth and CGAL the volume") {
-  const fs::path work = scratch("box");
+  const hb::test::ScratchDir work_dir("e2e_oracle_box");
+  const fs::path& work = work_dir.path();
   const double depth = 0.003, half = 0.02;
   std::ofstream(work / "scenario.json")
       << rest_scenario(R"({ "type": "box", "size": [0.04, 0.04, 0.04] })", half - depth);
-  REQUIRE(hapticbench("run scenario.json --out run", work) == 0);
-  const json summary = json::parse(read_file(work / "run/summary.json"));
+  REQUIRE(hb::test::run_hapticbench("run scenario.json --out run", work).exit_code == 0);
+  const json summary = json::parse(hb::test::read_text_file(work / "run/summary.json"));
   const json& run = summary.at("runs").at(0);
   const json& oracle = run.at("oracle");
   // The deepest points of a box tool are its bottom vertices, which are samples.
@@ -74,13 +55,14 @@ TEST_CASE("a box tool resting 3 mm deep: both oracles give the depth and CGAL th
 }
 
 TEST_CASE("a sphere tool resting 3 mm deep: the oracles' depth is within the tessellation bound") {
-  const fs::path work = scratch("sphere");
+  const hb::test::ScratchDir work_dir("e2e_oracle_sphere");
+  const fs::path& work = work_dir.path();
   const double depth = 0.003, radius = 0.02;
-  std::ofstream(work / "scenario.json")
-      << rest_scenario(R"({ "type": "sphere", "radius": 0.02, "subdivisions": 3 })",
-                       radius - depth);
-  REQUIRE(hapticbench("run scenario.json --out run", work) == 0);
-  const json run = json::parse(read_file(work / "run/summary.json")).at("runs").at(0);
+  std::ofstream(work / "scenario.json") << rest_scenario(
+      R"({ "type": "sphere", "radius": 0.02, "subdivisions": 3 })", radius - depth);
+  REQUIRE(hb::test::run_hapticbench("run scenario.json --out run", work).exit_code == 0);
+  const json run =
+      json::parse(hb::test::read_text_file(work / "run/summary.json")).at("runs").at(0);
   // The sampled mesh lies inside the sphere and no face is farther from it
   // than the sagitta of the mesh: its deepest point is that much shallower
   // at most, and never deeper.
@@ -104,13 +86,15 @@ TEST_CASE("a sphere tool resting 3 mm deep: the oracles' depth is within the tes
 }
 
 TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only") {
-  const fs::path work = scratch("self_intersecting");
+  const hb::test::ScratchDir work_dir("e2e_oracle_self_intersecting");
+  const fs::path& work = work_dir.path();
   // Two unit cubes, the second shifted by half a unit, in one mesh.
   std::string off = "OFF\n16 24 0\n";
   for (double shift : {0.0, 0.5})
     for (int i = 0; i < 8; ++i)
-      off += std::to_string((i & 1) * 0.1 + shift * 0.1) + " " + std::to_string(((i >> 1) & 1) * 0.1) +
-             " " + std::to_string(((i >> 2) & 1) * 0.1) + "\n";
+      off += std::to_string((i & 1) * 0.1 + shift * 0.1) + " " +
+             std::to_string(((i >> 1) & 1) * 0.1) + " " + std::to_string(((i >> 2) & 1) * 0.1) +
+             "\n";
   const int faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                             {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   for (int base : {0, 8})
@@ -120,22 +104,23 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
   std::ofstream(work / "two_cubes.off") << off;
   auto scenario = [](const std::string& extra) {
     return R"({ "name": "self_intersecting",
-      "scene": [ { "mesh": "two_cubes.off", "pose": { "p": [0, 0, -0.1] })" + extra + R"( } ],
+      "scene": [ { "mesh": "two_cubes.off", "pose": { "p": [0, 0, -0.1] })" +
+           extra + R"( } ],
       "tool": { "shape": { "type": "sphere", "radius": 0.01 }, "density": 1000 },
       "trace": { "generator": "rest", "duration_s": 0.02, "params": { "p": [0.05, 0.05, 0.005] } },
       "algorithms": [ { "name": "coupling_only" } ],
       "reference": { "oracle": "both", "exact_every": 1 } })";
   };
   std::ofstream(work / "refused.json") << scenario("");
-  CHECK(hapticbench("run refused.json --out run", work) == 2);
-  const std::string message = read_file(work / "stderr.txt");
+  CHECK(hb::test::run_hapticbench("run refused.json --out run", work).exit_code == 2);
+  const std::string message = hb::test::read_text_file(work / "stderr.txt");
   CHECK(message.find("self-intersecting") != std::string::npos);
   CHECK(message.find("/scene/0") != std::string::npos);
   CHECK_FALSE(fs::exists(work / "run"));
 
   std::ofstream(work / "accepted.json") << scenario(R"(, "distance_only": true)");
-  REQUIRE(hapticbench("run accepted.json --out run", work) == 0);
-  const json summary = json::parse(read_file(work / "run/summary.json"));
+  REQUIRE(hb::test::run_hapticbench("run accepted.json --out run", work).exit_code == 0);
+  const json summary = json::parse(hb::test::read_text_file(work / "run/summary.json"));
   CHECK(summary.at("oracle").at("distance_only_objects").size() == 1);
   // Inside/outside is meaningless for it, so there is no penetration figure at all.
   const json& run = summary.at("runs").at(0);
@@ -148,13 +133,16 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
 namespace {
 
 TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
-  const fs::path work = scratch("meshes");
+  const hb::test::ScratchDir work_dir("e2e_oracle_meshes");
+  const fs::path& work = work_dir.path();
   const fs::path suite = fs::path(HAPTICBENCH_SOURCE_DIR) / "scenarios/meshes";
-  REQUIRE(hapticbench("run " + suite.string() + "/*.json --out runs", work) == 0);
+  REQUIRE(
+      hb::test::run_hapticbench("run " + suite.string() + "/*.json --out runs", work).exit_code ==
+      0);
   int scenarios = 0;
   for (const auto& entry : fs::directory_iterator(work / "runs")) {
     ++scenarios;
-    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    const json summary = json::parse(hb::test::read_text_file(entry.path() / "summary.json"));
     INFO(summary.at("scenario").at("name"));
     const bool distance_only = !summary.at("oracle").at("distance_only_objects").empty();
     for (const json& run : summary.at("runs")) {

@@ -1,6 +1,4 @@
 // End-to-end: the hapticbench binary on the shipped scenarios and on bad input.
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "harness/output/ticks_csv.h"
+#include "tests/support/cli_runner.h"
 
 namespace {
 
@@ -21,31 +20,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-
-struct CommandResult {
-  int exit_code;
-  std::string stderr_text;
-};
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-CommandResult hapticbench(const std::string& args, const fs::path& work) {
-  const fs::path err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
-                              "' " + args + " > stdout.txt 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
-}
 
 // Rows of a ticks CSV as column name -> values.
 std::map<std::string, std::vector<std::string>> read_ticks(const fs::path& path) {
@@ -76,15 +50,16 @@ const json& run_labelled(const json& summary, const std::string& label) {
 }
 
 TEST_CASE("the smoke suite writes run folders with the contract keys") {
-  const fs::path work = scratch("smoke");
-  const CommandResult result =
-      hapticbench("run " + (kSource / "scenarios/smoke").string() + "/*.json --out runs", work);
+  const hb::test::ScratchDir work_dir("e2e_smoke");
+  const fs::path& work = work_dir.path();
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
+      "run " + (kSource / "scenarios/smoke").string() + "/*.json --out runs", work);
   INFO(result.stderr_text);
   REQUIRE(result.exit_code == 0);
   int folders = 0;
   for (const auto& entry : fs::directory_iterator(work / "runs")) {
     ++folders;
-    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    const json summary = json::parse(hb::test::read_text_file(entry.path() / "summary.json"));
     CHECK(summary.at("schema_version") == 1);
     for (const char* key : {"commit", "build_type", "compiler", "cpu", "date"})
       CHECK(summary.at("context").contains(key));
@@ -108,6 +83,9 @@ TEST_CASE("the smoke suite writes run folders with the contract keys") {
            {"nonfinite", "diverged", "passivity_energy_min_j", "force_jump_max_n"})
         CHECK(run.at("stability").contains(key));
       CHECK(run.at("stability").at("nonfinite") == 0);
+      // The timing pass and the evaluation pass computed the same forces.
+      if (!run.at("determinism").at("passes_agree").is_null())
+        CHECK(run.at("determinism").at("passes_agree") == true);
       CHECK(fs::exists(entry.path() / ("ticks_" + run.at("label").get<std::string>() + ".csv")));
     }
   }
@@ -115,15 +93,16 @@ TEST_CASE("the smoke suite writes run folders with the contract keys") {
 }
 
 TEST_CASE("the same scenario gives bit-identical ticks twice") {
-  const fs::path work = scratch("determinism");
+  const hb::test::ScratchDir work_dir("e2e_determinism");
+  const fs::path& work = work_dir.path();
   for (const char* out : {"first", "second"}) {
-    const CommandResult result = hapticbench(
+    const hb::test::CommandResult result = hb::test::run_hapticbench(
         "run " + (kSource / "scenarios/smoke/sphere_press_box.json").string() + " --out " + out,
         work);
     REQUIRE(result.exit_code == 0);
   }
-  const json first = json::parse(read_file(work / "first/summary.json"));
-  const json second = json::parse(read_file(work / "second/summary.json"));
+  const json first = json::parse(hb::test::read_text_file(work / "first/summary.json"));
+  const json second = json::parse(hb::test::read_text_file(work / "second/summary.json"));
   REQUIRE(first.at("runs").size() == second.at("runs").size());
   for (std::size_t i = 0; i < first.at("runs").size(); ++i) {
     const std::string label = first.at("runs")[i].at("label");
@@ -143,12 +122,13 @@ TEST_CASE("the same scenario gives bit-identical ticks twice") {
 }
 
 TEST_CASE("quasi-static press: series springs and the force error against rigid contact") {
-  const fs::path work = scratch("press");
-  const CommandResult result = hapticbench(
+  const hb::test::ScratchDir work_dir("e2e_press");
+  const fs::path& work = work_dir.path();
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
       "run " + (kSource / "scenarios/smoke/sphere_press_box.json").string() + " --out run", work);
   REQUIRE(result.exit_code == 0);
   const double k_t = 2000, k_c = 3000, radius = 0.02;
-  const json summary = json::parse(read_file(work / "run/summary.json"));
+  const json summary = json::parse(hb::test::read_text_file(work / "run/summary.json"));
   for (const char* label : {"penalty_quasi_static", "penalty_implicit", "penalty_explicit"}) {
     INFO(label);
     auto ticks = read_ticks(work / "run" / (std::string("ticks_") + label + ".csv"));
@@ -173,13 +153,14 @@ TEST_CASE("quasi-static press: series springs and the force error against rigid 
 }
 
 TEST_CASE("a stiff coupling diverges with explicit Euler and not with implicit Euler") {
-  const fs::path work = scratch("stiff");
-  const CommandResult result = hapticbench(
+  const hb::test::ScratchDir work_dir("e2e_stiff");
+  const fs::path& work = work_dir.path();
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
       "run " + (kSource / "scenarios/smoke/stiff_coupling_explicit_vs_implicit.json").string() +
           " --out run",
       work);
   REQUIRE(result.exit_code == 0);
-  const json summary = json::parse(read_file(work / "run/summary.json"));
+  const json summary = json::parse(hb::test::read_text_file(work / "run/summary.json"));
   const json& explicit_run = run_labelled(summary, "explicit_euler");
   const json& implicit_run = run_labelled(summary, "implicit_euler");
   CHECK(explicit_run.at("stability").at("diverged") == true);
@@ -276,10 +257,12 @@ TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
   };
   for (const Case& c : cases) {
     SECTION(c.name) {
-      const fs::path work = scratch("bad_" + c.name);
+      const hb::test::ScratchDir work_dir("e2e_bad_" + c.name);
+      const fs::path& work = work_dir.path();
       std::ofstream(work / "scenario.json") << c.scenario;
       for (const auto& [name, text] : c.files) std::ofstream(work / name) << text;
-      const CommandResult result = hapticbench("run scenario.json --out run", work);
+      const hb::test::CommandResult result =
+          hb::test::run_hapticbench("run scenario.json --out run", work);
       INFO(result.stderr_text);
       CHECK(result.exit_code == 2);
       for (const std::string& expected : c.expected)
@@ -288,18 +271,19 @@ TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
       for (const auto& entry : fs::directory_iterator(work))
         CHECK(entry.path().filename().string().find("run") == std::string::npos);
       // validate reports the same problem.
-      CHECK(hapticbench("validate scenario.json", work).exit_code == 2);
+      CHECK(hb::test::run_hapticbench("validate scenario.json", work).exit_code == 2);
     }
   }
 }
 
 TEST_CASE("usage errors exit with 2") {
-  const fs::path work = scratch("usage");
-  CHECK(hapticbench("", work).exit_code == 2);
-  CHECK(hapticbench("frobnicate", work).exit_code == 2);
-  CHECK(hapticbench("run", work).exit_code == 2);
-  CHECK(hapticbench("run --bogus x.json", work).exit_code == 2);
-  CHECK(hapticbench("run does_not_exist.json", work).exit_code == 2);
+  const hb::test::ScratchDir work_dir("e2e_usage");
+  const fs::path& work = work_dir.path();
+  CHECK(hb::test::run_hapticbench("", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("frobnicate", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("run", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("run --bogus x.json", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("run does_not_exist.json", work).exit_code == 2);
 }
 
 }  // namespace

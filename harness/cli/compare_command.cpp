@@ -1,0 +1,148 @@
+// hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]
+//                     [--rel-tol X] [--timing-ratio X] [--alpha X]
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/compare/comparison.h"
+#include "harness/compare/comparison_report.h"
+#include "harness/compare/summary_set.h"
+#include "harness/output/run_folder.h"
+
+namespace hb {
+
+namespace {
+constexpr const char* kCompareUsage =
+    "usage: hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]\n"
+    "                           [--rel-tol X] [--timing-ratio X] [--alpha X]\n"
+    "  BASELINE, CANDIDATE  a run folder, a summary.json, or a folder of run folders\n"
+    "                       (a suite; scenarios matched by name, runs by label)\n"
+    "  --gate            exit 1 when a check regressed or failed (default: report, exit 0)\n"
+    "  --out DIR         write DIR/compare.json, DIR/compare.md and DIR/junit.xml\n"
+    "  --no-timing       skip the timing checks\n"
+    "  --timing-same-cpu timing only gates when both runs name the same CPU\n"
+    "  --rel-tol X       accuracy/stability tolerance relative to the baseline (default 0.05)\n"
+    "  --timing-ratio X  step time p50 or p99 ratio above which a significant slowdown\n"
+    "                    is a regression (default 1.25)\n"
+    "  --alpha X         significance level of the one-sided Mann-Whitney test (default 0.01)\n";
+
+struct CompareArguments {
+  std::string baseline;
+  std::string candidate;
+  bool gate = false;
+  std::optional<std::string> out;
+  CompareOptions options;
+};
+
+struct ParseOutcome {
+  std::optional<CompareArguments> arguments;
+  int exit_code = kExitOk;  ///< when arguments is empty: usage error or help
+};
+
+ParseOutcome usage_error(const std::string& message) {
+  std::cerr << "error: " << message << "\n" << kCompareUsage;
+  return {std::nullopt, kExitBadInput};
+}
+
+// A finite number in [min, max]; nullopt when the text is not one.
+std::optional<double> number_in(const std::string& text, double min, double max) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used != text.size() || !std::isfinite(value) || value < min || value > max)
+    return std::nullopt;
+  return value;
+}
+
+ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
+  CompareArguments parsed;
+  std::vector<std::string> paths;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      std::cout << kCompareUsage;
+      return {std::nullopt, kExitOk};
+    }
+    if (a == "--gate") {
+      parsed.gate = true;
+    } else if (a == "--no-timing") {
+      parsed.options.timing = false;
+    } else if (a == "--timing-same-cpu") {
+      parsed.options.timing_same_cpu_only = true;
+    } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha") {
+      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
+      const std::string& value = args[++i];
+      if (a == "--out") {
+        parsed.out = value;
+        continue;
+      }
+      // rel-tol >= 0; a ratio below 1 would call a faster candidate a
+      // regression; alpha is a probability.
+      const double min = a == "--timing-ratio" ? 1 : 0;
+      const double max = a == "--alpha" ? 1 : HUGE_VAL;
+      const std::optional<double> number = number_in(value, min, max);
+      if (!number || (a == "--alpha" && *number == 0))
+        return usage_error(a + " expects " +
+                           (a == "--rel-tol"        ? "a number >= 0"
+                            : a == "--timing-ratio" ? "a number >= 1"
+                                                    : "a probability in (0, 1]") +
+                           ", got \"" + value + "\"");
+      (a == "--rel-tol"        ? parsed.options.rel_tol
+       : a == "--timing-ratio" ? parsed.options.timing_ratio
+                               : parsed.options.alpha) = *number;
+    } else if (a.rfind("--", 0) == 0) {
+      return usage_error("unknown option " + a);
+    } else {
+      paths.push_back(a);
+    }
+  }
+  if (paths.size() != 2)
+    return usage_error("expected BASELINE and CANDIDATE, got " + std::to_string(paths.size()) +
+                       " path" + (paths.size() == 1 ? "" : "s"));
+  parsed.baseline = paths[0];
+  parsed.candidate = paths[1];
+  return {parsed, kExitOk};
+}
+}  // namespace
+
+int compare_command(const std::vector<std::string>& args) {
+  const ParseOutcome parsed = parse_compare_arguments(args);
+  if (!parsed.arguments) return parsed.exit_code;
+  const CompareArguments& arguments = *parsed.arguments;
+
+  // Everything that can reject the input happens before anything is written.
+  Comparison comparison;
+  try {
+    const SummarySet baseline = load_summary_set(arguments.baseline);
+    const SummarySet candidate = load_summary_set(arguments.candidate);
+    comparison = compare_summary_sets(baseline, candidate, arguments.options);
+  } catch (const InputError& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  print_comparison_table(std::cout, comparison);
+  if (arguments.out) {
+    StagedRunFolder staged{std::filesystem::path(*arguments.out)};
+    staged.write_file("compare.json", comparison_json(comparison).dump(2) + "\n");
+    staged.write_file("compare.md", comparison_markdown(comparison));
+    staged.write_file("junit.xml", comparison_junit_xml(comparison));
+    staged.commit();
+    std::cout << "wrote " << *arguments.out << "/{compare.json,compare.md,junit.xml}\n";
+  }
+  if (comparison.passed()) return kExitOk;
+  if (!arguments.gate) {
+    std::cout << "(report only: with --gate, regressions exit 1)\n";
+    return kExitOk;
+  }
+  return kExitBudgetFailed;
+}
+
+}  // namespace hb

@@ -1,0 +1,232 @@
+// `hapticbench report`: one self-contained HTML page (figures inline, no
+// external resources) from run folders. Finds every summary.json beneath the
+// folders given, checks that each is a schema 1 summary, and hands the run
+// folders to reports/render_report.py (Python 3 with matplotlib), which
+// draws the figures and writes the page under a temporary name; the page is
+// renamed into place only when complete.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/scenario/json_fields.h"
+
+extern char** environ;
+
+namespace hb {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kReportUsage =
+    "usage: hapticbench report RUN_DIR... [--out report.html]\n"
+    "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth\n"
+    "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
+    "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
+    "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n";
+
+constexpr const char* kDefaultPython = "/usr/bin/python3";
+constexpr const char* kRendererScript = "render_report.py";
+
+/// A usage mistake on the command line.
+struct UsageError {
+  std::string message;
+};
+
+struct ReportOptions {
+  std::vector<fs::path> inputs;
+  fs::path out = "report.html";
+};
+
+ReportOptions parse_report_options(const std::vector<std::string>& args) {
+  ReportOptions options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "--out") {
+      if (i + 1 >= args.size()) throw UsageError{"--out needs a file name"};
+      options.out = args[++i];
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      throw UsageError{"unknown option " + arg};
+    } else {
+      options.inputs.emplace_back(arg);
+    }
+  }
+  if (options.inputs.empty()) throw UsageError{"missing RUN_DIR"};
+  if (options.out.filename().empty()) throw UsageError{"--out: expected a file name"};
+  return options;
+}
+
+/// Run folders (folders holding a summary.json) at or beneath `input`, sorted.
+std::vector<fs::path> find_run_folders(const fs::path& input) {
+  std::error_code error;
+  if (fs::is_regular_file(input, error) && input.filename() == "summary.json")
+    return {input.parent_path().empty() ? fs::path(".") : input.parent_path()};
+  if (!fs::is_directory(input, error))
+    throw InputError(input.string(), "",
+                     fs::exists(input, error)
+                         ? "expected a run folder (with summary.json) or a folder of run folders"
+                         : "no such folder");
+  std::vector<fs::path> folders;
+  fs::recursive_directory_iterator it(input, fs::directory_options::skip_permission_denied, error);
+  if (error) throw InputError(input.string(), "", "cannot list the folder: " + error.message());
+  for (const fs::recursive_directory_iterator end; it != end; it.increment(error)) {
+    if (error) throw InputError(input.string(), "", "cannot list the folder: " + error.message());
+    if (it->path().filename() == "summary.json" && it->is_regular_file(error))
+      folders.push_back(it->path().parent_path());
+  }
+  if (folders.empty())
+    throw InputError(input.string(), "",
+                     "no summary.json in this folder or beneath it (expected a run folder or a "
+                     "folder of run folders)");
+  std::sort(folders.begin(), folders.end());
+  return folders;
+}
+
+/// Fails naming the file unless it is a readable summary.json of schema version 1
+/// with a list of labelled runs (what the renderer relies on).
+void check_summary(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "", "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(file.string(), "", "cannot read the file");
+  const nlohmann::ordered_json summary = parse_json_document(text.str(), file.string());
+  const JsonField root(summary, file.string(), "");
+  root.require_object("expected a summary object");
+  if (!root.has("schema_version"))
+    throw InputError(file.string(), "/schema_version", "missing; expected 1");
+  const JsonField version = root.existing_member("schema_version");
+  if (!version.json().is_number_integer() || version.json().get<int64_t>() != 1)
+    version.fail("expected schema version 1 (the version this report reads)");
+  const JsonField runs = root.member("runs", "expected an array of runs");
+  const std::size_t count = runs.array_size("expected an array of runs");
+  for (std::size_t i = 0; i < count; ++i) {
+    const JsonField run = runs.element(i);
+    run.require_object("expected a run object");
+    run.member("label", "expected the run's label").string("expected the run's label");
+  }
+}
+
+/// Runs a program (looked up on PATH when the name has no slash) and waits for
+/// it. quiet: its output goes to /dev/null. Returns its exit code, or -1 when it
+/// could not be started or did not exit normally.
+int run_program(const std::vector<std::string>& argv, bool quiet) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (quiet) {
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  }
+  std::vector<char*> pointers;
+  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
+  pointers.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string environment_or(const char* name, const std::string& fallback) {
+  const char* value = std::getenv(name);
+  return value != nullptr && *value != '\0' ? std::string(value) : fallback;
+}
+
+}  // namespace
+
+int report_command(const std::vector<std::string>& args) {
+  ReportOptions options;
+  try {
+    options = parse_report_options(args);
+  } catch (const UsageError& error) {
+    std::cerr << "error: " << error.message << "\n" << kReportUsage;
+    return kExitBadInput;
+  }
+
+  // Every run folder once, in the order given, each input's folders sorted.
+  std::vector<fs::path> folders;
+  std::set<fs::path> seen;
+  for (const fs::path& input : options.inputs) {
+    for (const fs::path& folder : find_run_folders(input)) {
+      std::error_code error;
+      const fs::path key = fs::weakly_canonical(folder, error);
+      if (!seen.insert(error ? folder : key).second) continue;
+      check_summary(folder / "summary.json");
+      folders.push_back(folder);
+    }
+  }
+
+  const fs::path script =
+      fs::path(environment_or("HAPTICBENCH_REPORTS_DIR", HAPTICBENCH_REPORTS_DIR)) /
+      kRendererScript;
+  if (!fs::is_regular_file(script)) {
+    std::cerr << "error: " << script.string()
+              << ": the report renderer is not there; set HAPTICBENCH_REPORTS_DIR to the "
+                 "project's reports/ folder\n";
+    return kExitBadInput;
+  }
+  const std::string python = environment_or("HAPTICBENCH_PYTHON", kDefaultPython);
+  if (run_program({python, "-c", "import matplotlib"}, true) != 0) {
+    std::cerr << "error: " << python
+              << " cannot import matplotlib: install python3-matplotlib (scripts/setup "
+                 "installs it) or set HAPTICBENCH_PYTHON to a Python 3 that has matplotlib\n";
+    return kExitBadInput;
+  }
+
+  const fs::path out = options.out;
+  std::error_code error;
+  if (out.has_parent_path()) fs::create_directories(out.parent_path(), error);
+  if (error) {
+    std::cerr << "error: " << out.string() << ": cannot create the folder: " << error.message()
+              << "\n";
+    return kExitBadInput;
+  }
+  // A hidden name beside the page, so the rename cannot cross file systems.
+  std::string temporary_name = ".";
+  temporary_name.append(out.filename().string()).append(".tmp-").append(std::to_string(getpid()));
+  fs::path temporary = out;
+  temporary.replace_filename(temporary_name);
+
+  std::vector<std::string> command = {python, "-B", script.string(), "--out", temporary.string()};
+  for (const fs::path& folder : folders) command.push_back(folder.string());
+  const int status = run_program(command, false);
+  if (status != 0 || !fs::is_regular_file(temporary)) {
+    fs::remove(temporary, error);
+    if (status == kExitBadInput) return kExitBadInput;  // the renderer named the file
+    std::cerr << "internal error: " << script.string() << " failed"
+              << (status < 0 ? std::string(" to start")
+                             : " with exit code " + std::to_string(status))
+              << "\n";
+    return kExitInternal;
+  }
+  fs::rename(temporary, out, error);
+  if (error) {
+    fs::remove(temporary, error);
+    std::cerr << "error: " << out.string() << ": cannot write the report: " << error.message()
+              << "\n";
+    return kExitBadInput;
+  }
+  std::cout << "report: " << out.string() << " (" << folders.size() << " run folder"
+            << (folders.size() == 1 ? "" : "s") << ")\n";
+  return kExitOk;
+}
+
+}  // namespace hb

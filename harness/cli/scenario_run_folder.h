@@ -1,0 +1,26 @@
+// Writing a scenario's outcome as a run folder, all or nothing: the one
+// place that decides what a run folder holds, for `run` and `sweep` alike.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "harness/cli/scenario_runner.h"
+
+namespace hb {
+
+/// A file a caller adds to a run folder beside the standard ones.
+struct RunFolderFile {
+  std::string name;  ///< file name inside the run folder
+  std::string content;
+};
+
+/// Writes `folder` through a staging folder: ticks_<label>.csv per
+/// algorithm, summary.json, junit.xml, then `extra_files`. The folder is
+/// replaced only once every file is written, so an interrupted write leaves
+/// the previous folder (or none) in place.
+void write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
+                               const std::vector<RunFolderFile>& extra_files = {});
+
+}  // namespace hb

@@ -1,0 +1,144 @@
+#include "harness/compare/comparison.h"
+
+#include <cstdio>
+
+#include "algorithms/core/input_error.h"
+#include "harness/compare/run_checks.h"
+
+namespace hb {
+
+namespace {
+
+CheckRow presence_row(const std::string& scenario, const std::string& label, bool in_baseline) {
+  CheckRow row;
+  row.scenario = scenario;
+  row.label = label;
+  row.check = label.empty() ? "scenario" : "run";
+  const std::string what = label.empty() ? "scenario" : "run";
+  if (in_baseline) {
+    row.baseline = "present";
+    row.candidate = "absent";
+    row.verdict = Verdict::kFailure;
+    row.note = what + " missing from the candidate";
+  } else {
+    row.baseline = "absent";
+    row.candidate = "present";
+    row.verdict = Verdict::kNew;
+    row.note = "new " + what + ": only in the candidate";
+  }
+  return row;
+}
+
+CheckRow scenario_hash_row(const ScenarioSummary& baseline, const ScenarioSummary& candidate) {
+  CheckRow row;
+  row.scenario = baseline.scenario_name;
+  row.check = "scenario.hash";
+  row.baseline = baseline.scenario_hash;
+  row.candidate = candidate.scenario_hash;
+  if (baseline.scenario_hash == candidate.scenario_hash) {
+    row.change = "equal";
+    row.note = "same scenario file, meshes and trace";
+  } else {
+    row.change = "differs";
+    row.verdict = Verdict::kInfo;
+    row.note = "the scenario or a file it names changed: metrics may differ for that reason";
+  }
+  return row;
+}
+
+}  // namespace
+
+const char* verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kPass:
+      return "pass";
+    case Verdict::kImproved:
+      return "improved";
+    case Verdict::kNotApplicable:
+      return "n/a";
+    case Verdict::kInfo:
+      return "info";
+    case Verdict::kNew:
+      return "new";
+    case Verdict::kRegression:
+      return "regression";
+    case Verdict::kFailure:
+      return "failure";
+  }
+  return "?";
+}
+
+bool is_failing(Verdict verdict) {
+  return verdict == Verdict::kRegression || verdict == Verdict::kFailure;
+}
+
+std::size_t Comparison::failing_rows() const {
+  std::size_t count = 0;
+  for (const CheckRow& row : rows) count += is_failing(row.verdict) ? 1 : 0;
+  return count;
+}
+
+std::vector<CheckRow> compare_scenarios(const ScenarioSummary& baseline,
+                                        const ScenarioSummary& candidate,
+                                        const CompareOptions& options) {
+  std::vector<CheckRow> rows;
+  rows.push_back(scenario_hash_row(baseline, candidate));
+  for (const RunSummary& run : baseline.runs) {
+    const RunSummary* match = candidate.find_run(run.label);
+    if (!match) {
+      rows.push_back(presence_row(baseline.scenario_name, run.label, true));
+      continue;
+    }
+    std::vector<CheckRow> checks = compare_runs(baseline, run, candidate, *match, options);
+    rows.insert(rows.end(), checks.begin(), checks.end());
+  }
+  for (const RunSummary& run : candidate.runs)
+    if (!baseline.find_run(run.label))
+      rows.push_back(presence_row(baseline.scenario_name, run.label, false));
+  return rows;
+}
+
+Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& candidate,
+                                const CompareOptions& options) {
+  Comparison comparison;
+  comparison.baseline_path = baseline.path;
+  comparison.candidate_path = candidate.path;
+  comparison.options = options;
+
+  if (!baseline.is_suite && !candidate.is_suite) {
+    const ScenarioSummary& b = baseline.scenarios.front();
+    const ScenarioSummary& c = candidate.scenarios.front();
+    if (b.scenario_name != c.scenario_name)
+      throw InputError(c.source, "/scenario/name",
+                       "different scenarios: baseline " + b.scenario_name + ", candidate " +
+                           c.scenario_name + " (baseline " + b.source + ")");
+  }
+  for (const ScenarioSummary& b : baseline.scenarios) {
+    const ScenarioSummary* c = candidate.find_scenario(b.scenario_name);
+    if (!c) {
+      comparison.rows.push_back(presence_row(b.scenario_name, "", true));
+      continue;
+    }
+    std::vector<CheckRow> rows = compare_scenarios(b, *c, options);
+    comparison.rows.insert(comparison.rows.end(), rows.begin(), rows.end());
+  }
+  for (const ScenarioSummary& c : candidate.scenarios)
+    if (!baseline.find_scenario(c.scenario_name))
+      comparison.rows.push_back(presence_row(c.scenario_name, "", false));
+  return comparison;
+}
+
+std::string display_value(const nlohmann::json& value) {
+  if (value.is_null()) return "null";
+  if (value.is_boolean()) return value.get<bool>() ? "true" : "false";
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_number_integer() || value.is_number_unsigned()) return value.dump();
+  if (value.is_number()) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value.get<double>());
+    return text;
+  }
+  return value.dump();
+}
+
+}  // namespace hb

@@ -1,0 +1,219 @@
+#include "harness/compare/run_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "harness/compare/timing_checks.h"
+
+namespace hb {
+
+namespace {
+
+using nlohmann::json;
+
+enum class Better { kLower, kHigher };
+
+std::string printf_text(const char* format, double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+std::string quantity(double value, const std::string& unit) {
+  return printf_text("%.3g", value) + " " + unit;
+}
+
+// "+20.0%" against a non-zero baseline, else the difference with its unit.
+std::string change_text(double baseline, double candidate, const std::string& unit) {
+  const double difference = candidate - baseline;
+  if (difference == 0) return "0";
+  if (baseline != 0) return printf_text("%+.1f%%", 100 * difference / std::abs(baseline));
+  return printf_text("%+.3g", difference) + " " + unit;
+}
+
+json or_null(const std::optional<double>& value) { return value ? json(*value) : json(nullptr); }
+
+// A metric compared against a tolerance of max(abs_tol, rel_tol |baseline|).
+CheckRow tolerance_row(CheckRow row, std::optional<double> baseline,
+                       std::optional<double> candidate, double abs_tol, double rel_tol,
+                       const std::string& unit, Better better) {
+  row.baseline = or_null(baseline);
+  row.candidate = or_null(candidate);
+  if (!baseline && !candidate) {
+    row.verdict = Verdict::kNotApplicable;
+    row.note = "null on both sides: does not apply";
+    return row;
+  }
+  if (!candidate) {
+    row.verdict = Verdict::kFailure;
+    row.note = "metric disappeared: null in the candidate";
+    return row;
+  }
+  if (!baseline) {
+    row.verdict = Verdict::kInfo;
+    row.note = "metric appeared: null in the baseline";
+    return row;
+  }
+  const double difference = *candidate - *baseline;
+  const double worse_by = better == Better::kLower ? difference : -difference;
+  const double tolerance = std::max(abs_tol, rel_tol * std::abs(*baseline));
+  row.change = change_text(*baseline, *candidate, unit);
+  row.detail = {{"difference", difference},
+                {"tolerance", tolerance},
+                {"abs_tol", abs_tol},
+                {"rel_tol", rel_tol},
+                {"better", better == Better::kLower ? "lower" : "higher"}};
+  const std::string direction = better == Better::kLower ? "higher" : "lower";
+  if (worse_by > tolerance) {
+    row.verdict = Verdict::kRegression;
+    row.note = "worse: " + quantity(std::abs(difference), unit) + " " + direction + ", tolerance " +
+               quantity(tolerance, unit);
+  } else if (worse_by < -tolerance) {
+    row.verdict = Verdict::kImproved;
+    row.note = "better by " + quantity(std::abs(difference), unit) + ", tolerance " +
+               quantity(tolerance, unit);
+  } else {
+    row.note = "within tolerance " + quantity(tolerance, unit);
+  }
+  return row;
+}
+
+struct AccuracyMetric {
+  const char* check;
+  std::optional<double> RunSummary::*value;
+  double abs_tol;
+  const char* unit;
+};
+
+constexpr AccuracyMetric kAccuracyMetrics[] = {
+    {"accuracy.force_err_rms_n", &RunSummary::force_err_rms_n, kForceAbsTolN, "N"},
+    {"accuracy.force_dir_err_max_deg", &RunSummary::force_dir_err_max_deg, kAngleAbsTolDeg, "deg"},
+    {"accuracy.torque_err_rms_nm", &RunSummary::torque_err_rms_nm, kTorqueAbsTolNm, "N·m"},
+    {"accuracy.penetration_max_m", &RunSummary::penetration_max_m, kLengthAbsTolM, "m"},
+    {"accuracy.penetration_rms_m", &RunSummary::penetration_rms_m, kLengthAbsTolM, "m"},
+};
+
+CheckRow nonfinite_row(CheckRow row, int64_t baseline, int64_t candidate) {
+  row.baseline = baseline;
+  row.candidate = candidate;
+  const int64_t difference = candidate - baseline;
+  row.change = difference == 0 ? "0" : (difference > 0 ? "+" : "") + std::to_string(difference);
+  if (difference > 0) {
+    row.verdict = Verdict::kRegression;
+    row.note = "more ticks with a non-finite wrench (any increase fails)";
+  } else if (difference < 0) {
+    row.verdict = Verdict::kImproved;
+    row.note = "fewer ticks with a non-finite wrench";
+  } else {
+    row.note = "same count";
+  }
+  return row;
+}
+
+CheckRow diverged_row(CheckRow row, bool baseline, bool candidate) {
+  row.baseline = baseline;
+  row.candidate = candidate;
+  row.change = baseline == candidate ? "same" : baseline ? "true -> false" : "false -> true";
+  if (!baseline && candidate) {
+    row.verdict = Verdict::kRegression;
+    row.note = "the candidate diverged, the baseline did not";
+  } else if (baseline && !candidate) {
+    row.verdict = Verdict::kImproved;
+    row.note = "the baseline diverged, the candidate does not";
+  } else {
+    row.note = candidate ? "diverged on both sides" : "stable on both sides";
+  }
+  return row;
+}
+
+std::string build_name(const BuildContext& context) {
+  return context.commit + " " + context.compiler + " " + context.build_type;
+}
+
+bool identifies_code(const std::string& commit) {
+  constexpr std::string_view kDirty = "-dirty";
+  const bool dirty = commit.size() >= kDirty.size() &&
+                     commit.compare(commit.size() - kDirty.size(), kDirty.size(), kDirty) == 0;
+  return !commit.empty() && commit != "unknown" && !dirty;
+}
+
+CheckRow determinism_row(CheckRow row, const ScenarioSummary& baseline_scenario,
+                         const RunSummary& baseline, const ScenarioSummary& candidate_scenario,
+                         const RunSummary& candidate) {
+  const BuildContext& b = baseline_scenario.context;
+  const BuildContext& c = candidate_scenario.context;
+  row.baseline = baseline.ticks_hash;
+  row.candidate = candidate.ticks_hash;
+  const bool equal = baseline.ticks_hash == candidate.ticks_hash;
+  row.change = equal ? "equal" : "differs";
+  const bool strict = same_build(b, c);
+  row.detail = {{"same_build", strict}, {"hashes_equal", equal}};
+  if (strict) {
+    row.verdict = equal ? Verdict::kPass : Verdict::kRegression;
+    row.note = equal ? "same forces on the same build"
+                     : "forces differ on the same build (" + build_name(b) + ")";
+    return row;
+  }
+  row.verdict = Verdict::kInfo;
+  const std::string forces = equal ? "forces identical" : "forces differ";
+  if (b.commit == c.commit && b.compiler == c.compiler && b.build_type == c.build_type)
+    row.note =
+        "commit " + b.commit + " does not identify the code, so the builds may differ; " + forces;
+  else
+    row.note = "builds differ (" + build_name(b) + " vs " + build_name(c) + "); " + forces;
+  return row;
+}
+
+}  // namespace
+
+bool same_build(const BuildContext& a, const BuildContext& b) {
+  return a.commit == b.commit && a.compiler == b.compiler && a.build_type == b.build_type &&
+         identifies_code(a.commit);
+}
+
+std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
+                                   const RunSummary& baseline,
+                                   const ScenarioSummary& candidate_scenario,
+                                   const RunSummary& candidate, const CompareOptions& options) {
+  auto row = [&](const char* check) {
+    CheckRow r;
+    r.scenario = baseline_scenario.scenario_name;
+    r.label = baseline.label;
+    r.check = check;
+    return r;
+  };
+  std::vector<CheckRow> rows;
+  for (const AccuracyMetric& metric : kAccuracyMetrics)
+    rows.push_back(tolerance_row(row(metric.check), baseline.*metric.value, candidate.*metric.value,
+                                 metric.abs_tol, options.rel_tol, metric.unit, Better::kLower));
+  if (baseline.oracle_embree_penetration_max_m || candidate.oracle_embree_penetration_max_m)
+    rows.push_back(tolerance_row(row("oracle.embree.penetration_max_m"),
+                                 baseline.oracle_embree_penetration_max_m,
+                                 candidate.oracle_embree_penetration_max_m, kLengthAbsTolM,
+                                 options.rel_tol, "m", Better::kLower));
+
+  rows.push_back(
+      nonfinite_row(row("stability.nonfinite"), baseline.nonfinite, candidate.nonfinite));
+  rows.push_back(diverged_row(row("stability.diverged"), baseline.diverged, candidate.diverged));
+  rows.push_back(tolerance_row(row("stability.passivity_energy_min_j"),
+                               baseline.passivity_energy_min_j, candidate.passivity_energy_min_j,
+                               kEnergyAbsTolJ, options.rel_tol, "J", Better::kHigher));
+  rows.push_back(tolerance_row(row("stability.force_jump_max_n"), baseline.force_jump_max_n,
+                               candidate.force_jump_max_n, kForceAbsTolN, options.rel_tol, "N",
+                               Better::kLower));
+
+  rows.push_back(determinism_row(row("determinism.ticks_hash"), baseline_scenario, baseline,
+                                 candidate_scenario, candidate));
+
+  if (options.timing) {
+    std::vector<CheckRow> timing =
+        timing_checks(baseline_scenario, baseline, candidate_scenario, candidate, options);
+    rows.insert(rows.end(), timing.begin(), timing.end());
+  }
+  return rows;
+}
+
+}  // namespace hb

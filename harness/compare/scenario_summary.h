@@ -1,0 +1,84 @@
+// What the comparison reads from one summary.json (DESIGN.md contract),
+// checked and typed: the build context, the scenario and, per algorithm
+// run, the metrics the gate compares. Everything else in the file is
+// ignored, so summaries may grow new keys freely.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hb {
+
+/// The summary schema this comparison understands.
+inline constexpr int kComparedSchemaVersion = 1;
+
+/// Where a summary was produced; two summaries with the same commit,
+/// compiler and build type come from the same build.
+struct BuildContext {
+  std::string commit;  ///< `git describe --always --dirty`, "unknown" outside git
+  std::string compiler;
+  std::string build_type;
+  std::string cpu;
+};
+
+/// One algorithm run of a scenario. Optional metrics are null in the summary
+/// where they do not apply.
+struct RunSummary {
+  std::string label;
+  std::string ticks_file;  ///< file name inside the run folder
+
+  // Timing of Renderer::step (ns).
+  std::optional<double> step_ns_p50;
+  std::optional<double> step_ns_p99;
+  /// Evenly spaced sample of per-tick step times (ns), in tick order.
+  std::vector<double> step_ns_sample;
+
+  // Accuracy against ground truth.
+  std::optional<double> force_err_rms_n;
+  std::optional<double> force_dir_err_max_deg;
+  std::optional<double> torque_err_rms_nm;
+  std::optional<double> penetration_max_m;
+  std::optional<double> penetration_rms_m;
+  /// oracle.embree.penetration_max_m; empty when the run has no Embree oracle.
+  std::optional<double> oracle_embree_penetration_max_m;
+
+  // Stability.
+  int64_t nonfinite = 0;
+  bool diverged = false;
+  std::optional<double> passivity_energy_min_j;
+  std::optional<double> force_jump_max_n;
+
+  /// determinism.ticks_hash: equal for runs that computed the same numbers.
+  std::string ticks_hash;
+};
+
+/// One summary.json: one scenario, its runs in file order.
+struct ScenarioSummary {
+  std::string source;  ///< the summary.json path (or a description), named in messages
+  /// The run folder the summary came from, where ticks_<label>.csv files may
+  /// be; empty for a summary given as a file or built in memory.
+  std::optional<std::filesystem::path> run_folder;
+  BuildContext context;
+  std::string scenario_name;
+  std::string scenario_hash;
+  std::vector<RunSummary> runs;
+
+  /// The run with this label, or nullptr.
+  const RunSummary* find_run(const std::string& label) const;
+};
+
+/// Checks and types a parsed summary. Throws InputError(source, JSON
+/// pointer, what was expected) for a missing or mistyped contract key, a
+/// schema_version other than 1 or a label used twice.
+ScenarioSummary scenario_summary_from_json(const nlohmann::ordered_json& document,
+                                           const std::string& source);
+
+/// Reads, parses and checks one summary.json. Throws InputError naming the
+/// file: unreadable, malformed JSON (with line and column), or as above.
+ScenarioSummary read_scenario_summary(const std::filesystem::path& summary_file);
+
+}  // namespace hb

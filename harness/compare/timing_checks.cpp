@@ -1,0 +1,181 @@
+#include "harness/compare/timing_checks.h"
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "harness/compare/mann_whitney.h"
+#include "harness/compare/step_times.h"
+
+namespace hb {
+
+namespace {
+
+using nlohmann::json;
+
+std::string printf_text(const char* format, double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+// A p-value for people: tiny ones underflow to 0 in double, which would
+// read as certainty.
+std::string p_text(double p) { return p < 1e-300 ? "<1e-300" : printf_text("%.2g", p); }
+
+struct StepTimeSamples {
+  std::vector<double> baseline;
+  std::vector<double> candidate;
+  std::string source;  ///< where they came from, for the note
+};
+
+StepTimeSamples step_time_samples(const ScenarioSummary& baseline_scenario,
+                                  const RunSummary& baseline,
+                                  const ScenarioSummary& candidate_scenario,
+                                  const RunSummary& candidate) {
+  if (baseline_scenario.run_folder && candidate_scenario.run_folder) {
+    std::optional<std::vector<double>> b =
+        read_ticks_step_ns(*baseline_scenario.run_folder / baseline.ticks_file);
+    std::optional<std::vector<double>> c =
+        read_ticks_step_ns(*candidate_scenario.run_folder / candidate.ticks_file);
+    if (b && c && !b->empty() && !c->empty())
+      return {std::move(*b), std::move(*c), "step_ns columns of the ticks CSVs"};
+  }
+  return {baseline.step_ns_sample, candidate.step_ns_sample, "timing.step_ns_sample"};
+}
+
+// The ratio row of one percentile. `slower` and `faster` are the one-sided
+// tests in each direction, absent when a side has no step times.
+CheckRow ratio_row(CheckRow row, std::optional<double> baseline, std::optional<double> candidate,
+                   const std::optional<MannWhitneyResult>& slower,
+                   const std::optional<MannWhitneyResult>& faster, const CompareOptions& options) {
+  row.baseline = baseline ? json(*baseline) : json(nullptr);
+  row.candidate = candidate ? json(*candidate) : json(nullptr);
+  if (!baseline && !candidate) {
+    row.verdict = Verdict::kNotApplicable;
+    row.note = "null on both sides: does not apply";
+    return row;
+  }
+  if (!candidate) {
+    row.verdict = Verdict::kFailure;
+    row.note = "metric disappeared: null in the candidate";
+    return row;
+  }
+  if (!baseline) {
+    row.verdict = Verdict::kInfo;
+    row.note = "metric appeared: null in the baseline";
+    return row;
+  }
+  if (!(*baseline > 0)) {
+    row.verdict = Verdict::kInfo;
+    row.note = "baseline is 0 ns: no ratio";
+    return row;
+  }
+  const double ratio = *candidate / *baseline;
+  const std::string limit = printf_text("x%.2f", options.timing_ratio);
+  row.change = printf_text("x%.2f", ratio);
+  row.detail = {{"ratio", ratio}, {"timing_ratio", options.timing_ratio}};
+  if (slower) row.detail["p_value_slower"] = slower->p_value;
+  if (faster) row.detail["p_value_faster"] = faster->p_value;
+
+  if (ratio > options.timing_ratio) {
+    if (!slower) {
+      row.verdict = Verdict::kInfo;
+      row.note = "slower than " + limit + "; no step times to test whether it is noise";
+    } else if (slower->p_value < options.alpha) {
+      row.verdict = Verdict::kRegression;
+      row.note = "slower than " + limit +
+                 " and significant (one-sided Mann-Whitney p = " + p_text(slower->p_value) + " < " +
+                 printf_text("%g", options.alpha) + ")";
+    } else {
+      row.verdict = Verdict::kInfo;
+      row.note = "slower than " + limit + " but not significant (p = " + p_text(slower->p_value) +
+                 " >= " + printf_text("%g", options.alpha) + "): likely noise";
+    }
+  } else if (ratio < 1 / options.timing_ratio && faster && faster->p_value < options.alpha) {
+    row.verdict = Verdict::kImproved;
+    row.note = "faster than " + printf_text("x%.2f", 1 / options.timing_ratio) +
+               " and significant (p = " + p_text(faster->p_value) + ")";
+  } else {
+    row.note = "within " + limit;
+  }
+  return row;
+}
+
+CheckRow rank_test_row(CheckRow row, const StepTimeSamples& samples,
+                       const std::optional<MannWhitneyResult>& slower,
+                       const BuildContext& baseline_context, const BuildContext& candidate_context,
+                       const CompareOptions& options) {
+  row.baseline = samples.baseline.size();
+  row.candidate = samples.candidate.size();
+  std::string machines;
+  if (baseline_context.cpu != candidate_context.cpu)
+    machines = "; different CPUs (" + baseline_context.cpu + " vs " + candidate_context.cpu + ")";
+  if (!slower) {
+    row.verdict = Verdict::kNotApplicable;
+    row.note = "no step times on one side (" + samples.source + " empty)" + machines;
+    return row;
+  }
+  row.change = "p=" + p_text(slower->p_value);
+  row.detail = {{"source", samples.source},
+                {"u_candidate", slower->u_candidate},
+                {"u_baseline", slower->u_baseline},
+                {"u_mean", slower->u_mean},
+                {"u_sd", slower->u_sd},
+                {"z", slower->z},
+                {"p_value", slower->p_value},
+                {"alpha", options.alpha}};
+  const std::string counts = std::to_string(samples.baseline.size()) + " vs " +
+                             std::to_string(samples.candidate.size()) + " step times from " +
+                             samples.source;
+  if (slower->p_value < options.alpha) {
+    row.verdict = Verdict::kInfo;
+    row.note = "candidate significantly slower (one-sided, p < " +
+               printf_text("%g", options.alpha) + "); " + counts + machines;
+  } else {
+    row.note = "no significant slowdown; " + counts + machines;
+  }
+  return row;
+}
+
+}  // namespace
+
+std::vector<CheckRow> timing_checks(const ScenarioSummary& baseline_scenario,
+                                    const RunSummary& baseline,
+                                    const ScenarioSummary& candidate_scenario,
+                                    const RunSummary& candidate, const CompareOptions& options) {
+  auto row = [&](const char* check) {
+    CheckRow r;
+    r.scenario = baseline_scenario.scenario_name;
+    r.label = baseline.label;
+    r.check = check;
+    return r;
+  };
+  const StepTimeSamples samples =
+      step_time_samples(baseline_scenario, baseline, candidate_scenario, candidate);
+  std::optional<MannWhitneyResult> slower, faster;
+  if (!samples.baseline.empty() && !samples.candidate.empty()) {
+    slower = mann_whitney_greater(samples.baseline, samples.candidate);
+    faster = mann_whitney_greater(samples.candidate, samples.baseline);
+  }
+  std::vector<CheckRow> rows = {
+      ratio_row(row("timing.step_ns.p50"), baseline.step_ns_p50, candidate.step_ns_p50, slower,
+                faster, options),
+      ratio_row(row("timing.step_ns.p99"), baseline.step_ns_p99, candidate.step_ns_p99, slower,
+                faster, options),
+      rank_test_row(row("timing.step_ns.mann_whitney"), samples, slower, baseline_scenario.context,
+                    candidate_scenario.context, options),
+  };
+  if (options.timing_same_cpu_only &&
+      baseline_scenario.context.cpu != candidate_scenario.context.cpu) {
+    for (CheckRow& r : rows) {
+      if (r.verdict == Verdict::kRegression || r.verdict == Verdict::kImproved) {
+        r.verdict = Verdict::kInfo;
+        r.note += "; not gated: measured on different CPUs";
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace hb

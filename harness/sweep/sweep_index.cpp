@@ -1,0 +1,86 @@
+#include "harness/sweep/sweep_index.h"
+
+#include <unistd.h>
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace hb {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+const char* sweep_job_status_name(SweepJobStatus status) {
+  switch (status) {
+    case SweepJobStatus::kPending:
+      return "pending";
+    case SweepJobStatus::kOk:
+      return "ok";
+    case SweepJobStatus::kBudgetFailed:
+      return "budget_failed";
+    case SweepJobStatus::kCrashed:
+      return "crashed";
+  }
+  return "pending";
+}
+
+SweepJobState sweep_job_state_on_disk(const fs::path& run_folder) {
+  SweepJobState state;
+  std::ifstream in(run_folder / "summary.json");
+  if (!in) return state;
+  const Json summary = Json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (summary.is_discarded() || !summary.contains("runs") || !summary["runs"].is_array())
+    return state;
+  bool pass = true;
+  for (const Json& run : summary["runs"]) {
+    if (!run.contains("budgets") || !run["budgets"].is_array()) continue;
+    for (const Json& budget : run["budgets"])
+      pass = pass && budget.contains("pass") && budget["pass"] == true;
+  }
+  state.status = pass ? SweepJobStatus::kOk : SweepJobStatus::kBudgetFailed;
+  return state;
+}
+
+Json sweep_index_json(const SweepSpec& spec, const std::vector<SweepJob>& jobs,
+                      const std::vector<SweepJobState>& states, const SweepShard& shard) {
+  Json grid = Json::object();
+  for (const SweepGridAxis& axis : spec.grid) grid[axis.pointer] = axis.values;
+  Json index = {{"name", spec.name},
+                {"sweep_file", fs::absolute(spec.path).lexically_normal().string()},
+                {"scenarios", spec.scenario_entries},
+                {"grid", grid}};
+  if (!spec.only_algorithms.empty()) index["only_algorithms"] = spec.only_algorithms;
+  index["written_by_shard"] = shard_text(shard);
+  Json list = Json::array();
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const SweepJob& job = jobs[i];
+    Json values = Json::object();
+    for (const auto& [pointer, value] : job.grid_values) values[pointer] = value;
+    Json entry = {{"index", job.index},
+                  {"name", job.name},
+                  {"scenario", spec.scenario_entries[job.scenario_index]},
+                  {"grid", values},
+                  {"status", sweep_job_status_name(states[i].status)}};
+    if (states[i].done_earlier) entry["done_earlier"] = true;
+    if (!states[i].detail.empty()) entry["detail"] = states[i].detail;
+    list.push_back(std::move(entry));
+  }
+  index["jobs"] = std::move(list);
+  return index;
+}
+
+void write_sweep_index(const fs::path& out_dir, const Json& index) {
+  const fs::path destination = out_dir / "sweep.json";
+  fs::path temporary = destination;
+  temporary += ".partial-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << index.dump(2) << "\n";
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + temporary.string());
+  }
+  fs::rename(temporary, destination);
+}
+
+}  // namespace hb

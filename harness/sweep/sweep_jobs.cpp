@@ -1,0 +1,242 @@
+#include "harness/sweep/sweep_jobs.h"
+
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
+
+#include "algorithms/core/input_error.h"
+#include "harness/scenario/input_error_context.h"
+#include "harness/scenario/json_fields.h"
+#include "harness/sweep/job_name.h"
+
+namespace hb {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open scenario file");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string json_type_word(const Json& value) {
+  if (value.is_object()) return "an object";
+  if (value.is_array()) return "an array";
+  if (value.is_string()) return "a string";
+  if (value.is_boolean()) return "a boolean";
+  if (value.is_null()) return "null";
+  return "a number";
+}
+
+std::optional<std::size_t> array_index(const std::string& token) {
+  if (token.empty() || token.size() > 9) return std::nullopt;
+  if (token.size() > 1 && token.front() == '0') return std::nullopt;
+  std::size_t index = 0;
+  for (char c : token) {
+    if (c < '0' || c > '9') return std::nullopt;
+    index = index * 10 + static_cast<std::size_t>(c - '0');
+  }
+  return index;
+}
+
+std::string where(const std::string& pointer) {
+  return pointer.empty() ? "the scenario's top level" : "\"" + pointer + "\"";
+}
+
+// Sets `value` at the pointer whose tokens are given. Every component but
+// the last must exist; the last may be a new key of an existing object (a
+// parameter the scenario leaves at its default) but not a new array
+// element. Returns why not, or nullopt when set.
+std::optional<std::string> set_at_pointer(Json& document, const std::vector<std::string>& tokens,
+                                          const Json& value) {
+  Json* current = &document;
+  std::string walked;
+  for (std::size_t i = 0; i < tokens.size(); ++i) {
+    const std::string& token = tokens[i];
+    const bool last = i + 1 == tokens.size();
+    if (current->is_object()) {
+      if (!last && !current->contains(token))
+        return where(walked) + " has no key \"" + token + "\"";
+      current = &(*current)[token];
+    } else if (current->is_array()) {
+      const std::optional<std::size_t> index = array_index(token);
+      if (!index) return where(walked) + " is an array; \"" + token + "\" is not an element index";
+      if (*index >= current->size())
+        return where(walked) + " has " + std::to_string(current->size()) +
+               " elements, no element " + token;
+      current = &(*current)[*index];
+    } else {
+      return where(walked) + " is " + json_type_word(*current) + ", not an object or array";
+    }
+    walked += '/';
+    walked += json_pointer_token(token);
+  }
+  *current = value;
+  return std::nullopt;
+}
+
+// Mesh and trace file paths as absolute paths, so that the job's JSON means
+// the same from any folder.
+void make_file_paths_absolute(Json& scenario, const fs::path& base_dir) {
+  auto absolute = [&](Json& holder, const char* key) {
+    if (!holder.is_object() || !holder.contains(key) || !holder[key].is_string()) return;
+    const fs::path path(holder[key].get<std::string>());
+    if (path.empty() || path.is_absolute()) return;
+    holder[key] = (base_dir / path).lexically_normal().string();
+  };
+  if (scenario.contains("scene") && scenario["scene"].is_array())
+    for (Json& object : scenario["scene"]) absolute(object, "mesh");
+  if (scenario.contains("tool")) absolute(scenario["tool"], "mesh");
+  if (scenario.contains("trace")) absolute(scenario["trace"], "file");
+}
+
+std::string algorithm_label(const Json& entry) {
+  if (!entry.is_object()) return "";
+  if (entry.contains("label") && entry["label"].is_string()) return entry["label"];
+  if (entry.contains("name") && entry["name"].is_string()) return entry["name"];
+  return "";
+}
+
+std::string joined_labels(const Json& algorithms) {
+  std::string labels;
+  for (const Json& entry : algorithms)
+    labels += (labels.empty() ? "" : ", ") + algorithm_label(entry);
+  return labels;
+}
+
+// The scenario files as JSON, each checked to be an object with a name.
+struct ScenarioDocument {
+  Json json;
+  std::string name;
+  fs::path base_dir;
+};
+
+ScenarioDocument read_scenario_document(const std::string& path) {
+  ScenarioDocument document;
+  document.json = parse_json_document(read_text(path), path);
+  const JsonField root(document.json, path, "");
+  root.require_object("expected a JSON object with the scenario's keys");
+  document.name = root.member("name", "the scenario's name").string("expected a string");
+  document.base_dir = fs::absolute(path).parent_path().lexically_normal();
+  return document;
+}
+
+// Odometer over the grid: the last axis turns fastest.
+bool advance(std::vector<std::size_t>& position, const std::vector<SweepGridAxis>& grid) {
+  for (std::size_t axis = grid.size(); axis-- > 0;) {
+    if (++position[axis] < grid[axis].values.size()) return true;
+    position[axis] = 0;
+  }
+  return false;
+}
+
+std::string grid_key_location(const std::string& pointer) {
+  return "/grid/" + json_pointer_token(pointer);
+}
+
+}  // namespace
+
+std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
+  std::vector<SweepJob> jobs;
+  std::vector<bool> label_used(spec.only_algorithms.size(), false);
+  std::map<std::string, std::size_t> job_of_name;
+  for (std::size_t s = 0; s < spec.scenario_paths.size(); ++s) {
+    ScenarioDocument document;
+    try {
+      document = read_scenario_document(spec.scenario_paths[s]);
+    } catch (const InputError& error) {
+      throw with_reference_note(error, spec.path, "/scenarios/" + std::to_string(s));
+    }
+    const std::string& scenario_entry = spec.scenario_entries[s];
+    const std::string scenario_named = scenario_entry == spec.scenario_paths[s]
+                                           ? scenario_entry
+                                           : scenario_entry + " (" + spec.scenario_paths[s] + ")";
+    std::vector<std::size_t> position(spec.grid.size(), 0);
+    do {
+      SweepJob job;
+      job.index = jobs.size();
+      job.scenario_index = s;
+      job.scenario_path = spec.scenario_paths[s];
+      job.base_dir = document.base_dir;
+      job.scenario = document.json;
+      for (std::size_t axis = 0; axis < spec.grid.size(); ++axis) {
+        const SweepGridAxis& grid_axis = spec.grid[axis];
+        const Json& value = grid_axis.values[position[axis]];
+        job.grid_values.emplace_back(grid_axis.pointer, value);
+        const std::optional<std::string> failure =
+            set_at_pointer(job.scenario, *json_pointer_tokens(grid_axis.pointer), value);
+        if (failure)
+          throw InputError(spec.path, grid_key_location(grid_axis.pointer),
+                           "grid key \"" + grid_axis.pointer + "\" does not exist in scenario " +
+                               scenario_named + ": " + *failure +
+                               "; only the last component may be new");
+      }
+
+      if (!spec.only_algorithms.empty()) {
+        Json& algorithms = job.scenario["algorithms"];
+        if (!algorithms.is_array())
+          throw InputError(
+              spec.path, "/only_algorithms",
+              "scenario " + scenario_named + " has no \"algorithms\" array to choose labels from");
+        Json kept = Json::array();
+        for (const Json& entry : algorithms) {
+          const std::string label = algorithm_label(entry);
+          for (std::size_t i = 0; i < spec.only_algorithms.size(); ++i)
+            if (label == spec.only_algorithms[i]) {
+              kept.push_back(entry);
+              label_used[i] = true;
+            }
+        }
+        if (kept.empty())
+          throw InputError(
+              spec.path, "/only_algorithms",
+              "scenario " + scenario_named +
+                  " has none of these labels (its labels: " + joined_labels(algorithms) + ")");
+        algorithms = std::move(kept);
+      }
+
+      job.name = sweep_job_name(document.name, job.grid_values);
+      if (!is_safe_folder_name(job.name))
+        throw InputError(spec.path, "/scenarios/" + std::to_string(s),
+                         "job name \"" + job.name +
+                             "\" cannot name a folder (at most 255 letters, digits, '_', '.', "
+                             "'-' and '='); shorten the scenario name or the grid keys");
+      const auto [earlier, inserted] = job_of_name.emplace(job.name, job.index);
+      if (!inserted)
+        throw InputError(spec.path, "/grid",
+                         "jobs " + std::to_string(earlier->second) + " and " +
+                             std::to_string(job.index) + " are both named \"" + job.name +
+                             "\"; their run folders would collide (grid values that differ "
+                             "only in characters a folder name drops, or two scenarios with "
+                             "one name)");
+      job.scenario["name"] = job.name;
+      make_file_paths_absolute(job.scenario, job.base_dir);
+      jobs.push_back(std::move(job));
+    } while (advance(position, spec.grid));
+  }
+  for (std::size_t i = 0; i < spec.only_algorithms.size(); ++i)
+    if (!label_used[i])
+      throw InputError(spec.path, "/only_algorithms/" + std::to_string(i),
+                       "label \"" + spec.only_algorithms[i] + "\" is in none of the scenarios");
+  return jobs;
+}
+
+std::string sweep_job_scenario_text(const SweepJob& job) { return job.scenario.dump(2) + "\n"; }
+
+InputError sweep_job_error(const SweepSpec& spec, const SweepJob& job, const InputError& error) {
+  return InputError(spec.path, "job " + job.name, error.what());
+}
+
+Scenario load_sweep_job_scenario(const SweepSpec& spec, const SweepJob& job) {
+  try {
+    return load_scenario_json(sweep_job_scenario_text(job), job.scenario_path, job.base_dir);
+  } catch (const InputError& error) {
+    throw sweep_job_error(spec, job, error);
+  }
+}
+
+}  // namespace hb

@@ -1,0 +1,980 @@
+#!/usr/bin/env python3
+"""Renders hapticbench run folders into one self-contained HTML report.
+
+usage: render_report.py --out REPORT.html [--template FILE] RUN_FOLDER...
+
+Each RUN_FOLDER holds a summary.json (schema_version 1) and, unless it is a
+summary-only baseline, one ticks_<label>.csv per algorithm label. The page
+has a summary table per scenario and label, error against tick time (Pareto
+front) across all runs, passivity and stiffness-sweep stability figures, and
+per scenario the displayed force and torque against time (with the analytic
+reference when there is one), penetration against time (with the Embree and
+CGAL oracle columns when present) and the distribution of step times.
+
+Every figure is an inline PNG, the style sheet is inline and the only script
+is a few lines that count the decoded figures: the file opens offline.
+`hapticbench report` calls this script; it checks the run folders first.
+
+Exit codes: 0 written, 2 bad input (the message names the file and where).
+"""
+import argparse
+import base64
+import datetime
+import html
+import io
+import json
+import math
+import os
+import re
+import string
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
+
+DPI = 80
+ONE_MS_US = 1000.0
+# Long runs are drawn from at most this many points per series, chosen as
+# the minimum and maximum of each time bucket so spikes stay visible.
+MAX_PLOT_POINTS = 3000
+# The passivity figure shows at most this many runs (the lowest energies).
+MAX_PASSIVITY_BARS = 60
+# Beyond this many points the Pareto figure labels only the front.
+MAX_PARETO_LABELS = 40
+# Wrench panels span at least ± this (well below what a device can display),
+# so rounding noise of 1e-15 N on an axis that carries nothing stays flat.
+FORCE_PANEL_FLOOR_N = 1e-3
+TORQUE_PANEL_FLOOR_NM = 1e-5
+
+REQUIRED_TICKS_COLUMNS = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "step_ns"]
+OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz",
+                          "embree_pen_m", "cgal_pen_m"]
+# Run folders of one scene at several coupling stiffnesses k_t (N/m), by name:
+# scripts/stability-sweep writes "<scene>_k<k_t>", `hapticbench sweep` writes
+# "<scene>__k_t=<k_t>__<other grid keys>".
+NUMBER = r"[0-9]+(?:\.[0-9]+)?(?:[eE][+-]?[0-9]+)?"
+STIFFNESS_NAMES = [re.compile(r"^(?P<head>.+)_k(?P<k>%s)(?P<tail>)$" % NUMBER),
+                   re.compile(r"^(?P<head>.+)__k_t=(?P<k>%s)(?P<tail>(?:__.*)?)$" % NUMBER)]
+
+
+class ReportInputError(Exception):
+    """Bad input: a file, a place in it, and what was expected."""
+
+    def __init__(self, path, location, message):
+        super().__init__("%s: %s: %s" % (path, location, message) if location
+                         else "%s: %s" % (path, message))
+
+
+def dig(mapping, *keys):
+    """mapping[k0][k1]... or None where a key is missing or a value is null."""
+    value = mapping
+    for key in keys:
+        if not isinstance(value, dict) or key not in value:
+            return None
+        value = value[key]
+    return value
+
+
+def finite_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def microseconds(ns):
+    """ns / 1000, or None: divided, not multiplied by 1e-3, so that 8935 ns prints 8.94 µs
+    the way C's printf("%.2f", ns / 1000.0) does."""
+    return ns / 1000.0 if finite_number(ns) else None
+
+
+# ---------------------------------------------------------------- input
+
+
+class Run:
+    """One algorithm label of one run folder: its summary entry and ticks."""
+
+    def __init__(self, folder, summary_run):
+        self.folder = folder
+        self.summary = summary_run
+        self.label = str(summary_run.get("label", summary_run.get("algorithm", "?")))
+        self.ticks_path = os.path.join(folder.path, summary_run.get("ticks_file")
+                                       or "ticks_%s.csv" % self.label)
+        self.ticks = read_ticks(self.ticks_path) if os.path.isfile(self.ticks_path) else None
+
+    @property
+    def name(self):
+        return "%s/%s" % (self.folder.scenario, self.label)
+
+    def step_us(self):
+        """Step times (µs) from the ticks, else the summary's evenly spaced sample."""
+        if self.ticks is not None:
+            return self.ticks["step_ns"] / 1000.0, "ticks"
+        sample = dig(self.summary, "timing", "step_ns_sample")
+        if isinstance(sample, list) and sample:
+            return np.asarray(sample, dtype=float) / 1000.0, "summary sample"
+        return None, None
+
+    def p99_us(self):
+        return microseconds(dig(self.summary, "timing", "step_ns", "p99"))
+
+
+class RunFolder:
+    """A run folder: summary.json and the runs it lists."""
+
+    def __init__(self, path, summary):
+        self.path = path
+        self.summary = summary
+        self.scenario = str(dig(summary, "scenario", "name") or os.path.basename(path))
+        self.slug = ""
+        self.runs = [Run(self, run) for run in summary["runs"]]
+
+
+def read_summary(folder):
+    path = os.path.join(folder, "summary.json")
+    try:
+        with open(path, encoding="utf-8") as f:
+            summary = json.load(f)
+    except OSError as error:
+        raise ReportInputError(path, "", "cannot read: %s" % error.strerror)
+    except json.JSONDecodeError as error:
+        raise ReportInputError(path, "line %d" % error.lineno, "not JSON: %s" % error.msg)
+    if not isinstance(summary, dict):
+        raise ReportInputError(path, "", "expected a JSON object")
+    version = summary.get("schema_version")
+    if type(version) is not int or version != 1:  # neither true nor 1.0 is version 1
+        raise ReportInputError(path, "/schema_version", "expected 1, got %s"
+                               % json.dumps(summary.get("schema_version")))
+    if not isinstance(summary.get("runs"), list):
+        raise ReportInputError(path, "/runs", "expected an array of runs")
+    for index, run in enumerate(summary["runs"]):
+        if not isinstance(run, dict) or not isinstance(run.get("label"), str):
+            raise ReportInputError(path, "/runs/%d/label" % index, "expected a string")
+    return summary
+
+
+def read_ticks(path):
+    """The plotted columns of a ticks CSV as float arrays (empty field -> NaN)."""
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().rstrip("\r\n").split(",")
+        index = {name: i for i, name in enumerate(header)}
+        missing = [name for name in REQUIRED_TICKS_COLUMNS if name not in index]
+        if missing:
+            raise ReportInputError(path, "line 1", "expected columns %s in the header"
+                                   % ", ".join(missing))
+        wanted = REQUIRED_TICKS_COLUMNS + [c for c in OPTIONAL_TICKS_COLUMNS if c in index]
+        positions = [index[name] for name in wanted]
+        rows = []
+        for line_number, line in enumerate(f, start=2):
+            fields = line.rstrip("\r\n").split(",")
+            if len(fields) != len(header):
+                raise ReportInputError(path, "line %d" % line_number, "expected %d fields, got %d"
+                                       % (len(header), len(fields)))
+            try:
+                rows.append([float(fields[p]) if fields[p] else math.nan for p in positions])
+            except ValueError:
+                bad = next(name for name, p in zip(wanted, positions)
+                           if fields[p] and not is_float(fields[p]))
+                raise ReportInputError(path, "line %d, column %s" % (line_number, bad),
+                                       "expected a number, got \"%s\"" % fields[index[bad]])
+    table = np.asarray(rows, dtype=float).reshape(len(rows), len(wanted))
+    columns = {name: table[:, i] for i, name in enumerate(wanted)}
+    for name in OPTIONAL_TICKS_COLUMNS:  # a column of empty fields says "not measured"
+        if name in columns and not np.isfinite(columns[name]).any():
+            del columns[name]
+    return columns
+
+
+def is_float(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+# ---------------------------------------------------------------- figures
+
+
+def png_data_uri(fig):
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=DPI)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def sparse_minor_ticks(axis, label_minor=False):
+    """Ticks of a log axis: plain numbers (1, 10, 100) at decades, minor ticks at 2 and 5
+    (labelled too when the axis spans less than two decades): readable, and cheap to draw."""
+    plain = FuncFormatter(lambda value, _: "%g" % value)
+    axis.set_major_formatter(plain)
+    axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    axis.set_minor_formatter(plain if label_minor else NullFormatter())
+
+
+def spans_under_two_decades(values):
+    values = [v for v in values if v > 0]
+    return bool(values) and max(values) < 100 * min(values)
+
+
+def run_colours(runs):
+    palette = matplotlib.colormaps["tab10" if len(runs) <= 10 else "tab20"]
+    return {id(run): palette(i % palette.N) for i, run in enumerate(runs)}
+
+
+def envelope(t, y):
+    """At most MAX_PLOT_POINTS points of (t, y): each bucket's minimum and maximum."""
+    n = len(t)
+    if n <= MAX_PLOT_POINTS:
+        return t, y
+    size = -(-n // (MAX_PLOT_POINTS // 2))
+    buckets = -(-n // size)
+    padded = np.full(buckets * size, np.nan)
+    padded[:n] = np.where(np.isfinite(y), y, np.nan)
+    grid = padded.reshape(buckets, size)
+    missing = np.isnan(grid)
+    lowest = np.where(missing, np.inf, grid).argmin(axis=1)
+    highest = np.where(missing, -np.inf, grid).argmax(axis=1)
+    start = np.arange(buckets) * size
+    keep = np.sort(np.column_stack([start + lowest, start + highest]), axis=1).ravel()
+    keep = np.unique(keep[keep < n])
+    return t[keep], y[keep]
+
+
+def plot_series(ax, t, y, **style):
+    y = np.where(np.isfinite(y), y, np.nan)
+    ax.plot(*envelope(t, y), **style)
+
+
+def same_series(arrays):
+    first = arrays[0]
+    return all(a.shape == first.shape and np.allclose(a, first, rtol=1e-9, atol=1e-12,
+                                                      equal_nan=True) for a in arrays[1:])
+
+
+def wrench_figure(runs, kind):
+    """Force (kind "force") or torque ("torque") components and magnitude against time."""
+    names = ("fx", "fy", "fz") if kind == "force" else ("tx", "ty", "tz")
+    unit = "N" if kind == "force" else "N·m"
+    symbol = "F" if kind == "force" else "τ"
+    colours = run_colours(runs)
+    fig = Figure(figsize=(10, 7.2))
+    axes = fig.subplots(4, 1, sharex=True)
+    with_ticks = [run for run in runs if run.ticks is not None]
+    references = [run for run in with_ticks if all("ref_" + n in run.ticks for n in names)]
+    shared_reference = len(references) == len(with_ticks) and references and same_series(
+        [np.column_stack([run.ticks["ref_" + n] for n in names]) for run in references])
+    for run in with_ticks:
+        t = run.ticks["t_ns"] * 1e-9
+        components = [run.ticks[n] for n in names]
+        magnitude = np.sqrt(sum(c * c for c in components))
+        for ax, y in zip(axes, components + [magnitude]):
+            plot_series(ax, t, y, color=colours[id(run)], lw=1.2, label=run.label)
+    for position, run in enumerate(references):
+        if shared_reference and position > 0:
+            break
+        t = run.ticks["t_ns"] * 1e-9
+        components = [run.ticks["ref_" + n] for n in names]
+        magnitude = np.sqrt(sum(c * c for c in components))
+        style = (dict(color="black", lw=1.0, ls="--", label="analytic reference")
+                 if shared_reference else
+                 dict(color=colours[id(run)], lw=0.9, ls="--", label=run.label + " reference"))
+        for ax, y in zip(axes, components + [magnitude]):
+            plot_series(ax, t, y, **style)
+    # Rounding noise must not fill a panel: every panel spans at least a few
+    # percent of the figure's peak, and at least the floor.
+    peak = max([np.nanmax(np.abs(line.get_ydata())) for ax in axes for line in ax.get_lines()
+                if np.isfinite(line.get_ydata()).any()] + [0.0])
+    floor = max(0.02 * peak, FORCE_PANEL_FLOOR_N if kind == "force" else TORQUE_PANEL_FLOOR_NM)
+    for ax, name in zip(axes, list(names) + ["|%s|" % symbol]):
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(min(lo, -floor), max(hi, floor))
+        ax.set_ylabel("%s (%s)" % (name, unit))
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("time (s)")
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("displayed %s against time" % kind, fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.80, top=0.94, bottom=0.07, hspace=0.12)
+    return png_data_uri(fig), bool(references)
+
+
+def penetration_figure(runs):
+    """Penetration (mm) of each run against time, with the oracle columns; None if none."""
+    colours = run_colours(runs)
+    fig = Figure(figsize=(10, 3.8))
+    ax = fig.subplots()
+    sources = set()
+    for run in runs:
+        if run.ticks is None:
+            continue
+        t = run.ticks["t_ns"] * 1e-9
+        colour = colours[id(run)]
+        if np.isfinite(run.ticks["penetration_m"]).any():
+            plot_series(ax, t, run.ticks["penetration_m"] * 1e3, color=colour, lw=1.3)
+            sources.add("penetration_m")
+        if "embree_pen_m" in run.ticks:
+            y = run.ticks["embree_pen_m"] * 1e3
+            ok = np.isfinite(y)
+            ax.plot(*envelope(t[ok], y[ok]), color=colour, lw=0.9, ls=":")
+            sources.add("embree_pen_m")
+        if "cgal_pen_m" in run.ticks:
+            y = run.ticks["cgal_pen_m"] * 1e3
+            ok = np.isfinite(y)
+            ax.plot(*envelope(t[ok], y[ok]), ls="none", marker="x", ms=4, color=colour)
+            sources.add("cgal_pen_m")
+    if not sources:
+        return None
+    handles = [Line2D([], [], color=colours[id(run)], lw=2, label=run.label)
+               for run in runs if run.ticks is not None]
+    styles = {"penetration_m": dict(ls="-"), "embree_pen_m": dict(ls=":"),
+              "cgal_pen_m": dict(ls="none", marker="x")}
+    handles += [Line2D([], [], color="grey", label=name, **styles[name])
+                for name in ("penetration_m", "embree_pen_m", "cgal_pen_m") if name in sources]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+              frameon=False)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("penetration (mm)")
+    ax.grid(True, alpha=0.3)
+    fig.suptitle("penetration of the proxy's tool against time", fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.80, top=0.90, bottom=0.14)
+    return png_data_uri(fig)
+
+
+def timing_figure(runs):
+    """Histogram (log x) and CDF of step times with the 1 ms budget and each p99; None if none."""
+    colours = run_colours(runs)
+    samples = [(run, *run.step_us()) for run in runs]
+    samples = [(run, values[values > 0], source) for run, values, source in samples
+               if values is not None and (values > 0).any()]
+    if not samples:
+        return None
+    lo = min(values.min() for _, values, _ in samples)
+    hi = max(max(values.max() for _, values, _ in samples), ONE_MS_US)
+    bins = np.geomspace(lo / 1.05, hi * 1.05, 70)
+    fig = Figure(figsize=(10, 3.9))
+    histogram, cdf = fig.subplots(1, 2)
+    for run, values, source in samples:
+        colour = colours[id(run)]
+        label = run.label + ("" if source == "ticks" else " (summary sample)")
+        histogram.hist(values, bins=bins, histtype="step", lw=1.3, color=colour, label=label)
+        ordered = np.sort(values)
+        cdf.step(ordered, np.arange(1, len(ordered) + 1) / len(ordered), where="post",
+                 color=colour, lw=1.3, label=label)
+        p99 = run.p99_us()
+        if p99 is not None:
+            histogram.axvline(p99, color=colour, ls=":", lw=1.2)
+            cdf.plot([p99], [0.99], marker="o", ms=5, color=colour)
+    for ax in (histogram, cdf):
+        ax.set_xscale("log")
+        sparse_minor_ticks(ax.xaxis)
+        ax.axvline(ONE_MS_US, color="crimson", lw=1.5, ls="--", label="1 ms budget")
+        ax.set_xlabel("step time (µs)")
+        ax.grid(True, alpha=0.3, which="both")
+    histogram.set_yscale("log")
+    histogram.yaxis.set_minor_locator(NullLocator())
+    histogram.set_ylabel("ticks")
+    histogram.set_title("histogram (dotted: p99)", fontsize=9)
+    cdf.axhline(0.99, color="grey", lw=0.8, ls=":")
+    cdf.set_ylabel("fraction of ticks ≤ x")
+    cdf.set_title("cumulative distribution (dots: p99)", fontsize=9)
+    cdf.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("time of one step", fontsize=11)
+    fig.subplots_adjust(left=0.07, right=0.80, top=0.86, bottom=0.14, wspace=0.25)
+    return png_data_uri(fig)
+
+
+def pareto_error(run):
+    """(metric name, value): force error RMS when there is a reference, else penetration max."""
+    force = dig(run.summary, "accuracy", "force_err_rms_n")
+    if finite_number(force):
+        return "force_err_rms_n", force
+    penetration = dig(run.summary, "accuracy", "penetration_max_m")
+    if finite_number(penetration):
+        return "penetration_max_m", penetration
+    return None, None
+
+
+def pareto_front(points):
+    """Indices of the points no other point beats in both step p99 and error."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], math.inf
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def pareto_figure(runs):
+    """Error against step p99 for every run, Pareto front drawn; (uri, front names, left out)."""
+    groups = {"force_err_rms_n": [], "penetration_max_m": []}
+    left_out = []
+    for run in runs:
+        metric, value = pareto_error(run)
+        p99 = run.p99_us()
+        if metric is None or p99 is None or p99 <= 0:
+            left_out.append(run)
+        else:
+            groups[metric].append((p99, value, run))
+    panels = [(metric, points) for metric, points in groups.items() if points]
+    if not panels:
+        return None, [], left_out
+    fig = Figure(figsize=(10, 5.2 if len(panels) == 1 else 9.0), dpi=DPI)
+    axes = fig.subplots(len(panels), 1, squeeze=False)[:, 0]
+    on_front = []
+    for ax, (metric, points) in zip(axes, panels):
+        scale = 1.0 if metric == "force_err_rms_n" else 1e3
+        xy = [(p99, value * scale) for p99, value, _ in points]
+        front = pareto_front(xy)
+        on_front += [points[i][2].name for i in front]
+        ax.scatter([x for x, _ in xy], [y for _, y in xy], s=22, color="#4a6fa5", zorder=3)
+        fx = [xy[i][0] for i in front]
+        fy = [xy[i][1] for i in front]
+        ax.step(fx, fy, where="post", color="crimson", lw=1.4, zorder=2, label="Pareto front")
+        ax.scatter(fx, fy, s=40, facecolors="none", edgecolors="crimson", zorder=4)
+        ax.set_xscale("log")
+        sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in xy]))
+        if all(y > 0 for _, y in xy):
+            ax.set_yscale("log")
+            sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in xy]))
+        ax.margins(x=0.15, y=0.12)
+        ax.set_xlabel("step time p99 (µs)")
+        ax.set_ylabel("force error RMS (N)" if metric == "force_err_rms_n"
+                      else "penetration max (mm)")
+        ax.grid(True, alpha=0.3, which="both")
+        ax.legend(loc="upper right", fontsize=8)
+    fig.suptitle("error against step time: lower left is better", fontsize=11)
+    fig.tight_layout()
+    for ax, (metric, points) in zip(axes, panels):  # labels once the axes have their place
+        scale = 1.0 if metric == "force_err_rms_n" else 1e3
+        front = set(pareto_front([(p99, value) for p99, value, _ in points]))
+        chosen = [i for i in range(len(points)) if len(points) <= MAX_PARETO_LABELS or i in front]
+        label_points(ax, [((points[i][0], points[i][1] * scale), points[i][2].name, i in front)
+                          for i in chosen])
+    return png_data_uri(fig), on_front, left_out
+
+
+def label_points(ax, labelled):
+    """Writes each (point, text, bold) beside its point, moved up or down until it overlaps
+    no label placed before (front points first), with a leader line when moved."""
+    size = 7.0
+    pixels_per_point = ax.figure.dpi / 72.0
+    height = size * 1.25 * pixels_per_point
+    area = ax.bbox
+    ax.autoscale_view()
+
+    def free(box):
+        return all(box[2] <= b[0] or box[0] >= b[2] or box[3] <= b[1] or box[1] >= b[3]
+                   for b in placed)
+
+    marker = 3.0 * pixels_per_point
+    placed = [(px - marker, py - marker, px + marker, py + marker)
+              for px, py in ax.transData.transform([point for point, _, _ in labelled])]
+    for (x, y), text, bold in sorted(labelled, key=lambda item: (not item[2], item[0])):
+        px, py = ax.transData.transform((x, y))
+        width = len(text) * size * 0.6 * pixels_per_point
+        left = px + 5 if px + 5 + width <= area.x1 else px - 5 - width
+        boxes = [(left, py - height / 2 + step * height, left + width,
+                  py + height / 2 + step * height, step)
+                 for step in [0] + [s for n in range(1, 15) for s in (n, -n)]]
+        box = next((b for b in boxes if free(b)), boxes[0])
+        step = box[4]
+        placed.append(box[:4])
+        offset = ((box[0] - px) / pixels_per_point, (box[1] + height / 2 - py) / pixels_per_point)
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=offset, fontsize=size,
+                    va="center", ha="left", color="#222", weight="bold" if bold else "normal",
+                    arrowprops=dict(arrowstyle="-", color="#999", lw=0.6) if step else None)
+
+
+def passivity_figure(runs):
+    """passivity_energy_min_j per run as bars; (uri, runs shown, runs without the metric)."""
+    with_energy = [run for run in runs
+                   if finite_number(dig(run.summary, "stability", "passivity_energy_min_j"))]
+    without = [run for run in runs if run not in with_energy]
+    if not with_energy:
+        return None, [], without
+    shown = with_energy
+    if len(shown) > MAX_PASSIVITY_BARS:
+        shown = sorted(shown, key=lambda r: r.summary["stability"]["passivity_energy_min_j"])
+        shown = shown[:MAX_PASSIVITY_BARS]
+    energies = [run.summary["stability"]["passivity_energy_min_j"] for run in shown]
+    diverged = [dig(run.summary, "stability", "diverged") is True for run in shown]
+    fig = Figure(figsize=(10, 1.2 + 0.24 * len(shown)))
+    ax = fig.subplots()
+    positions = np.arange(len(shown))[::-1]
+    colours = ["#c62828" if e < 0 else "#2e7d32" for e in energies]
+    ax.barh(positions, energies, color=colours, height=0.7)
+    for position, energy, is_diverged in zip(positions, energies, diverged):
+        text = "%.3g J%s" % (energy, "  diverged" if is_diverged else "")
+        ax.annotate(text, (0, position), textcoords="offset points",
+                    xytext=(4 if energy >= 0 else -4, -3), fontsize=7,
+                    ha="left" if energy >= 0 else "right")
+    ax.set_yticks(positions)
+    ax.set_yticklabels([run.name for run in shown], fontsize=7)
+    nonzero = [abs(e) for e in energies if e != 0]
+    linear = min(nonzero) if nonzero else 1e-6
+    ax.set_xscale("symlog", linthresh=linear)
+    span = max(nonzero) if nonzero else 1e-6
+    ax.set_xlim(-span * 30, span * 30)
+    ax.axvline(0, color="black", lw=0.8)
+    ax.set_xlabel("passivity observer minimum E_min (J), symmetric log scale; below 0 the "
+                  "rendering gave energy away")
+    ax.grid(True, axis="x", alpha=0.3)
+    fig.tight_layout()
+    return png_data_uri(fig), shown, without
+
+
+def integrator_of(run):
+    integrator = dig(run.summary, "params", "integrator")
+    return integrator if isinstance(integrator, str) else run.label
+
+
+def coupling_stiffness(folder):
+    """(scene, k_t) when the folder is one point of a coupling stiffness sweep, else None.
+    The scene is the name without its stiffness; k_t comes from the scenario.json a sweep
+    keeps in the run folder, else from the name."""
+    for name in (folder.scenario, os.path.basename(os.path.normpath(folder.path))):
+        for pattern in STIFFNESS_NAMES:
+            match = pattern.match(name)
+            if match:
+                k = dig(read_json_or_none(os.path.join(folder.path, "scenario.json")) or {},
+                        "coupling", "k_t")
+                return (match.group("head") + match.group("tail"),
+                        float(k) if finite_number(k) else float(match.group("k")))
+    return None
+
+
+def read_json_or_none(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def stiffness_sweeps(folders):
+    """Scenes run at several coupling stiffnesses with two or more integrators, each at two
+    or more stiffnesses: {scene: {integrator: [(k_t, run)]}}."""
+    sweeps = {}
+    for folder in folders:
+        point = coupling_stiffness(folder)
+        if point is None:
+            continue
+        scene, k = point
+        for run in folder.runs:
+            sweeps.setdefault(scene, {}).setdefault(integrator_of(run), []).append((k, run))
+    return {scene: by_integrator for scene, by_integrator in sweeps.items()
+            if len(by_integrator) >= 2
+            and all(len({k for k, _ in runs}) >= 2 for runs in by_integrator.values())}
+
+
+def stiffness_text(k):
+    """A stiffness (N/m) as people write it: 5000, 1000000, 2500.5."""
+    if not finite_number(k):
+        return "none" if k is None else str(k)
+    return "%d" % k if float(k).is_integer() else "%g" % k
+
+
+def stiffness_limits(runs):
+    """(largest k_t that did not diverge, smallest k_t that diverged), None where there is none."""
+    stable = [k for k, run in runs if dig(run.summary, "stability", "diverged") is False]
+    diverged = [k for k, run in runs if dig(run.summary, "stability", "diverged") is True]
+    return (max(stable) if stable else None), (min(diverged) if diverged else None)
+
+
+def sweep_figure(by_integrator, closed_form_bound):
+    """Largest proxy separation (or the divergence verdict) against k_t, one line per integrator."""
+    fig = Figure(figsize=(10, 4.2))
+    ax = fig.subplots()
+    palette = matplotlib.colormaps["tab10"]
+    every_run = [run for runs in by_integrator.values() for _, run in runs]
+    separation_of = {id(run): dig(run.summary, "stability", "max_proxy_separation_m")
+                     for run in every_run}
+    has_separation = all(finite_number(v) and v > 0 for v in separation_of.values())
+    # A diverged proxy flies off to 1e150 m: such points sit on the top edge.
+    stable_separations = [separation_of[id(run)] for run in every_run
+                          if has_separation and dig(run.summary, "stability", "diverged") is False]
+    ceiling = max([1.0] + [10 * v for v in stable_separations])
+    clipped_any = False
+    for i, (integrator, runs) in enumerate(sorted(by_integrator.items())):
+        colour = palette(i % 10)
+        runs = sorted(runs, key=lambda kr: kr[0])
+        ks = [k for k, _ in runs]
+        if has_separation:
+            y = [min(separation_of[id(run)], ceiling) for _, run in runs]
+        else:  # no separation in the summaries: draw the verdict itself
+            y = [1.0 if dig(run.summary, "stability", "diverged") else 0.0 for _, run in runs]
+        ax.plot(ks, y, color=colour, lw=1.0, alpha=0.6)
+        for k, value, (_, run) in zip(ks, y, runs):
+            diverged = dig(run.summary, "stability", "diverged") is True
+            clipped = has_separation and separation_of[id(run)] > ceiling
+            clipped_any |= clipped
+            ax.plot([k], [value], ls="none", marker="^" if clipped else "x" if diverged else "o",
+                    ms=7 if diverged else 5, color=colour, mfc=colour if diverged else "none")
+        largest, _ = stiffness_limits(runs)
+        if largest is not None:
+            ax.axvline(largest, color=colour, ls=":", lw=1.5)
+        ax.plot([], [], color=colour, label="%s (largest stable %s N/m)"
+                % (integrator, stiffness_text(largest)))
+    if closed_form_bound:
+        ax.axvline(closed_form_bound, color="black", ls="--", lw=1.0,
+                   label="explicit Euler bound b_t/Δt = %s N/m"
+                   % stiffness_text(closed_form_bound))
+    ax.plot([], [], ls="none", marker="o", mfc="none", color="grey", label="stable")
+    ax.plot([], [], ls="none", marker="x", color="grey", label="diverged")
+    if clipped_any:
+        ax.plot([], [], ls="none", marker="^", color="grey",
+                label="diverged, off scale (> %g m)" % ceiling)
+    ax.set_xscale("log")
+    sparse_minor_ticks(ax.xaxis)
+    if has_separation:
+        ax.set_yscale("log")
+        sparse_minor_ticks(ax.yaxis)
+        ax.set_ylabel("max proxy separation (m)")
+    else:
+        ax.set_ylabel("diverged (1) or not (0)")
+    ax.set_xlabel("coupling stiffness k_t (N/m)")
+    ax.grid(True, alpha=0.3, which="both")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("stability against coupling stiffness", fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.70, top=0.90, bottom=0.13)
+    return png_data_uri(fig)
+
+
+def sweep_file_verdict(runs):
+    """scripts/stability-sweep's stability.json beside the run folders, if there is one."""
+    parents = {os.path.dirname(os.path.normpath(run.folder.path)) for _, run in runs}
+    if len(parents) != 1:
+        return None
+    path = os.path.join(parents.pop(), "stability.json")
+    data = read_json_or_none(path)
+    return (path, data) if isinstance(data, dict) else None
+
+
+# ---------------------------------------------------------------- page
+
+
+def esc(value):
+    return html.escape(str(value), quote=True)
+
+
+def fmt(value, pattern="%.3g", scale=1.0):
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if not finite_number(value):
+        return None
+    return pattern % (value * scale)
+
+
+def cell(value, pattern="%.3g", scale=1.0, css=""):
+    text = fmt(value, pattern, scale)
+    if text is None:
+        return '<td class="na" title="does not apply to this run">—</td>'
+    return '<td%s>%s</td>' % (' class="%s"' % css if css else "", esc(text))
+
+
+def budget_items(budgets):
+    if not budgets:
+        return '<td class="na" title="no budgets in the scenario">—</td>', "none"
+    items = []
+    for budget in budgets:
+        passed = budget.get("pass") is True
+        relation = "≥" if budget.get("lower_bound") else "≤"
+        value = fmt(budget.get("value"), "%.4g")
+        text = "%s %s %s %s" % (budget.get("name", "?"), value if value is not None else "n/a",
+                                relation, fmt(budget.get("limit"), "%.4g") or "?")
+        tip = budget.get("message") or ("within budget" if passed else "over budget")
+        items.append('<li class="%s" title="%s">%s %s</li>'
+                     % ("pass" if passed else "fail", esc(tip), "✓" if passed else "✗",
+                        esc(text)))
+    verdict = "pass" if all(b.get("pass") is True for b in budgets) else "fail"
+    return '<td class="text"><ul class="budgets">%s</ul></td>' % "".join(items), verdict
+
+
+def summary_table(folders):
+    head = ("<tr><th class='text'>scenario</th><th class='text'>label (algorithm)</th>"
+            "<th>ticks</th><th>step p50 (µs)</th><th>step p99 (µs)</th><th>over 1 ms</th>"
+            "<th>force err RMS (N)</th><th>dir err max (°)</th><th>pen max (mm)</th>"
+            "<th class='text'>pen source</th><th>non-finite</th><th>diverged</th>"
+            "<th>E_min (J)</th><th class='text'>budgets</th></tr>")
+    rows = []
+    for folder in folders:
+        for position, run in enumerate(folder.runs):
+            s = run.summary
+            budgets, verdict = budget_items(s.get("budgets") or [])
+            over = dig(s, "timing", "over_budget")
+            nonfinite = dig(s, "stability", "nonfinite")
+            diverged = dig(s, "stability", "diverged")
+            energy = dig(s, "stability", "passivity_energy_min_j")
+            source = dig(s, "accuracy", "penetration_source")
+            rows.append(
+                '<tr data-scenario="%s" data-label="%s" data-verdict="%s"%s>'
+                % (esc(folder.scenario), esc(run.label), verdict,
+                   ' class="scenario-first"' if position == 0 else "")
+                + '<td class="text"><a href="#%s">%s</a></td>' % (folder.slug, esc(folder.scenario))
+                + '<td class="text">%s <span class="small">(%s)</span></td>'
+                % (esc(run.label), esc(s.get("algorithm", "?")))
+                + cell(dig(s, "timing", "ticks"), "%d")
+                + cell(microseconds(dig(s, "timing", "step_ns", "p50")), "%.2f")
+                + cell(microseconds(dig(s, "timing", "step_ns", "p99")), "%.2f")
+                + cell(over, "%d", css="fail" if finite_number(over) and over > 0 else "")
+                + cell(dig(s, "accuracy", "force_err_rms_n"), "%.4g")
+                + cell(dig(s, "accuracy", "force_dir_err_max_deg"), "%.3g")
+                + cell(dig(s, "accuracy", "penetration_max_m"), "%.3f", 1e3)
+                + ('<td class="text">%s</td>' % esc(source) if source
+                   else '<td class="na">—</td>')
+                + cell(nonfinite, "%d", css="fail" if finite_number(nonfinite) and nonfinite
+                       else "")
+                + ('<td class="%s">%s</td>' % ("fail" if diverged else "pass",
+                                                "yes" if diverged else "no")
+                   if isinstance(diverged, bool) else '<td class="na">—</td>')
+                + cell(energy, "%.3g", css="warn" if finite_number(energy) and energy < 0 else "")
+                + budgets + "</tr>")
+    return ('<div class="wide"><table class="summary" id="summary-table"><thead>%s</thead>'
+            "<tbody>%s</tbody></table></div>" % (head, "".join(rows)))
+
+
+def figure_html(identifier, uri, alt, caption):
+    return ('<figure><img id="%s" alt="%s" src="%s"><figcaption>%s</figcaption></figure>'
+            % (identifier, esc(alt), uri, caption))
+
+
+def note(text):
+    return '<p class="note">%s</p>' % text
+
+
+def context_html(folders):
+    keys = ("commit", "build_type", "compiler", "cpu")
+    contexts = {}
+    for folder in folders:
+        context = folder.summary.get("context") or {}
+        contexts.setdefault(tuple(str(context.get(k, "?")) for k in keys), []).append(folder)
+    dates = sorted(str(dig(f.summary, "context", "date")) for f in folders
+                   if dig(f.summary, "context", "date"))
+    date = ("" if not dates else dates[0] if dates[0] == dates[-1]
+            else "%s … %s" % (dates[0], dates[-1]))
+    parts = []
+    if len(contexts) == 1:
+        values = next(iter(contexts))
+        items = "".join("<dt>%s</dt><dd class='mono'>%s</dd>" % (esc(k), esc(v))
+                        for k, v in zip(keys, values))
+        parts.append('<dl class="context">%s<dt>date</dt><dd class="mono">%s</dd></dl>'
+                     % (items, esc(date or "?")))
+    else:
+        rows = "".join("<tr>%s<td class='text'>%s</td></tr>"
+                       % ("".join("<td class='text mono'>%s</td>" % esc(v) for v in values),
+                          esc(", ".join(f.scenario for f in members)))
+                       for values, members in contexts.items())
+        parts.append(note("The runs come from %d different builds or machines: compare their "
+                          "timings with care." % len(contexts)))
+        parts.append("<table><tr>%s<th class='text'>scenarios</th></tr>%s</table>"
+                     % ("".join("<th class='text'>%s</th>" % k for k in keys), rows))
+        parts.append('<dl class="context"><dt>date</dt><dd class="mono">%s</dd></dl>'
+                     % esc(date or "?"))
+    return "".join(parts)
+
+
+def folders_html(folders):
+    items = []
+    for folder in folders:
+        with_ticks = sum(run.ticks is not None for run in folder.runs)
+        items.append("<li><code>%s</code> — %s, %d run%s%s</li>"
+                     % (esc(folder.path), esc(folder.scenario), len(folder.runs),
+                        "" if len(folder.runs) == 1 else "s",
+                        "" if with_ticks == len(folder.runs)
+                        else " (%d without ticks CSV)" % (len(folder.runs) - with_ticks)))
+    return "<ul>%s</ul>" % "".join(items)
+
+
+def scenario_section(folder):
+    runs = folder.runs
+    s = folder.summary.get("scenario") or {}
+    parts = ['<section class="scenario" id="%s"><h3>%s</h3>'
+             % (folder.slug, esc(folder.scenario))]
+    facts = ["run folder <code>%s</code>" % esc(folder.path)]
+    if s.get("path"):
+        facts.append("scenario <code>%s</code>" % esc(s["path"]))
+    if s.get("trace"):
+        facts.append("trace: %s" % esc(s["trace"]))
+    if s.get("hash"):
+        facts.append("hash <code>%s</code>" % esc(s["hash"]))
+    parts.append('<p class="small">%s</p>' % "; ".join(facts))
+    missing = [run for run in runs if run.ticks is None]
+    if missing:
+        parts.append(note("No ticks CSV for %s (a summary-only run folder): no time series for "
+                          "%s." % (", ".join("<code>%s</code>" % esc(os.path.basename(r.ticks_path))
+                                             for r in missing),
+                                   "this scenario" if len(missing) == len(runs)
+                                   else "these labels")))
+    if len(missing) < len(runs):
+        uri, has_reference = wrench_figure(runs, "force")
+        parts.append(figure_html(
+            "fig-force-" + folder.slug, uri, "force against time, " + folder.scenario,
+            "Displayed force (world frame) per label"
+            + (", dashed: the analytic reference (ideal rigid contact)." if has_reference
+               else "; no analytic reference for this scene.")))
+        uri, has_reference = wrench_figure(runs, "torque")
+        parts.append(figure_html(
+            "fig-torque-" + folder.slug, uri, "torque against time, " + folder.scenario,
+            "Displayed torque about the tool frame's origin (world frame)"
+            + (", dashed: the analytic reference." if has_reference
+               else "; no analytic reference for this scene.")))
+        uri = penetration_figure(runs)
+        if uri:
+            parts.append(figure_html(
+                "fig-penetration-" + folder.slug, uri, "penetration against time, "
+                + folder.scenario, "Penetration of the proxy's tool: <code>penetration_m</code> "
+                "(analytic, else Embree), and where present the oracles' own columns "
+                "<code>embree_pen_m</code> (dotted) and <code>cgal_pen_m</code> (crosses, every "
+                "N-th tick)."))
+        else:
+            parts.append(note("No penetration ground truth in this scenario (no analytic "
+                              "reference, oracle off or distance-only scene)."))
+    uri = timing_figure(runs)
+    if uri:
+        from_sample = [r for r in runs if r.ticks is None and r.step_us()[0] is not None]
+        parts.append(figure_html(
+            "fig-timing-" + folder.slug, uri, "step time distribution, " + folder.scenario,
+            "Time of <code>Renderer::step</code> per tick: histogram (log x) and cumulative "
+            "distribution, dashed red: the 1 ms budget, dotted / dots: each label's p99 from "
+            "the summary." + (" Labels without ticks use the summary's evenly spaced sample of "
+                              "step times." if from_sample else "")))
+    else:
+        parts.append(note("No step times in this run folder (no ticks CSV and no sample in the "
+                          "summary)."))
+    parts.append("</section>")
+    return "".join(parts)
+
+
+def stability_html(folders, runs):
+    parts = []
+    uri, shown, without = passivity_figure(runs)
+    if uri:
+        parts.append(figure_html(
+            "fig-passivity", uri, "passivity energy minimum per run",
+            "Minimum over time of the passivity observer E = Σ (F·v + τ·ω) Δt at the device "
+            "port, per run (red: below zero; diverged runs are marked)."
+            + (" The %d lowest of %d runs are shown." % (len(shown), len(runs) - len(without))
+               if len(shown) < len(runs) - len(without) else "")))
+    if without:
+        parts.append(note("No passivity energy for %s."
+                          % ", ".join(esc(r.name) for r in without)))
+    for index, (base, by_integrator) in enumerate(sorted(stiffness_sweeps(folders).items())):
+        all_runs = [kr for runs in by_integrator.values() for kr in runs]
+        from_file = sweep_file_verdict(all_runs)
+        bound = dig(from_file[1], "explicit_bound_closed_form_n_per_m") if from_file else None
+        parts.append("<h3>Coupling stiffness sweep: %s</h3>" % esc(base))
+        rows = []
+        for integrator, integrator_runs in sorted(by_integrator.items()):
+            largest, smallest = stiffness_limits(integrator_runs)
+            ks = sorted({k for k, _ in integrator_runs})
+            rows.append(
+                '<tr data-integrator="%s"><td class="text">%s</td><td>%d (%s … %s)</td>'
+                '<td class="largest-stable">%s</td><td class="smallest-diverged">%s</td></tr>'
+                % (esc(integrator), esc(integrator), len(ks), stiffness_text(ks[0]),
+                   stiffness_text(ks[-1]), stiffness_text(largest), stiffness_text(smallest)))
+        parts.append(
+            '<table class="stiffness-sweep" data-sweep="%s"><tr><th class="text">integrator</th>'
+            "<th>stiffnesses run (N/m)</th><th>largest stable k_t (N/m)</th>"
+            "<th>smallest diverged k_t (N/m)</th></tr>%s</table>" % (esc(base), "".join(rows)))
+        parts.append('<p class="small">Stable: <code>stability.diverged</code> is false in the '
+                     "run's summary.</p>")
+        if from_file:
+            path, data = from_file
+            verdicts = "; ".join(
+                "%s largest stable %s N/m, smallest unstable %s N/m"
+                % (esc(name), stiffness_text(dig(data, name, "largest_stable_n_per_m")),
+                   stiffness_text(dig(data, name, "smallest_unstable_n_per_m")))
+                for name in sorted(by_integrator) if isinstance(data.get(name), dict))
+            if verdicts:
+                parts.append(note("<code>%s</code> (written by scripts/stability-sweep, which also "
+                                  "counts growth of the proxy's separation beyond the exciting "
+                                  "jump as unstable): %s." % (esc(path), verdicts)))
+        parts.append(figure_html(
+            "fig-stiffness-sweep-%d" % index, sweep_figure(by_integrator, bound),
+            "stability against coupling stiffness, " + base,
+            "Largest proxy separation from the device per run against the coupling stiffness "
+            "(crosses: diverged); dotted: each integrator's largest stable k_t."))
+    return "".join(parts)
+
+
+def render(folders, template):
+    slugs = set()
+    for folder in folders:
+        slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
+        candidate, n = slug, 2
+        while candidate in slugs:
+            candidate, n = "%s-%d" % (slug, n), n + 1
+        slugs.add(candidate)
+        folder.slug = candidate
+    runs = [run for folder in folders for run in folder.runs]
+    failed = [run for run in runs if any(b.get("pass") is not True
+                                         for b in run.summary.get("budgets") or [])]
+    body = ["<header><h1>hapticbench report</h1>",
+            '<p class="small">%d scenario%s, %d run%s; generated %s.</p>'
+            % (len(folders), "" if len(folders) == 1 else "s", len(runs),
+               "" if len(runs) == 1 else "s",
+               datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")),
+            context_html(folders),
+            "<details%s><summary>Run folders covered (%d)</summary>%s</details></header>"
+            % (" open" if len(folders) <= 12 else "", len(folders), folders_html(folders))]
+    body.append("<nav><h2>Contents</h2><ul><li><a href='#summary'>Summary</a></li>"
+                "<li><a href='#pareto'>Error against step time</a></li>"
+                "<li><a href='#stability'>Stability</a></li>%s</ul></nav>"
+                % "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
+                          for f in folders))
+    body.append('<section id="summary"><h2>Summary</h2>')
+    body.append('<p class="%s">%s</p>' % (
+        "fail" if failed else "pass",
+        "%d of %d runs failed a budget: %s." % (len(failed), len(runs),
+                                                ", ".join(esc(r.name) for r in failed))
+        if failed else "All %d runs are within their budgets." % len(runs)))
+    body.append(summary_table(folders))
+    body.append('<p class="small">Step times are of <code>Renderer::step</code> only. Force and '
+                "direction errors are against the analytic reference (ideal rigid contact); "
+                "penetration comes from the analytic reference, else the Embree oracle; "
+                "E_min is the passivity observer's minimum (below zero: energy given away). "
+                "— : the metric does not apply to the run.</p></section>")
+    body.append('<section id="pareto"><h2>Error against step time</h2>')
+    uri, front, left_out = pareto_figure(runs)
+    if uri:
+        body.append(figure_html(
+            "fig-pareto", uri, "error against step time p99, all runs",
+            "Every run of the report: force error RMS against the analytic reference (or, for "
+            "runs without one, the maximum penetration) against the p99 step time. The red "
+            "line is the Pareto front: no other run is both faster and more accurate. On the "
+            "front: %s." % esc(", ".join(front))))
+    if left_out:
+        body.append(note("Not on the figure (no force error, no penetration or no step time): "
+                         "%s." % esc(", ".join(r.name for r in left_out))))
+    body.append('</section><section id="stability"><h2>Stability</h2>')
+    body.append(stability_html(folders, runs))
+    body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
+    body.extend(scenario_section(folder) for folder in folders)
+    body.append("</section>")
+    return string.Template(template).substitute(title="hapticbench report", body="\n".join(body))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", required=True, help="HTML file to write")
+    parser.add_argument("--template", default=os.path.join(os.path.dirname(
+        os.path.abspath(__file__)), "report_template.html"))
+    parser.add_argument("folders", nargs="+", help="run folders (each with a summary.json)")
+    args = parser.parse_args()
+    try:
+        folders = [RunFolder(path, read_summary(path)) for path in args.folders]
+        with open(args.template, encoding="utf-8") as f:
+            template = f.read()
+        page = render(folders, template)
+    except ReportInputError as error:
+        print("error: %s" % error, file=sys.stderr)
+        return 2
+    with open(args.out, "w", encoding="utf-8") as f:
+        f.write(page)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,350 @@
+// End-to-end: `hapticbench report` on the smoke suite, opened in headless
+// Chromium; on a coupling stiffness sweep of summary-only run folders; and on
+// bad input.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
+const fs::path kChromium = "/usr/bin/chromium";
+
+struct CommandResult {
+  int exit_code;
+  std::string stdout_text;
+  std::string stderr_text;
+};
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_report_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Runs a shell command in `work`; its output goes to files outside `work`'s
+// listing checks (stdout.txt and stderr.txt are named in them).
+CommandResult shell(const std::string& command, const fs::path& work) {
+  const fs::path out = work / "stdout.txt";
+  const fs::path err = work / "stderr.txt";
+  const std::string line = "cd '" + work.string() + "' && " + command + " > '" + out.string() +
+                           "' 2> '" + err.string() + "'";
+  const int status = std::system(line.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+}
+
+CommandResult hapticbench(const std::string& args, const fs::path& work,
+                          const std::string& environment = "") {
+  return shell(environment + " '" + std::string(HAPTICBENCH_BIN) + "' " + args, work);
+}
+
+// Names in `dir` other than the command's captured output.
+std::set<std::string> listing(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name != "stdout.txt" && name != "stderr.txt") names.insert(name);
+  }
+  return names;
+}
+
+// Whether any tick of a ticks CSV has a penetration value (column penetration_m).
+bool has_penetration(const fs::path& ticks) {
+  std::ifstream in(ticks);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  std::size_t column = names.size();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == "penetration_m") column = i;
+  REQUIRE(column < names.size());
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string field;
+    for (std::size_t i = 0; i <= column; ++i) std::getline(row, field, ',');
+    if (!field.empty() && std::isfinite(std::stod(field))) return true;
+  }
+  return false;
+}
+
+// Value of an attribute of the first element matching `tag_pattern` (regex) in `html`.
+std::string attribute(const std::string& html, const std::string& tag_pattern,
+                      const std::string& name) {
+  std::smatch tag;
+  if (!std::regex_search(html, tag, std::regex(tag_pattern))) return "";
+  std::smatch value;
+  const std::string text = tag.str();
+  if (!std::regex_search(text, value, std::regex(name + "=\"([^\"]*)\""))) return "";
+  return value[1];
+}
+
+// The text of the table row whose opening tag contains `opening`, up to </tr>.
+std::string row_with(const std::string& html, const std::string& opening) {
+  const std::size_t at = html.find(opening);
+  if (at == std::string::npos) return "";
+  return html.substr(at, html.find("</tr>", at) - at);
+}
+
+// How a table cell holding exactly `value` appears in the page: ">value<".
+std::string cell_text(const std::string& value) {
+  std::string text = ">";
+  text.append(value).append("<");
+  return text;
+}
+
+std::string microseconds(double ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", ns / 1000.0);
+  return text;
+}
+
+TEST_CASE("the smoke suite's report opens offline in a browser with every figure decoded") {
+  const fs::path work = scratch("smoke");
+  const CommandResult run =
+      hapticbench("run " + (kSource / "scenarios/smoke").string() + "/*.json --out runs", work);
+  INFO(run.stderr_text);
+  REQUIRE(run.exit_code == 0);
+
+  const CommandResult report = hapticbench("report runs", work);
+  INFO(report.stderr_text);
+  REQUIRE(report.exit_code == 0);
+  CHECK(report.stdout_text.find("report.html") != std::string::npos);
+  // The default page name, and no temporary file left beside it.
+  CHECK(listing(work) == std::set<std::string>{"report.html", "runs"});
+  const std::string html = read_file(work / "report.html");
+
+  // Self-contained: no external resource, every figure an inline PNG.
+  for (const char* external : {"src=\"http", "href=\"http", "<link", "<script src", "url(http",
+                               "@import", "src=\"file:", "src=\"/"})
+    CHECK(html.find(external) == std::string::npos);
+  std::size_t inline_images = 0;
+  for (std::size_t at = html.find("<img"); at != std::string::npos;
+       at = html.find("<img", at + 1)) {
+    const std::size_t src = html.find("src=\"", at);
+    CHECK(html.compare(src, 27, "src=\"data:image/png;base64,") == 0);
+    ++inline_images;
+  }
+
+  // The figures each scenario must have, worked out from the run folders.
+  std::vector<std::string> expected_figures = {"fig-pareto", "fig-passivity"};
+  std::vector<json> summaries;
+  for (const auto& entry : fs::directory_iterator(work / "runs")) {
+    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    summaries.push_back(summary);
+    const std::string slug = "scenario-" + summary.at("scenario").at("name").get<std::string>();
+    bool penetration = false;
+    for (const json& run : summary.at("runs"))
+      penetration |=
+          has_penetration(entry.path() / ("ticks_" + run.at("label").get<std::string>() + ".csv"));
+    for (const char* kind : {"force", "torque", "timing"})
+      expected_figures.push_back(std::string("fig-") + kind + "-" + slug);
+    if (penetration) expected_figures.push_back("fig-penetration-" + slug);
+  }
+  REQUIRE(summaries.size() >= 4);
+  CHECK(inline_images >= expected_figures.size());
+
+  // Load it in headless Chromium, offline, and read the DOM after the load event.
+  if (!fs::exists(kChromium))
+    FAIL("headless Chromium is needed at " << kChromium
+                                           << ": scripts/setup installs it (package chromium)");
+  const fs::path profile = scratch("chromium_profile");  // fresh: nothing cached from before
+  const CommandResult browser =
+      shell("timeout 180 '" + kChromium.string() +
+                "' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+                "--disable-background-networking --disable-component-update --disable-sync "
+                "--user-data-dir='" +
+                profile.string() + "' --dump-dom 'file://" + (work / "report.html").string() + "'",
+            work);
+  INFO(browser.stderr_text);
+  REQUIRE(browser.exit_code == 0);
+  const std::string dom = browser.stdout_text;
+  fs::remove_all(profile);
+  REQUIRE(dom.find("</body>") != std::string::npos);
+
+  // The page's own script counted the images after load: all decoded.
+  const std::string figures = attribute(dom, "<body[^>]*>", "data-figures");
+  const std::string loaded = attribute(dom, "<body[^>]*>", "data-loaded");
+  REQUIRE_FALSE(figures.empty());
+  CHECK(loaded == figures);
+  CHECK(std::stoul(figures) == inline_images);
+  CHECK(std::stoul(figures) >= expected_figures.size());
+  for (const std::string& id : expected_figures) {
+    INFO(id);
+    CHECK(dom.find("<img id=\"" + id + "\"") != std::string::npos);
+  }
+
+  // One summary table row per scenario and label, with the summary's numbers and verdict.
+  for (const json& summary : summaries) {
+    const std::string scenario = summary.at("scenario").at("name");
+    for (const json& run : summary.at("runs")) {
+      const std::string label = run.at("label");
+      bool pass = true;
+      for (const json& budget : run.at("budgets")) pass &= budget.at("pass").get<bool>();
+      INFO(scenario << "/" << label);
+      const std::string row =
+          row_with(dom, "<tr data-scenario=\"" + scenario + "\" data-label=\"" + label +
+                            "\" data-verdict=\"" + (pass ? "pass" : "fail") + "\"");
+      REQUIRE_FALSE(row.empty());
+      CHECK(row.find(cell_text(std::to_string(run.at("timing").at("ticks").get<int>()))) !=
+            std::string::npos);
+      CHECK(row.find(cell_text(microseconds(run.at("timing").at("step_ns").at("p99")))) !=
+            std::string::npos);
+      CHECK(row.find(run.at("stability").at("diverged").get<bool>() ? ">yes<" : ">no<") !=
+            std::string::npos);
+    }
+  }
+}
+
+// A summary-only run folder of the stiffness sweep: two integrators at k_t,
+// explicit Euler diverged above b_t / dt = 5000 N/m, implicit never.
+json sweep_summary(double k_t) {
+  auto run = [&](const std::string& integrator, bool diverged) {
+    return json{{"algorithm", "coupling_only"},
+                {"label", integrator},
+                {"params", {{"integrator", integrator}, {"proxy_mass_kg", 0.2}}},
+                {"timing",
+                 {{"ticks", 5000},
+                  {"step_ns", {{"p50", 600}, {"p90", 700}, {"p99", 900}, {"max", 2000}}},
+                  {"over_budget", 0},
+                  {"step_ns_sample", {500, 600, 650, 700, 900, 2000}}}},
+                {"accuracy", {{"force_err_rms_n", nullptr}, {"penetration_max_m", nullptr}}},
+                {"stability",
+                 {{"nonfinite", 0},
+                  {"diverged", diverged},
+                  {"passivity_energy_min_j", 0.0},
+                  {"max_proxy_separation_m", diverged ? 1e30 : 0.01}}},
+                {"budgets", json::array()}};
+  };
+  const std::string name = "stability_k" + std::to_string(static_cast<int>(k_t));
+  return json{{"schema_version", 1},
+              {"context",
+               {{"commit", "abc"},
+                {"build_type", "Release"},
+                {"compiler", "g++"},
+                {"cpu", "cpu"},
+                {"date", "2026-01-01T00:00:00Z"}}},
+              {"scenario", {{"name", name}, {"hash", "0"}}},
+              {"runs", {run("explicit_euler", k_t > 5000), run("implicit_euler", false)}}};
+}
+
+TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t") {
+  const fs::path work = scratch("sweep");
+  for (double k_t : {1000.0, 3000.0, 4950.0, 5050.0, 8000.0}) {
+    const json summary = sweep_summary(k_t);
+    const fs::path folder = work / "sweep" / summary.at("scenario").at("name").get<std::string>();
+    fs::create_directories(folder);
+    std::ofstream(folder / "summary.json") << summary.dump(2);
+  }
+  const CommandResult report = hapticbench("report sweep --out pages/sweep.html", work);
+  INFO(report.stderr_text);
+  REQUIRE(report.exit_code == 0);
+  const std::string html = read_file(work / "pages/sweep.html");
+
+  const std::string explicit_row = row_with(html, "<tr data-integrator=\"explicit_euler\"");
+  const std::string implicit_row = row_with(html, "<tr data-integrator=\"implicit_euler\"");
+  CHECK(explicit_row.find("class=\"largest-stable\">4950<") != std::string::npos);
+  CHECK(explicit_row.find("class=\"smallest-diverged\">5050<") != std::string::npos);
+  CHECK(implicit_row.find("class=\"largest-stable\">8000<") != std::string::npos);
+  CHECK(implicit_row.find("class=\"smallest-diverged\">none<") != std::string::npos);
+  CHECK(html.find("id=\"fig-stiffness-sweep-0\"") != std::string::npos);
+
+  // Summary-only folders: no time series, said on the page; step times from the sample.
+  CHECK(html.find("id=\"fig-force-") == std::string::npos);
+  CHECK(html.find("No ticks CSV") != std::string::npos);
+  CHECK(html.find("id=\"fig-timing-scenario-stability_k5050\"") != std::string::npos);
+  for (const char* k : {"1000", "3000", "4950", "5050", "8000"})
+    for (const char* label : {"explicit_euler", "implicit_euler"})
+      CHECK(html.find(std::string("data-scenario=\"stability_k") + k + "\" data-label=\"" + label +
+                      "\"") != std::string::npos);
+}
+
+TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
+  SECTION("a folder without any summary.json") {
+    const fs::path work = scratch("no_summary");
+    fs::create_directories(work / "empty/nested");
+    std::ofstream(work / "empty/nested/ticks_x.csv") << "tick\n";
+    const CommandResult result = hapticbench("report empty", work);
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("empty") != std::string::npos);
+    CHECK(result.stderr_text.find("summary.json") != std::string::npos);
+    CHECK(listing(work) == std::set<std::string>{"empty"});
+  }
+  SECTION("a summary of another schema version, beside a good one") {
+    const fs::path work = scratch("schema");
+    fs::create_directories(work / "runs/a");
+    fs::create_directories(work / "runs/b");
+    json good = sweep_summary(1000);
+    std::ofstream(work / "runs/a/summary.json") << good.dump();
+    good["schema_version"] = 2;
+    std::ofstream(work / "runs/b/summary.json") << good.dump();
+    const CommandResult result = hapticbench("report runs --out report.html", work);
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("runs/b/summary.json") != std::string::npos);
+    CHECK(result.stderr_text.find("/schema_version") != std::string::npos);
+    CHECK(listing(work) == std::set<std::string>{"runs"});
+  }
+  SECTION("a summary that is not JSON") {
+    const fs::path work = scratch("malformed");
+    fs::create_directories(work / "run");
+    std::ofstream(work / "run/summary.json") << "{ \"schema_version\": 1,\n  \"runs\": [\n";
+    const CommandResult result = hapticbench("report run", work);
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("run/summary.json") != std::string::npos);
+    CHECK(result.stderr_text.find("line") != std::string::npos);
+    CHECK(listing(work) == std::set<std::string>{"run"});
+  }
+  SECTION("a ticks CSV with a field that is not a number") {
+    const fs::path work = scratch("bad_ticks");
+    fs::create_directories(work / "run");
+    std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
+    std::ofstream(work / "run/ticks_explicit_euler.csv")
+        << "tick,t_ns,fx,fy,fz,tx,ty,tz,penetration_m,step_ns\n"
+        << "0,0,0,0,0,0,0,0,0,800\n"
+        << "1,1000000,0,oops,0,0,0,0,0,800\n";
+    const CommandResult result = hapticbench("report run", work);
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("ticks_explicit_euler.csv") != std::string::npos);
+    CHECK(result.stderr_text.find("line 3") != std::string::npos);
+    CHECK(listing(work) == std::set<std::string>{"run"});
+  }
+  SECTION("a Python without matplotlib") {
+    const fs::path work = scratch("no_matplotlib");
+    fs::create_directories(work / "run");
+    std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
+    const CommandResult result = hapticbench("report run", work, "HAPTICBENCH_PYTHON=/bin/false");
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("python3-matplotlib") != std::string::npos);
+    CHECK(listing(work) == std::set<std::string>{"run"});
+  }
+  SECTION("usage mistakes") {
+    const fs::path work = scratch("usage");
+    CHECK(hapticbench("report", work).exit_code == 2);
+    CHECK(hapticbench("report --bogus x", work).exit_code == 2);
+    CHECK(hapticbench("report no_such_folder", work).exit_code == 2);
+    CHECK(listing(work).empty());
+  }
+}
+
+}  // namespace

@@ -1,0 +1,35 @@
+// Test support: runs the hapticbench binary (HAPTICBENCH_BIN) in a folder
+// and returns its exit code and output.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "tests/support/scratch_dir.h"
+
+namespace hb::test {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string stdout_text;
+  std::string stderr_text;
+};
+
+/// Runs `hapticbench ARGS` with `work` as the current folder; ARGS is
+/// passed to the shell as written.
+inline CommandResult run_hapticbench(const std::string& args, const std::filesystem::path& work) {
+  const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
+  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
+                              "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.stdout_text = read_text_file(out);
+  result.stderr_text = read_text_file(err);
+  return result;
+}
+
+}  // namespace hb::test
