@@ -22,16 +22,24 @@ int list_command(const std::vector<std::string>& args) {
   for (const GeneratorEntry& entry : generator_table())
     std::cout << "  " << entry.name << "  -  " << entry.summary << "\n";
 
-  std::cout << "scenarios (" << scenario_root << "/):\n";
-  std::vector<std::string> files;
+  // Sweep files live in a folder named "sweeps"; everything else is a scenario.
+  std::vector<std::string> scenarios, sweeps;
   std::error_code error;
   if (fs::is_directory(scenario_root, error)) {
-    for (const auto& entry : fs::recursive_directory_iterator(scenario_root, error))
-      if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+    for (const auto& entry : fs::recursive_directory_iterator(scenario_root, error)) {
+      if (entry.path().extension() != ".json") continue;
+      const bool is_sweep = entry.path().parent_path().filename() == "sweeps";
+      (is_sweep ? sweeps : scenarios).push_back(entry.path().string());
+    }
   }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) std::cout << "  (none found; run from the project folder or pass a folder)\n";
-  for (const std::string& file : files) std::cout << "  " << file << "\n";
+  std::sort(scenarios.begin(), scenarios.end());
+  std::sort(sweeps.begin(), sweeps.end());
+  std::cout << "scenarios (" << scenario_root << "/):\n";
+  if (scenarios.empty()) std::cout << "  (none found; run from the project folder or pass a folder)\n";
+  for (const std::string& file : scenarios) std::cout << "  " << file << "\n";
+  std::cout << "sweeps:\n";
+  if (sweeps.empty()) std::cout << "  (none)\n";
+  for (const std::string& file : sweeps) std::cout << "  " << file << "\n";
   return kExitOk;
 }
 

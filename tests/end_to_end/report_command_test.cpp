@@ -2,6 +2,7 @@
 // Chromium; on a coupling stiffness sweep of summary-only run folders; and on
 // bad input.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -31,7 +32,8 @@ struct CommandResult {
 };
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_report_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("hb_e2e_report_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -1,6 +1,7 @@
 // End-to-end: `hapticbench sweep` on a 2 x 2 grid of short presses: run
 // folders, sweep.json, resuming, shards, parallel workers and bad input.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -25,7 +26,8 @@ struct CommandResult {
 };
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_e2e_sweep_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("hb_e2e_sweep_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
