@@ -7,6 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include "harness/output/xml_text.h"
+
 namespace hb {
 
 namespace {
@@ -95,32 +97,6 @@ std::string markdown_table(const std::vector<const CheckRow*>& rows) {
     out << "\n";
   }
   return out.str();
-}
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "harness/output/xml_text.h"
+
 namespace hb {
 
 using nlohmann::json;
@@ -135,28 +137,6 @@ json run_json(const AlgorithmRun& run) {
   };
 }
 
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 }  // namespace
 
 bool ScenarioRun::all_budgets_pass() const {

@@ -64,6 +64,11 @@ class Oracle {
   PenetrationResult penetration(std::span<const Vec3> points) const;
 };
 
+/// Penetration of `points` given which of them are inside (from an earlier
+/// inside query): the distance to the surface of each inside point.
+PenetrationResult penetration_of_inside_points(const Oracle& oracle, std::span<const Vec3> points,
+                                               const std::vector<uint8_t>& inside);
+
 /// Builds the Embree oracle for the scene (each object's mesh placed by its
 /// pose). An object whose mesh is open or self-intersecting is refused with
 /// InputError(object name, "/scene/<i>", why) unless the object is marked

@@ -29,30 +29,6 @@ double angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(c) * 180.0 / std::numbers::pi;
 }
 
-// Penetration from per-point inside flags and the distances of the inside points.
-PenetrationResult penetration_of(const Oracle& oracle, std::span<const Vec3> points,
-                                 const std::vector<uint8_t>& inside) {
-  PenetrationResult result;
-  result.points = static_cast<int64_t>(points.size());
-  std::vector<Vec3> inside_points;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (inside[i]) inside_points.push_back(points[i]);
-  result.inside = static_cast<int64_t>(inside_points.size());
-  if (inside_points.empty()) return result;
-  PointQueryRequest request;
-  request.points = inside_points;
-  request.want_inside = false;
-  request.want_closest = true;
-  PointQueryResult closest;
-  oracle.query_points(request, closest);
-  double sum_sq = 0;
-  for (double d : closest.distance) {
-    result.max_depth_m = std::max(result.max_depth_m, d);
-    sum_sq += d * d;
-  }
-  result.rms_depth_m = std::sqrt(sum_sq / static_cast<double>(inside_points.size()));
-  return result;
-}
 }  // namespace
 
 OracleEvaluator::OracleEvaluator(const RenderContext& context,
@@ -99,7 +75,7 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
   if (embree_ && measures_penetration_) {
     const auto start = std::chrono::steady_clock::now();
     embree_->query_points(inside_request, embree_inside);
-    out.embree = penetration_of(*embree_, world_samples_, embree_inside.inside);
+    out.embree = penetration_of_inside_points(*embree_, world_samples_, embree_inside.inside);
     out.embree_ns = ns_since(start);
   }
 
@@ -108,7 +84,7 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
     const auto start = std::chrono::steady_clock::now();
     PointQueryResult cgal_inside;
     cgal_->query_points(inside_request, cgal_inside);
-    out.cgal = penetration_of(*cgal_, world_samples_, cgal_inside.inside);
+    out.cgal = penetration_of_inside_points(*cgal_, world_samples_, cgal_inside.inside);
     out.cgal_ns = ns_since(start);
     if (out.embree) {
       for (std::size_t i = 0; i < world_samples_.size(); ++i)
