@@ -17,6 +17,7 @@
 #include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/scenario_runner.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
@@ -53,15 +54,13 @@ std::string vector_text(const Vec3& v) {
 
 void validate_scenario(const std::string& path) {
   const Scenario scenario = load_scenario(path);
-  // Building each renderer is what rejects bad or unknown algorithm parameters.
-  for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
-    const AlgorithmSpec& spec = scenario.algorithms[i];
-    try {
-      create_renderer(spec.name, scenario.context, spec.params,
-                      "/algorithms/" + std::to_string(i) + "/name");
-    } catch (const InputError& error) {
-      throw with_default_source(error, scenario.path);
-    }
+  // Everything `run` builds before it replays: the renderers (which reject
+  // bad or unknown algorithm parameters) and the ground truth (whose oracles
+  // reject open or self-intersecting scene meshes).
+  try {
+    prepare_scenario(scenario, std::nullopt);
+  } catch (const InputError& error) {
+    throw with_default_source(error, scenario.path);
   }
 
   const RenderContext& context = scenario.context;

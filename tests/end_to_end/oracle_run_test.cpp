@@ -117,6 +117,7 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
   CHECK(message.find("self-intersecting") != std::string::npos);
   CHECK(message.find("/scene/0") != std::string::npos);
   CHECK_FALSE(fs::exists(work / "run"));
+  CHECK(hb::test::run_hapticbench("validate refused.json", work).exit_code == 2);
 
   std::ofstream(work / "accepted.json") << scenario(R"(, "distance_only": true)");
   REQUIRE(hb::test::run_hapticbench("run accepted.json --out run", work).exit_code == 0);
