@@ -17,5 +17,6 @@ int generate_command(const std::vector<std::string>& args);  ///< hapticbench ge
 int report_command(const std::vector<std::string>& args);    ///< hapticbench report
 int compare_command(const std::vector<std::string>& args);   ///< hapticbench compare
 int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sweep
+int ccd_command(const std::vector<std::string>& args);       ///< hapticbench ccd
 
 }  // namespace hb

@@ -35,7 +35,8 @@ int list_command(const std::vector<std::string>& args) {
   std::sort(scenarios.begin(), scenarios.end());
   std::sort(sweeps.begin(), sweeps.end());
   std::cout << "scenarios (" << scenario_root << "/):\n";
-  if (scenarios.empty()) std::cout << "  (none found; run from the project folder or pass a folder)\n";
+  if (scenarios.empty())
+    std::cout << "  (none found; run from the project folder or pass a folder)\n";
   for (const std::string& file : scenarios) std::cout << "  " << file << "\n";
   std::cout << "sweeps:\n";
   if (sweeps.empty()) std::cout << "  (none)\n";

@@ -17,6 +17,7 @@ constexpr const char* kUsage =
     "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
+    "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
     "exit codes: 0 ok, 1 a budget failed, 2 bad input or usage, 3 internal error\n";
 }  // namespace
 
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     if (command == "report") return hb::report_command(args);
     if (command == "compare") return hb::compare_command(args);
     if (command == "sweep") return hb::sweep_command(args);
+    if (command == "ccd") return hb::ccd_command(args);
     if (command == "-h" || command == "--help" || command == "help") {
       std::cout << kUsage;
       return hb::kExitOk;
