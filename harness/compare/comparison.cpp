@@ -7,6 +7,28 @@
 
 namespace hb {
 
+bool settle_null_values(CheckRow& row, std::optional<double> baseline,
+                        std::optional<double> candidate) {
+  row.baseline = baseline ? nlohmann::json(*baseline) : nlohmann::json(nullptr);
+  row.candidate = candidate ? nlohmann::json(*candidate) : nlohmann::json(nullptr);
+  if (!baseline && !candidate) {
+    row.verdict = Verdict::kNotApplicable;
+    row.note = "null on both sides: does not apply";
+    return true;
+  }
+  if (!candidate) {
+    row.verdict = Verdict::kFailure;
+    row.note = "metric disappeared: null in the candidate";
+    return true;
+  }
+  if (!baseline) {
+    row.verdict = Verdict::kInfo;
+    row.note = "metric appeared: null in the baseline";
+    return true;
+  }
+  return false;
+}
+
 namespace {
 
 CheckRow presence_row(const std::string& scenario, const std::string& label, bool in_baseline) {

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,13 @@ struct CheckRow {
   /// Check-specific figures for compare.json (difference, tolerance, ratio, p-value, ...).
   nlohmann::json detail = nlohmann::json::object();
 };
+
+/// Fills in the row's values and, when either side is null, its verdict:
+/// not applicable (both null), failure (the candidate lost the metric) or
+/// information (the candidate gained it). Returns true when it settled the
+/// verdict, false when both values are present and the caller compares them.
+bool settle_null_values(CheckRow& row, std::optional<double> baseline,
+                        std::optional<double> candidate);
 
 struct Comparison {
   std::string baseline_path;

@@ -34,29 +34,11 @@ std::string change_text(double baseline, double candidate, const std::string& un
   return printf_text("%+.3g", difference) + " " + unit;
 }
 
-json or_null(const std::optional<double>& value) { return value ? json(*value) : json(nullptr); }
-
 // A metric compared against a tolerance of max(abs_tol, rel_tol |baseline|).
 CheckRow tolerance_row(CheckRow row, std::optional<double> baseline,
                        std::optional<double> candidate, double abs_tol, double rel_tol,
                        const std::string& unit, Better better) {
-  row.baseline = or_null(baseline);
-  row.candidate = or_null(candidate);
-  if (!baseline && !candidate) {
-    row.verdict = Verdict::kNotApplicable;
-    row.note = "null on both sides: does not apply";
-    return row;
-  }
-  if (!candidate) {
-    row.verdict = Verdict::kFailure;
-    row.note = "metric disappeared: null in the candidate";
-    return row;
-  }
-  if (!baseline) {
-    row.verdict = Verdict::kInfo;
-    row.note = "metric appeared: null in the baseline";
-    return row;
-  }
+  if (settle_null_values(row, baseline, candidate)) return row;
   const double difference = *candidate - *baseline;
   const double worse_by = better == Better::kLower ? difference : -difference;
   const double tolerance = std::max(abs_tol, rel_tol * std::abs(*baseline));

@@ -49,23 +49,7 @@ StepTimeSamples step_time_samples(const ScenarioSummary& baseline_scenario,
 CheckRow ratio_row(CheckRow row, std::optional<double> baseline, std::optional<double> candidate,
                    const std::optional<MannWhitneyResult>& slower,
                    const std::optional<MannWhitneyResult>& faster, const CompareOptions& options) {
-  row.baseline = baseline ? json(*baseline) : json(nullptr);
-  row.candidate = candidate ? json(*candidate) : json(nullptr);
-  if (!baseline && !candidate) {
-    row.verdict = Verdict::kNotApplicable;
-    row.note = "null on both sides: does not apply";
-    return row;
-  }
-  if (!candidate) {
-    row.verdict = Verdict::kFailure;
-    row.note = "metric disappeared: null in the candidate";
-    return row;
-  }
-  if (!baseline) {
-    row.verdict = Verdict::kInfo;
-    row.note = "metric appeared: null in the baseline";
-    return row;
-  }
+  if (settle_null_values(row, baseline, candidate)) return row;
   if (!(*baseline > 0)) {
     row.verdict = Verdict::kInfo;
     row.note = "baseline is 0 ns: no ratio";
