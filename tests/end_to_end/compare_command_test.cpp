@@ -12,6 +12,8 @@
 #include <string>
 #include <system_error>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,27 +27,7 @@ struct CommandResult {
   std::string stderr_text;
 };
 
-// A fresh folder per test and process (the same tests may run from several
-// build folders at once), removed when the test ends.
-class ScratchFolder {
- public:
-  explicit ScratchFolder(const std::string& name)
-      : path_(fs::temp_directory_path() /
-              ("hb_e2e_compare_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using ScratchFolder = hb::test::ScratchDir;
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path);

@@ -16,6 +16,7 @@
 #include "harness/compare/run_checks.h"
 #include "harness/compare/scenario_summary.h"
 #include "harness/compare/summary_set.h"
+#include "tests/support/scratch_dir.h"
 
 namespace hb {
 namespace {
@@ -352,27 +353,7 @@ TEST_CASE("timing: a regression needs a ratio above the limit and a significant 
   }
 }
 
-// A fresh folder per test and process (the same tests may run from several
-// build folders at once), removed when the test ends.
-class ScratchFolder {
- public:
-  explicit ScratchFolder(const std::string& name)
-      : path_(fs::temp_directory_path() /
-              ("hb_compare_test_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using ScratchFolder = hb::test::ScratchDir;
 
 void write_ticks(const fs::path& file, const std::vector<int64_t>& steps) {
   std::ofstream out(file);
