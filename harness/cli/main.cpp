@@ -18,7 +18,7 @@ constexpr const char* kUsage =
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
     "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
-    "exit codes: 0 ok, 1 a budget failed, 2 bad input or usage, 3 internal error\n";
+    "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
 }  // namespace
 
 int main(int argc, char** argv) {
