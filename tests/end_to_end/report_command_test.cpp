@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -31,19 +33,6 @@ struct CommandResult {
   std::string stderr_text;
 };
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("hb_e2e_report_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // Runs a shell command in `work`; its output goes to files outside `work`'s
 // listing checks (stdout.txt and stderr.txt are named in them).
 CommandResult shell(const std::string& command, const fs::path& work) {
@@ -52,7 +41,8 @@ CommandResult shell(const std::string& command, const fs::path& work) {
   const std::string line = "cd '" + work.string() + "' && " + command + " > '" + out.string() +
                            "' 2> '" + err.string() + "'";
   const int status = std::system(line.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, hb::test::read_text_file(out),
+          hb::test::read_text_file(err)};
 }
 
 CommandResult hapticbench(const std::string& args, const fs::path& work,
@@ -123,7 +113,8 @@ std::string microseconds(double ns) {
 }
 
 TEST_CASE("the smoke suite's report opens offline in a browser with every figure decoded") {
-  const fs::path work = scratch("smoke");
+  const hb::test::ScratchDir work_dir("e2e_report_smoke");
+  const fs::path& work = work_dir.path();
   const CommandResult run =
       hapticbench("run " + (kSource / "scenarios/smoke").string() + "/*.json --out runs", work);
   INFO(run.stderr_text);
@@ -135,7 +126,7 @@ TEST_CASE("the smoke suite's report opens offline in a browser with every figure
   CHECK(report.stdout_text.find("report.html") != std::string::npos);
   // The default page name, and no temporary file left beside it.
   CHECK(listing(work) == std::set<std::string>{"report.html", "runs"});
-  const std::string html = read_file(work / "report.html");
+  const std::string html = hb::test::read_text_file(work / "report.html");
 
   // Self-contained: no external resource, every figure an inline PNG.
   for (const char* external : {"src=\"http", "href=\"http", "<link", "<script src", "url(http",
@@ -153,7 +144,7 @@ TEST_CASE("the smoke suite's report opens offline in a browser with every figure
   std::vector<std::string> expected_figures = {"fig-pareto", "fig-passivity"};
   std::vector<json> summaries;
   for (const auto& entry : fs::directory_iterator(work / "runs")) {
-    const json summary = json::parse(read_file(entry.path() / "summary.json"));
+    const json summary = json::parse(hb::test::read_text_file(entry.path() / "summary.json"));
     summaries.push_back(summary);
     const std::string slug = "scenario-" + summary.at("scenario").at("name").get<std::string>();
     bool penetration = false;
@@ -171,7 +162,8 @@ TEST_CASE("the smoke suite's report opens offline in a browser with every figure
   if (!fs::exists(kChromium))
     FAIL("headless Chromium is needed at " << kChromium
                                            << ": scripts/setup installs it (package chromium)");
-  const fs::path profile = scratch("chromium_profile");  // fresh: nothing cached from before
+  const hb::test::ScratchDir profile_dir("e2e_report_chromium_profile");
+  const fs::path& profile = profile_dir.path();  // fresh: nothing cached from before
   const CommandResult browser =
       shell("timeout 180 '" + kChromium.string() +
                 "' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
@@ -252,7 +244,8 @@ json sweep_summary(double k_t) {
 }
 
 TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t") {
-  const fs::path work = scratch("sweep");
+  const hb::test::ScratchDir work_dir("e2e_report_sweep");
+  const fs::path& work = work_dir.path();
   for (double k_t : {1000.0, 3000.0, 4950.0, 5050.0, 8000.0}) {
     const json summary = sweep_summary(k_t);
     const fs::path folder = work / "sweep" / summary.at("scenario").at("name").get<std::string>();
@@ -262,7 +255,7 @@ TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t
   const CommandResult report = hapticbench("report sweep --out pages/sweep.html", work);
   INFO(report.stderr_text);
   REQUIRE(report.exit_code == 0);
-  const std::string html = read_file(work / "pages/sweep.html");
+  const std::string html = hb::test::read_text_file(work / "pages/sweep.html");
 
   const std::string explicit_row = row_with(html, "<tr data-integrator=\"explicit_euler\"");
   const std::string implicit_row = row_with(html, "<tr data-integrator=\"implicit_euler\"");
@@ -284,7 +277,8 @@ TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t
 
 TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
   SECTION("a folder without any summary.json") {
-    const fs::path work = scratch("no_summary");
+    const hb::test::ScratchDir work_dir("e2e_report_no_summary");
+    const fs::path& work = work_dir.path();
     fs::create_directories(work / "empty/nested");
     std::ofstream(work / "empty/nested/ticks_x.csv") << "tick\n";
     const CommandResult result = hapticbench("report empty", work);
@@ -294,7 +288,8 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
     CHECK(listing(work) == std::set<std::string>{"empty"});
   }
   SECTION("a summary of another schema version, beside a good one") {
-    const fs::path work = scratch("schema");
+    const hb::test::ScratchDir work_dir("e2e_report_schema");
+    const fs::path& work = work_dir.path();
     fs::create_directories(work / "runs/a");
     fs::create_directories(work / "runs/b");
     json good = sweep_summary(1000);
@@ -308,7 +303,8 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
     CHECK(listing(work) == std::set<std::string>{"runs"});
   }
   SECTION("a summary that is not JSON") {
-    const fs::path work = scratch("malformed");
+    const hb::test::ScratchDir work_dir("e2e_report_malformed");
+    const fs::path& work = work_dir.path();
     fs::create_directories(work / "run");
     std::ofstream(work / "run/summary.json") << "{ \"schema_version\": 1,\n  \"runs\": [\n";
     const CommandResult result = hapticbench("report run", work);
@@ -318,7 +314,8 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
     CHECK(listing(work) == std::set<std::string>{"run"});
   }
   SECTION("a ticks CSV with a field that is not a number") {
-    const fs::path work = scratch("bad_ticks");
+    const hb::test::ScratchDir work_dir("e2e_report_bad_ticks");
+    const fs::path& work = work_dir.path();
     fs::create_directories(work / "run");
     std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
     std::ofstream(work / "run/ticks_explicit_euler.csv")
@@ -332,7 +329,8 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
     CHECK(listing(work) == std::set<std::string>{"run"});
   }
   SECTION("a Python without matplotlib") {
-    const fs::path work = scratch("no_matplotlib");
+    const hb::test::ScratchDir work_dir("e2e_report_no_matplotlib");
+    const fs::path& work = work_dir.path();
     fs::create_directories(work / "run");
     std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
     const CommandResult result = hapticbench("report run", work, "HAPTICBENCH_PYTHON=/bin/false");
@@ -341,7 +339,8 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
     CHECK(listing(work) == std::set<std::string>{"run"});
   }
   SECTION("usage mistakes") {
-    const fs::path work = scratch("usage");
+    const hb::test::ScratchDir work_dir("e2e_report_usage");
+    const fs::path& work = work_dir.path();
     CHECK(hapticbench("report", work).exit_code == 2);
     CHECK(hapticbench("report --bogus x", work).exit_code == 2);
     CHECK(hapticbench("report no_such_folder", work).exit_code == 2);

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -24,19 +26,6 @@ struct CommandResult {
   int exit_code;
   std::string stderr_text;
 };
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("hb_e2e_sweep_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 void write_file(const fs::path& path, const std::string& text) {
   fs::create_directories(path.parent_path());
@@ -48,7 +37,7 @@ CommandResult hapticbench(const std::string& args, const fs::path& work) {
   const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
                               "' " + args + " > stdout.txt 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, hb::test::read_text_file(err)};
 }
 
 // A sphere pressed 5 mm into a box over 0.2 s: coupling_only, and a
@@ -94,7 +83,9 @@ std::vector<std::string> expected_job_names() {
   return names;
 }
 
-json summary_of(const fs::path& folder) { return json::parse(read_file(folder / "summary.json")); }
+json summary_of(const fs::path& folder) {
+  return json::parse(hb::test::read_text_file(folder / "summary.json"));
+}
 
 std::map<std::string, std::string> ticks_hashes(const fs::path& folder) {
   std::map<std::string, std::string> hashes;
@@ -135,7 +126,8 @@ std::map<std::string, std::vector<double>> read_ticks(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values") {
-  const fs::path work = scratch("grid");
+  const hb::test::ScratchDir work_dir("e2e_sweep_grid");
+  const fs::path& work = work_dir.path();
   write_grid(work);
   const CommandResult result = hapticbench("sweep sweeps/grid.json --out runs", work);
   INFO(result.stderr_text);
@@ -154,7 +146,7 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
         CHECK(fs::exists(folder / file));
       const json summary = summary_of(folder);
       CHECK(summary.at("scenario").at("name") == names[index]);
-      const json scenario = json::parse(read_file(folder / "scenario.json"));
+      const json scenario = json::parse(hb::test::read_text_file(folder / "scenario.json"));
       CHECK(scenario.at("name") == names[index]);
       CHECK(scenario.at("coupling").at("k_t") == k_t);
       CHECK(scenario.at("coupling").at("b_t") == 5);
@@ -173,7 +165,7 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
       ++index;
     }
 
-  const json index_file = json::parse(read_file(work / "runs" / "sweep.json"));
+  const json index_file = json::parse(hb::test::read_text_file(work / "runs" / "sweep.json"));
   CHECK(index_file.at("name") == "grid");
   REQUIRE(index_file.at("jobs").size() == 4);
   for (std::size_t i = 0; i < 4; ++i) {
@@ -187,7 +179,8 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
 }
 
 TEST_CASE("a job's scenario.json reruns with `hapticbench run` to the same ticks") {
-  const fs::path work = scratch("rerun");
+  const hb::test::ScratchDir work_dir("e2e_sweep_rerun");
+  const fs::path& work = work_dir.path();
   write_grid(work);
   REQUIRE(hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
   // From another folder: the mesh and trace paths in scenario.json do not
@@ -208,7 +201,8 @@ TEST_CASE("a job's scenario.json reruns with `hapticbench run` to the same ticks
 }
 
 TEST_CASE("two jobs at a time (--jobs 2) give every job the same ticks as one at a time") {
-  const fs::path work = scratch("parallel");
+  const hb::test::ScratchDir work_dir("e2e_sweep_parallel");
+  const fs::path& work = work_dir.path();
   write_grid(work);
   REQUIRE(hapticbench("sweep sweeps/grid.json --jobs 1 --out one", work).exit_code == 0);
   const CommandResult result = hapticbench("sweep sweeps/grid.json --jobs 2 --out two", work);
@@ -228,7 +222,8 @@ TEST_CASE("two jobs at a time (--jobs 2) give every job the same ticks as one at
 }
 
 TEST_CASE("running a sweep again skips finished jobs and runs only what is missing") {
-  const fs::path work = scratch("resume");
+  const hb::test::ScratchDir work_dir("e2e_sweep_resume");
+  const fs::path& work = work_dir.path();
   write_grid(work);
   // Without --out: out/sweeps/<sweep name>/.
   REQUIRE(hapticbench("sweep sweeps/grid.json", work).exit_code == 0);
@@ -246,7 +241,7 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
   CHECK(again.stderr_text.find("4 done earlier, 0 to run") != std::string::npos);
   for (const std::string& name : names)
     CHECK(fs::last_write_time(out / name / "summary.json") == written[name]);
-  const json index = json::parse(read_file(out / "sweep.json"));
+  const json index = json::parse(hb::test::read_text_file(out / "sweep.json"));
   for (const json& job : index.at("jobs")) {
     CHECK(job.at("status") == "ok");
     CHECK(job.at("done_earlier") == true);
@@ -266,7 +261,8 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
 }
 
 TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
-  const fs::path work = scratch("shards");
+  const hb::test::ScratchDir work_dir("e2e_sweep_shards");
+  const fs::path& work = work_dir.path();
   write_grid(work);
   const std::vector<std::string> names = expected_job_names();
   std::set<std::string> all;
@@ -283,7 +279,7 @@ TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
     CHECK(ran == expected);
     for (const std::string& name : ran) CHECK(all.insert(name).second);  // disjoint
     // The shard's sweep.json still lists every job; others' are pending.
-    const json index = json::parse(read_file(work / out / "sweep.json"));
+    const json index = json::parse(hb::test::read_text_file(work / out / "sweep.json"));
     REQUIRE(index.at("jobs").size() == names.size());
     for (const json& job : index.at("jobs"))
       CHECK(job.at("status") == (expected.count(job.at("name")) ? "ok" : "pending"));
@@ -296,17 +292,18 @@ TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
                 "sweep sweeps/grid.json --shard " + std::to_string(shard) + "/2 --out shared", work)
                 .exit_code == 0);
   CHECK(run_folders(work / "shared") == all);
-  const json index = json::parse(read_file(work / "shared" / "sweep.json"));
+  const json index = json::parse(hb::test::read_text_file(work / "shared" / "sweep.json"));
   for (const json& job : index.at("jobs")) CHECK(job.at("status") == "ok");
 }
 
 TEST_CASE("a failed budget is reported, not gated: every job runs and the exit code is 1") {
-  const fs::path work = scratch("budget");
+  const hb::test::ScratchDir work_dir("e2e_sweep_budget");
+  const fs::path& work = work_dir.path();
   write_grid(work, R"(, "/budgets/nonfinite": [0, -1])");
   const CommandResult result = hapticbench("sweep sweeps/grid.json --jobs 2 --out runs", work);
   INFO(result.stderr_text);
   CHECK(result.exit_code == 1);
-  const json index = json::parse(read_file(work / "runs" / "sweep.json"));
+  const json index = json::parse(hb::test::read_text_file(work / "runs" / "sweep.json"));
   REQUIRE(index.at("jobs").size() == 8);
   CHECK(run_folders(work / "runs").size() == 8);
   for (const json& job : index.at("jobs")) {
@@ -319,7 +316,8 @@ TEST_CASE("a failed budget is reported, not gated: every job runs and the exit c
 }
 
 TEST_CASE("a bad value in any job stops the sweep before anything runs") {
-  const fs::path work = scratch("bad_job");
+  const hb::test::ScratchDir work_dir("e2e_sweep_bad_job");
+  const fs::path& work = work_dir.path();
   write_file(work / "scenarios" / "press.json", kPressScenario);
   // The first three jobs are fine; the fourth's contact stiffness is not.
   write_file(work / "sweeps" / "grid.json", R"({
@@ -335,7 +333,8 @@ TEST_CASE("a bad value in any job stops the sweep before anything runs") {
 }
 
 TEST_CASE("bad sweep files and arguments exit 2 naming the file and the field") {
-  const fs::path work = scratch("bad_input");
+  const hb::test::ScratchDir work_dir("e2e_sweep_bad_input");
+  const fs::path& work = work_dir.path();
   write_file(work / "scenarios" / "press.json", kPressScenario);
   struct Case {
     std::string sweep;
