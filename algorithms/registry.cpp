@@ -2,6 +2,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/coupling_only/coupling_only.h"
+#include "algorithms/god_object/god_object.h"
 #include "algorithms/penalty_analytic/penalty_analytic.h"
 
 namespace hb {
@@ -14,6 +15,13 @@ constexpr AlgorithmEntry kAlgorithms[] = {
     {"penalty_analytic",
      "baseline: penalty contact against exact primitive shapes, explicit or implicit Euler",
      &create_penalty_analytic},
+    {"god_object",
+     "Ortega, Redon & Coquillart 2007: massless proxy, Gauss' least constraint, screw-motion "
+     "mesh CCD on the slow loop",
+     &create_god_object},
+    {"god_object_3dof",
+     "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
+     &create_god_object_3dof},
 };
 }  // namespace
 

@@ -128,20 +128,26 @@ inline bool edge_edge_may_touch(const IntervalVec3& e1, const IntervalVec3& e2,
   return edge_edge_parameters_may_hold(c);
 }
 
-/// Earliest-first bisection of t ∈ [0, 1]. `may_touch(T)` returns false only
-/// when no t ∈ T can be a contact.
+/// Earliest-first bisection of t ∈ [0, time_limit] (time_limit clamped to
+/// [0, 1]). `may_touch(T)` returns false only when no t ∈ T can be a
+/// contact.
 ///
-/// After the whole step, the single instant t = 0 is tested: primitives
-/// already touching are answered at once (toi = 0 is a lower bound of any
-/// contact time, so this is conservative whatever the test says). Then
-/// sub-intervals are visited depth first, left child first, which is in
-/// order of time: the first one that reaches the tolerance without being
+/// First the whole searched range [0, time_limit] is tested, then the single
+/// instant t = 0: primitives already touching are answered at once (toi = 0
+/// is a lower bound of any contact time, so this is conservative whatever the
+/// test says). Then the dyadic sub-intervals of [0, 1] are visited depth
+/// first, left child first, which is in order of time, each tested only up
+/// to time_limit: the first one that reaches the tolerance without being
 /// excluded holds the earliest possible contact, and everything before it
-/// has been excluded.
+/// has been excluded. Sub-intervals starting after time_limit are never
+/// visited, so the bisection then ends with no contact.
 template <class MayTouch>
 CcdResult first_contact_by_bisection(MayTouch&& may_touch, const CcdSettings& settings) {
   // Clamped so the stack below cannot overflow whatever the caller passes.
   const double tolerance = std::clamp(settings.time_tolerance, 1e-12, 1.0);
+  // A NaN limit searches the whole step.
+  const double limit =
+      !(settings.time_limit < 1) ? 1.0 : (settings.time_limit > 0 ? settings.time_limit : 0.0);
   CcdResult result;
   auto contact_at = [&](double toi, bool budget_exhausted) {
     result.contact = true;
@@ -150,7 +156,8 @@ CcdResult first_contact_by_bisection(MayTouch&& may_touch, const CcdSettings& se
     return result;
   };
   result.evaluations = 1;
-  if (!may_touch(Interval(0.0, 1.0))) return result;
+  if (!may_touch(Interval(0.0, limit))) return result;
+  if (limit == 0) return contact_at(0.0, false);  // the instant t = 0 was the test
   if (result.evaluations >= settings.max_evaluations) return contact_at(0.0, true);
   ++result.evaluations;
   if (may_touch(Interval(0.0)) || 1.0 < tolerance) return contact_at(0.0, false);
@@ -161,17 +168,17 @@ CcdResult first_contact_by_bisection(MayTouch&& may_touch, const CcdSettings& se
   // Depth first with a 1e-12 floor: at most 41 levels, two entries per level.
   Span stack[96];
   int top = 0;
-  stack[top++] = {0.5, 1.0};
+  if (0.5 <= limit) stack[top++] = {0.5, 1.0};
   stack[top++] = {0.0, 0.5};
   while (top > 0) {
     const Span span = stack[--top];
     if (result.evaluations >= settings.max_evaluations) return contact_at(span.lo, true);
     ++result.evaluations;
-    if (!may_touch(Interval(span.lo, span.hi))) continue;
+    if (!may_touch(Interval(span.lo, std::min(span.hi, limit)))) continue;
     const double mid = 0.5 * (span.lo + span.hi);
     if (span.hi - span.lo < tolerance || !(span.lo < mid && mid < span.hi))
       return contact_at(span.lo, false);
-    stack[top++] = {mid, span.hi};
+    if (mid <= limit) stack[top++] = {mid, span.hi};
     stack[top++] = {span.lo, mid};
   }
   return result;

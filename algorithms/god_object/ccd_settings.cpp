@@ -23,6 +23,10 @@ void validate_ccd_settings(const CcdSettings& settings, const std::string& field
     throw InputError("", field_prefix + ".max_evaluations",
                      "expected at least 1 sub-interval evaluation, got " +
                          std::to_string(settings.max_evaluations));
+  if (!(settings.time_limit >= 0 && settings.time_limit <= 1))
+    throw InputError(
+        "", field_prefix + ".time_limit",
+        "expected a fraction of the step in [0, 1], got " + number_text(settings.time_limit));
 }
 
 }  // namespace hb

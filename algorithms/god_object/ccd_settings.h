@@ -22,10 +22,16 @@ struct CcdSettings {
   /// query near 7 µs; a screw-motion evaluation costs about 200 ns, so its
   /// worst case is near 15 µs with the default.
   int max_evaluations = 64;
+  /// Only times in [0, time_limit] are searched (unitless, in [0, 1]): a
+  /// query whose earliest sub-interval not excluded starts after time_limit
+  /// answers no contact, and a sub-interval reaching past it is tested only
+  /// up to it. A caller that already knows a contact at time t passes about
+  /// t here, so the query stops as soon as it cannot be earlier.
+  double time_limit = 1;
 };
 
-/// Throws InputError naming `field_prefix` + ".time_tolerance" or
-/// ".max_evaluations" when a setting is out of range.
+/// Throws InputError naming `field_prefix` + ".time_tolerance",
+/// ".max_evaluations" or ".time_limit" when a setting is out of range.
 void validate_ccd_settings(const CcdSettings& settings, const std::string& field_prefix);
 
 /// Answer of a primitive continuous collision query. Conservative: a contact
@@ -33,7 +39,7 @@ void validate_ccd_settings(const CcdSettings& settings, const std::string& field
 /// true for primitives that pass within about the time tolerance's worth of
 /// motion of each other, or when the budget ran out (false positives).
 struct CcdResult {
-  /// The primitives may touch at some t in [0, 1].
+  /// The primitives may touch at some t in [0, 1] (in [0, time_limit]).
   bool contact = false;
   /// When `contact`: a lower bound of the earliest time of contact, in
   /// [0, 1] (unitless fraction of the step); every earlier time is proven

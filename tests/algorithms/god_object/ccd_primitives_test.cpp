@@ -420,7 +420,58 @@ TEST_CASE("settings out of range are rejected naming the field", "[ccd]") {
   settings = CcdSettings{};
   settings.max_evaluations = 0;
   CHECK_THROWS_AS(validate_ccd_settings(settings, "params.ccd"), InputError);
+  for (const double limit : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    settings = CcdSettings{};
+    settings.time_limit = limit;
+    CHECK_THROWS_WITH(validate_ccd_settings(settings, "params.ccd"),
+                      Catch::Contains("params.ccd.time_limit"));
+  }
   CHECK_NOTHROW(validate_ccd_settings(CcdSettings{}, "params.ccd"));
+}
+
+TEST_CASE("a time limit searches only up to it", "[ccd]") {
+  // z(t) = 1 − 4t reaches the face at t = 0.25.
+  const LinearCcdQuery query =
+      vertex_against_static_face(Vec3(0, 0, 1), Vec3(0, 0, -3), kA, kB, kC);
+  const CcdResult unlimited = vertex_face_ccd(query);
+  REQUIRE(unlimited.contact);
+  for (const double limit : {0.0, 0.1, 0.2, 0.249}) {
+    CcdSettings settings;
+    settings.time_limit = limit;
+    const CcdResult r = vertex_face_ccd(query, settings);
+    INFO("limit " << limit);
+    CHECK_FALSE(r.contact);
+    CHECK(r.evaluations <= unlimited.evaluations);
+  }
+  for (const double limit : {0.25, 0.2500001, 0.26, 0.5, 0.75, 1.0}) {
+    CcdSettings settings;
+    settings.time_limit = limit;
+    const CcdResult r = vertex_face_ccd(query, settings);
+    INFO("limit " << limit);
+    REQUIRE(r.contact);
+    CHECK(r.toi <= 0.25);
+    CHECK(r.toi >= 0.25 - kTolerance);
+  }
+  // Touching at t = 0 is found with a zero limit; a face reached at t = 0.5
+  // by an edge is not found before it.
+  CcdSettings zero;
+  zero.time_limit = 0;
+  const CcdResult resting = vertex_face_ccd(
+      vertex_against_static_face(Vec3(0.2, 0.1, 0), Vec3(0.2, 0.1, -1), kA, kB, kC), zero);
+  REQUIRE(resting.contact);
+  CHECK(resting.toi == 0);
+  const LinearCcdQuery edges =
+      static_and_moving({Vec3(-1, 0, 1), Vec3(1, 0, 1), Vec3(0, -1, 0), Vec3(0, 1, 0)},
+                        {Vec3(-1, 0, -1), Vec3(1, 0, -1), Vec3(0, -1, 0), Vec3(0, 1, 0)});
+  CcdSettings before;
+  before.time_limit = 0.49;
+  CHECK_FALSE(edge_edge_ccd(edges, before).contact);
+  CcdSettings after;
+  after.time_limit = 0.51;
+  const CcdResult crossing = edge_edge_ccd(edges, after);
+  REQUIRE(crossing.contact);
+  CHECK(crossing.toi <= 0.5);
+  CHECK(crossing.toi >= 0.5 - kTolerance);
 }
 
 // ---------------------------------------------------------------------------
@@ -753,6 +804,31 @@ TEST_CASE("a helical path hits a plane at the time its height says", "[screw]") 
   REQUIRE(r.contact);
   CHECK(r.toi <= 0.3);
   CHECK(r.toi >= 0.3 - kScrewTimeSlack);
+}
+
+TEST_CASE("screw kernels honour the time limit", "[screw]") {
+  // The body point (1, 0, 0) turning about z by π/2 reaches the plane
+  // y = 0.5 at t = 1/3.
+  const ScrewMotion motion(Pose{}, pose(Vec3::Zero(), std::numbers::pi / 2, Vec3::UnitZ()));
+  const std::array<Vec3, 3> face{Vec3(0, 0.5, -1), Vec3(2, 0.5, -1), Vec3(1, 0.5, 1)};
+  CcdSettings settings;
+  settings.time_limit = 0.33;
+  CHECK_FALSE(screw_vertex_face_ccd(motion, Vec3(1, 0, 0), face, settings).contact);
+  settings.time_limit = 0.34;
+  const CcdResult r = screw_vertex_face_ccd(motion, Vec3(1, 0, 0), face, settings);
+  REQUIRE(r.contact);
+  CHECK(r.toi <= 1.0 / 3);
+  CHECK(r.toi >= 1.0 / 3 - kScrewTimeSlack);
+  // The rotating edge meets the static edge at angle 60° at t = 2/3.
+  const double a = std::numbers::pi / 3;
+  const std::array<Vec3, 2> world_edge{Vec3(std::cos(a), std::sin(a), -1),
+                                       Vec3(std::cos(a), std::sin(a), 1)};
+  settings.time_limit = 0.66;
+  CHECK_FALSE(
+      screw_edge_edge_ccd(motion, {Vec3(0.5, 0, 0), Vec3(2, 0, 0)}, world_edge, settings).contact);
+  settings.time_limit = 0.67;
+  CHECK(
+      screw_edge_edge_ccd(motion, {Vec3(0.5, 0, 0), Vec3(2, 0, 0)}, world_edge, settings).contact);
 }
 
 TEST_CASE("screw kernels fall back conservatively on budget and bad input", "[screw]") {

@@ -1,0 +1,153 @@
+#include "algorithms/god_object/god_object.h"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/virtual_coupling.h"
+
+namespace hb {
+
+namespace {
+
+// A finished update on its way to the haptic loop.
+struct GodObjectResult : SlowLoop::Result {
+  Pose proxy;
+  std::vector<Contact> contacts;
+  GodObjectUpdateStats stats;
+};
+
+class GodObjectRenderer : public Renderer, public SlowLoop {
+ public:
+  GodObjectRenderer(const RenderContext& context, const GodObjectSettings& settings)
+      : point_tool_(settings.point_tool),
+        gains_(context.coupling),
+        limits_(context.device),
+        dt_s_(context.dt_s),
+        solver_(context, settings) {
+    body_.centre_of_mass = solver_.centre_of_mass();
+  }
+
+  void reset(const Pose& start) override {
+    solver_.reset(start);
+    target_ = start;
+    proxy_ = state_at_rest(body_, start);
+    contacts_.clear();
+    pending_stats_.reset();
+    last_install_tick_.reset();
+    installed_ = false;
+  }
+
+  TickResult step(const DeviceSample& device) override {
+    TickResult result;
+    if (is_finite(device)) target_ = device.pose;
+    if (installed_) {
+      result.flags |= kFlagSlowResultInstalled;
+      install_pending(device.tick, result);
+      installed_ = false;
+    }
+    Wrench raw = evaluate_coupling(gains_, body_, proxy_, device.pose, device.twist, false).display;
+    if (point_tool_) raw.torque.setZero();
+    result.display = device_output(raw, limits_, result.flags);
+    result.proxy = tool_pose(body_, proxy_);
+    result.contacts = contacts_;
+    return result;
+  }
+
+  SlowLoop* slow_loop() override { return this; }
+
+  std::unique_ptr<Result> run_slow_update() override {
+    auto result = std::make_unique<GodObjectResult>();
+    result->stats = solver_.update(target_);
+    result->proxy = solver_.proxy_pose();
+    for (const KeptContact& kept : solver_.contacts()) {
+      const FeatureGeometry& g = kept.geometry;
+      result->contacts.push_back(Contact{g.point, g.normal, -g.gap});
+    }
+    return result;
+  }
+
+  void install_slow_result(std::unique_ptr<Result> result) override {
+    auto* update = dynamic_cast<GodObjectResult*>(result.get());
+    if (!update) throw std::invalid_argument("god_object: foreign slow-loop result");
+    pending_proxy_ = update->proxy;
+    pending_contacts_ = std::move(update->contacts);
+    pending_stats_ = update->stats;
+    installed_ = true;
+  }
+
+ private:
+  // Makes the installed update the displayed proxy. The proxy's velocity
+  // (for the coupling's damping) is its displacement since the previous
+  // installation over the time between them.
+  void install_pending(int64_t tick, TickResult& result) {
+    const RigidBodyState next = state_at_rest(body_, pending_proxy_);
+    if (last_install_tick_ && tick > *last_install_tick_) {
+      const double elapsed_s = static_cast<double>(tick - *last_install_tick_) * dt_s_;
+      proxy_.v = (next.x - proxy_.x) / elapsed_s;
+      proxy_.w = rotation_vector(next.q * proxy_.q.conjugate()) / elapsed_s;
+    }
+    proxy_.x = next.x;
+    proxy_.q = next.q;
+    last_install_tick_ = tick;
+    contacts_.swap(pending_contacts_);
+    if (pending_stats_) {
+      result.work.bv_tests = pending_stats_->bv_tests;
+      result.work.ccd_queries = pending_stats_->primitive_queries;
+      result.work.qp_iterations = pending_stats_->qp_iterations;
+      result.work.solver_iterations = pending_stats_->iterations;
+    }
+  }
+
+  bool point_tool_;
+  CouplingGains gains_;
+  DeviceLimits limits_;
+  double dt_s_;
+  RigidBody body_;          ///< only its centre of mass matters: the coupling's lever arm
+  GodObjectSolver solver_;  ///< owned by the slow loop
+  Pose target_;             ///< the latest finite device pose, read by the slow loop
+  RigidBodyState proxy_;    ///< the displayed proxy: pose installed, velocity estimated
+  std::vector<Contact> contacts_;
+  Pose pending_proxy_;
+  std::vector<Contact> pending_contacts_;
+  std::optional<GodObjectUpdateStats> pending_stats_;
+  std::optional<int64_t> last_install_tick_;
+  bool installed_ = false;
+};
+
+}  // namespace
+
+GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool) {
+  GodObjectSettings settings;
+  settings.point_tool = point_tool;
+  settings.standoff_m = params.number("standoff", settings.standoff_m, 1e-9, 1e-2);
+  settings.contact_distance_m =
+      params.number("contact_distance", settings.contact_distance_m, 1e-9, 1.0);
+  if (!(settings.contact_distance_m > settings.standoff_m))
+    throw InputError(
+        "", params.field("contact_distance"),
+        "expected a distance larger than standoff (" + std::to_string(settings.standoff_m) + " m)");
+  settings.max_iterations =
+      static_cast<int>(params.integer("max_iterations", settings.max_iterations, 1, 1000));
+  settings.ccd.primitive.time_tolerance =
+      params.number("ccd_time_tolerance", settings.ccd.primitive.time_tolerance, 1e-12, 0.1);
+  settings.ccd.primitive.max_evaluations = static_cast<int>(
+      params.integer("ccd_max_evaluations", settings.ccd.primitive.max_evaluations, 1, 1000000));
+  settings.ccd.contact_window =
+      params.number("contact_window", settings.ccd.contact_window, 0.0, 1.0);
+  return settings;
+}
+
+std::unique_ptr<Renderer> create_god_object(const RenderContext& context, const ParamSet& params) {
+  return std::make_unique<GodObjectRenderer>(context, read_god_object_settings(params, false));
+}
+
+std::unique_ptr<Renderer> create_god_object_3dof(const RenderContext& context,
+                                                 const ParamSet& params) {
+  return std::make_unique<GodObjectRenderer>(context, read_god_object_settings(params, true));
+}
+
+}  // namespace hb

@@ -1,0 +1,31 @@
+// The god-object renderers: the 6-DOF god-object of Ortega, Redon &
+// Coquillart (2007) and its 3-DOF special case, a point tool. The
+// god-object update (god_object_update.h: Gauss' least constraint and mesh
+// CCD) runs on the slow loop; the haptic loop displays, at 1 kHz, the
+// virtual coupling between the device and the latest installed proxy.
+#pragma once
+
+#include <memory>
+
+#include "algorithms/core/param_set.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/god_object/god_object_update.h"
+#include "algorithms/proxy/renderer.h"
+
+namespace hb {
+
+/// Reads "standoff" (m, default 1e-5), "contact_distance" (m, > standoff,
+/// default 1e-4), "max_iterations" (default 8), "ccd_time_tolerance"
+/// (default 1e-6), "ccd_max_evaluations" (default 64) and "contact_window"
+/// (default 1e-3). Throws InputError naming the field.
+GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool);
+
+/// The 6-DOF god-object: the whole tool mesh against the scene.
+std::unique_ptr<Renderer> create_god_object(const RenderContext& context, const ParamSet& params);
+
+/// The 3-DOF god-object: the tool frame's origin as a point (segment–triangle
+/// CCD); displays force only, no torque.
+std::unique_ptr<Renderer> create_god_object_3dof(const RenderContext& context,
+                                                 const ParamSet& params);
+
+}  // namespace hb

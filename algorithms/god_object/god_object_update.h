@@ -1,0 +1,111 @@
+// One update of the 6-DOF god-object (lecture notes, "Constraint-Based Proxy
+// Solver" to "CCD Summary"; Ortega, Redon & Coquillart 2007): a massless
+// proxy that follows the device as far as the scene lets it and never
+// penetrates it.
+//
+// Each iteration of an update:
+//  1. refreshes the kept contacts at the proxy's pose and drops those whose
+//     features have moved apart by more than `contact_distance`;
+//  2. takes the unconstrained motion a^u as the displacement of the centre
+//     of mass and the rotation vector that carry the proxy onto the device's
+//     pose (the notes' a^u = ½(x_h − x_s), with the ½ and its twin in
+//     x'_s = x_s + ½ a^c cancelling);
+//  3. solves Gauss' least constraint, minimise ½ (a − a^u)ᵀ M (a − a^u)
+//     subject to n_k · (a_cm + α × r_k) ≥ −max(0, gap_k − standoff), one row
+//     per kept contact; M is the coupling's stiffness about the centre of
+//     mass (a massless proxy has no mass matrix; with this metric a^u is the
+//     unconstrained minimiser of the coupling energy, and the fixed point is
+//     the same for every metric: the coupling wrench balanced by contact
+//     forces along the normals);
+//  4. moves the proxy along the screw motion of a^c, stopping where the
+//     mesh CCD finds the first contact, backed off so the touching features
+//     keep `standoff` between them, and adds the new contacts.
+// It stops when the proxy reaches the device, when the constrained motion
+// vanishes, or after `max_iterations`.
+//
+// The proxy's frame for CCD is the tool's centre of mass with the tool
+// frame's axes. A point tool (the 3-DOF god-object) is the special case of a
+// one-vertex tool at its frame's origin: its path is the segment between two
+// positions, its contacts are the scene faces it meets, and its orientation
+// simply follows the device.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/god_object/mesh_ccd.h"
+
+namespace hb {
+
+struct GodObjectSettings {
+  MeshCcdSettings ccd;
+  /// Separation (m) the proxy keeps from the surfaces it touches, > 0: the
+  /// CCD's answer "no contact before t" holds for the path, so the proxy
+  /// stops this far short of the touching point and later sliding motions
+  /// start from a configuration the CCD can prove contact-free.
+  double standoff_m = 1e-5;
+  /// A kept contact is dropped when its features are farther apart (m).
+  double contact_distance_m = 1e-4;
+  /// Most CCD-limited moves per update, ≥ 1.
+  int max_iterations = 8;
+  /// The 3-DOF god-object: the tool is the point at its frame's origin.
+  bool point_tool = false;
+};
+
+/// A contact the proxy keeps between iterations and updates.
+struct KeptContact {
+  ContactFeatures features;
+  FeatureGeometry geometry;  ///< at the proxy's current pose
+};
+
+/// What one update did.
+struct GodObjectUpdateStats {
+  int iterations = 0;  ///< CCD-limited moves made
+  int ccd_hits = 0;    ///< moves the CCD stopped short
+  int64_t bv_tests = 0;
+  int64_t primitive_queries = 0;
+  int64_t qp_iterations = 0;
+  bool reached_device = false;  ///< the proxy ended on the device's pose
+  bool solver_failed = false;   ///< the least-constraint solve did not converge (the proxy stayed)
+};
+
+/// The god-object's proxy and contacts, and the update that moves them.
+class GodObjectSolver {
+ public:
+  /// Settings as read by read_god_object_settings (god_object.h).
+  GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings);
+
+  /// Puts the proxy at the tool-frame pose `start` with no contacts.
+  void reset(const Pose& start);
+
+  /// Moves the proxy toward the device's tool-frame pose `target`.
+  GodObjectUpdateStats update(const Pose& target);
+
+  /// The proxy's tool-frame pose (world) and its contacts at that pose.
+  const Pose& proxy_pose() const { return proxy_; }
+  const std::vector<KeptContact>& contacts() const { return contacts_; }
+
+  /// The tool's centre of mass in tool coordinates (m); zero for a point tool.
+  const Vec3& centre_of_mass() const { return centre_of_mass_; }
+
+ private:
+  Pose ccd_frame(const Pose& tool_pose) const;  // tool frame -> COM frame
+  Pose tool_frame(const Pose& ccd_pose) const;  // COM frame -> tool frame
+  void refresh_contacts();
+  Mat6 metric(const Pose& tool_pose) const;
+
+  GodObjectSettings settings_;
+  CouplingGains gains_;
+  Vec3 centre_of_mass_ = Vec3::Zero();
+  MeshCcd ccd_;
+  GaussLeastConstraintSolver gauss_;
+  std::vector<GaussConstraint> constraints_;
+  std::vector<int> warm_active_;
+  Pose proxy_;
+  std::vector<KeptContact> contacts_;
+};
+
+}  // namespace hb

@@ -1,0 +1,289 @@
+#include "algorithms/god_object/mesh_ccd.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/god_object/interval.h"
+#include "algorithms/god_object/mesh_ccd_search.h"
+#include "algorithms/god_object/mesh_features.h"
+
+namespace hb {
+
+using ccd_detail::MeshFeatures;
+
+namespace {
+
+std::string number_text(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// ---------------------------------------------------------------------------
+// Closest points, for evaluate()
+
+/// Closest points of segments [p0, p1] and [q0, q1]: on_p and on_q.
+void closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
+                                Vec3& on_p, Vec3& on_q) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a == 0 && e == 0) {
+    s = t = 0;
+  } else if (a == 0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e == 0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      // Minimise over s with t following, then clamp t and re-minimise s.
+      const double b = d1.dot(d2), denominator = a * e - b * b;
+      s = denominator > 1e-14 * a * e ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) {
+        t = 0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1) {
+        t = 1;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  on_p = p0 + s * d1;
+  on_q = q0 + t * d2;
+}
+
+/// Closest point of the closed triangle (a, b, c) to p, by the region of
+/// the triangle's plane p projects into; a degenerate triangle is treated
+/// as its three edges.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double n2 = ab.cross(ac).squaredNorm();
+  if (!(n2 > 1e-24 * ab.squaredNorm() * ac.squaredNorm())) {
+    Vec3 best = a, on_edge, unused;
+    double best_d2 = (p - a).squaredNorm();
+    const Vec3* corners[3] = {&a, &b, &c};
+    for (int k = 0; k < 3; ++k) {
+      closest_points_of_segments(p, p, *corners[k], *corners[(k + 1) % 3], unused, on_edge);
+      if ((p - on_edge).squaredNorm() < best_d2) {
+        best = on_edge;
+        best_d2 = (p - on_edge).squaredNorm();
+      }
+    }
+    return best;
+  }
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  // Barycentric areas (scaled) opposite each vertex.
+  const double area_c = d1 * d4 - d3 * d2;
+  if (area_c <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const double area_b = d5 * d2 - d1 * d6;
+  if (area_b <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double area_a = d3 * d6 - d5 * d4;
+  if (area_a <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double scale = 1 / (area_a + area_b + area_c);
+  return a + (area_b * scale) * ab + (area_c * scale) * ac;
+}
+
+/// A unit vector perpendicular to v (the x axis when v is zero).
+Vec3 any_perpendicular(const Vec3& v) {
+  if (v.squaredNorm() == 0) return Vec3::UnitX();
+  const Vec3 other = std::abs(v.x()) < std::abs(v.y()) ? Vec3::UnitX() : Vec3::UnitY();
+  return v.cross(other).normalized();
+}
+
+/// Below this the sum of an edge's adjacent unit face normals counts as
+/// zero (a knife edge, or faces folded onto each other).
+constexpr double kNormalSumFloor = 1e-6;
+
+FeatureGeometry vertex_face_geometry(const Vec3& vertex, const Vec3& a, const Vec3& b,
+                                     const Vec3& c, const Vec3& unit_normal) {
+  FeatureGeometry g;
+  g.point = closest_point_on_triangle(vertex, a, b, c);
+  g.distance = (vertex - g.point).norm();
+  g.normal = unit_normal;
+  if (g.normal.squaredNorm() == 0)  // degenerate face: away from it
+    g.normal = g.distance > 0 ? Vec3((vertex - g.point) / g.distance) : Vec3::UnitZ();
+  g.gap = (vertex - a).dot(g.normal);
+  return g;
+}
+
+/// Edge (p0, p1) of the tool against edge (q0, q1) of the scene, world
+/// frame; the normal sums orient the common normal.
+FeatureGeometry edge_edge_geometry(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
+                                   const Vec3& scene_normal_sum, const Vec3& tool_normal_sum) {
+  FeatureGeometry g;
+  Vec3 on_tool, on_scene;
+  closest_points_of_segments(p0, p1, q0, q1, on_tool, on_scene);
+  g.point = on_scene;
+  g.distance = (on_tool - on_scene).norm();
+  const Vec3 outward = scene_normal_sum.norm() > kNormalSumFloor  ? scene_normal_sum
+                       : tool_normal_sum.norm() > kNormalSumFloor ? Vec3(-tool_normal_sum)
+                                                                  : Vec3::Zero();
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0;
+  Vec3 normal = d1.cross(d2);
+  if (!(normal.norm() > 1e-9 * d1.norm() * d2.norm())) {
+    // Parallel lines (or a zero-length edge): the lines' offset, the
+    // difference of their closest points, is the common normal.
+    const Vec3 along = d2.squaredNorm() > 0 ? d2 : d1;
+    Vec3 offset = p0 - q0;
+    if (along.squaredNorm() > 0) offset -= (offset.dot(along) / along.squaredNorm()) * along;
+    if (!(offset.norm() > 1e-12 * std::max(p0.norm(), q0.norm()))) {
+      // The lines coincide: the outward direction made perpendicular.
+      offset = outward;
+      if (along.squaredNorm() > 0) offset -= (offset.dot(along) / along.squaredNorm()) * along;
+    }
+    normal = offset.norm() > 0 ? offset : any_perpendicular(along);
+  }
+  normal.normalize();
+  if (normal.dot(outward) < 0) normal = -normal;
+  g.normal = normal;
+  g.gap = (p0 - q0).dot(normal);
+  return g;
+}
+
+Pose pose_at(const ScrewMotion& motion, double t) {
+  return Pose{motion.point_at(Vec3::Zero(), t), Quat(motion.rotation_at(t)).normalized()};
+}
+
+}  // namespace
+
+struct MeshCcd::Data {
+  MeshFeatures tool;                // tool frame
+  std::vector<MeshFeatures> scene;  // world frame
+  double tool_radius = 0;
+};
+
+void validate_mesh_ccd_settings(const MeshCcdSettings& settings, const std::string& field_prefix) {
+  validate_ccd_settings(settings.primitive, field_prefix + ".primitive");
+  if (!(settings.contact_window >= 0 && settings.contact_window <= 1))
+    throw InputError(
+        "", field_prefix + ".contact_window",
+        "expected a fraction of the step in [0, 1], got " + number_text(settings.contact_window));
+}
+
+MeshCcd::MeshCcd(const TriangleMesh& tool_mesh, std::span<const SceneObject> scene)
+    : data_(std::make_unique<Data>()) {
+  if (tool_mesh.triangles.empty())
+    throw InputError("", "tool", "expected a tool mesh with at least one triangle");
+  data_->tool = ccd_detail::build_mesh_features(tool_mesh.vertices, tool_mesh.triangles, "tool");
+  double largest = 0;
+  for (const Vec3& v : data_->tool.vertices) largest = std::max(largest, v.norm());
+  data_->tool_radius = next_up(largest * (1 + 1e-12));
+  data_->scene.reserve(scene.size());
+  for (std::size_t o = 0; o < scene.size(); ++o) {
+    const SceneObject& object = scene[o];
+    std::vector<Vec3> world(object.mesh.vertices.size());
+    for (std::size_t v = 0; v < world.size(); ++v)
+      world[v] = object.pose.transform_point(object.mesh.vertices[v]);
+    const std::string name = object.name.empty() ? "scene[" + std::to_string(o) + "]" : object.name;
+    data_->scene.push_back(
+        ccd_detail::build_mesh_features(std::move(world), object.mesh.triangles, name));
+  }
+}
+
+MeshCcd::~MeshCcd() = default;
+MeshCcd::MeshCcd(MeshCcd&&) noexcept = default;
+MeshCcd& MeshCcd::operator=(MeshCcd&&) noexcept = default;
+
+MeshCcdResult MeshCcd::first_contact(const ScrewMotion& motion,
+                                     const MeshCcdSettings& settings) const {
+  if (!motion.within(kMaxCcdCoordinate)) {
+    MeshCcdResult result;
+    result.contact = true;
+    result.toi = 0;
+    return result;
+  }
+  MeshCcdResult result =
+      ccd_detail::search_first_contact(data_->tool, data_->scene, motion, settings);
+  if (!result.contacts.empty()) {
+    const Pose pose = pose_at(motion, result.toi);
+    for (MeshCcdContact& contact : result.contacts)
+      contact.geometry = evaluate(contact.features, pose);
+  }
+  return result;
+}
+
+FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {
+  if (features.scene_object < 0 ||
+      static_cast<std::size_t>(features.scene_object) >= data_->scene.size())
+    throw InputError("", "features.scene_object",
+                     "no scene object " + std::to_string(features.scene_object));
+  const MeshFeatures& tool = data_->tool;
+  const MeshFeatures& scene = data_->scene[static_cast<std::size_t>(features.scene_object)];
+  auto check = [](int index, std::size_t size, const char* field) {
+    if (index < 0 || static_cast<std::size_t>(index) >= size)
+      throw InputError(
+          "", std::string("features.") + field,
+          "index " + std::to_string(index) + " out of range [0, " + std::to_string(size) + ")");
+  };
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  auto tool_world = [&](int v) -> Vec3 { return tool_pose.p + rotation * tool.vertex(v); };
+  switch (features.kind) {
+    case ContactFeatureKind::kToolVertexSceneFace: {
+      check(features.tool_feature, tool.vertices.size(), "tool_feature");
+      check(features.scene_feature, scene.triangles.size(), "scene_feature");
+      const auto& tri = scene.triangle(features.scene_feature);
+      return vertex_face_geometry(
+          tool_world(features.tool_feature), scene.vertex(tri[0]), scene.vertex(tri[1]),
+          scene.vertex(tri[2]),
+          scene.face_normals[static_cast<std::size_t>(features.scene_feature)]);
+    }
+    case ContactFeatureKind::kSceneVertexToolFace: {
+      check(features.tool_feature, tool.triangles.size(), "tool_feature");
+      check(features.scene_feature, scene.vertices.size(), "scene_feature");
+      const auto& tri = tool.triangle(features.tool_feature);
+      const Vec3 a = tool_world(tri[0]), b = tool_world(tri[1]), c = tool_world(tri[2]);
+      const Vec3& vertex = scene.vertex(features.scene_feature);
+      const Vec3 tool_normal =
+          rotation * tool.face_normals[static_cast<std::size_t>(features.tool_feature)];
+      FeatureGeometry g;
+      g.point = vertex;
+      const Vec3 on_face = closest_point_on_triangle(vertex, a, b, c);
+      g.distance = (vertex - on_face).norm();
+      g.normal = -tool_normal;
+      if (tool_normal.squaredNorm() == 0)  // degenerate face: from the vertex to it
+        g.normal = g.distance > 0 ? Vec3((on_face - vertex) / g.distance) : Vec3::UnitZ();
+      g.gap = (a - vertex).dot(g.normal);
+      return g;
+    }
+    case ContactFeatureKind::kEdgeEdge: {
+      check(features.tool_feature, tool.edges.size(), "tool_feature");
+      check(features.scene_feature, scene.edges.size(), "scene_feature");
+      const auto& te = tool.edge(features.tool_feature);
+      const auto& se = scene.edge(features.scene_feature);
+      return edge_edge_geometry(tool_world(te[0]), tool_world(te[1]), scene.vertex(se[0]),
+                                scene.vertex(se[1]), scene.edge_normal_sum(features.scene_feature),
+                                rotation * tool.edge_normal_sum(features.tool_feature));
+    }
+  }
+  return {};
+}
+
+std::span<const std::array<int, 2>> MeshCcd::tool_edges() const { return data_->tool.edges; }
+
+std::span<const std::array<int, 2>> MeshCcd::scene_edges(int object) const {
+  if (object < 0 || static_cast<std::size_t>(object) >= data_->scene.size())
+    throw InputError("", "object", "no scene object " + std::to_string(object));
+  return data_->scene[static_cast<std::size_t>(object)].edges;
+}
+
+double MeshCcd::tool_radius() const { return data_->tool_radius; }
+
+std::size_t MeshCcd::memory_bytes() const {
+  std::size_t bytes = sizeof(Data) + data_->tool.memory_bytes();
+  for (const MeshFeatures& object : data_->scene) bytes += object.memory_bytes();
+  return bytes;
+}
+
+}  // namespace hb

@@ -1,0 +1,141 @@
+// Continuous collision detection of a rigidly moving tool mesh against the
+// static meshes of the scene (lecture notes, "Bounding Volumes" and "CCD
+// Summary"). The tool follows a ScrewMotion over the step; both sides carry
+// a bounding-sphere tree, and a pair of nodes is opened only when the
+// conservative interval test ‖c_tool(t) − c_scene‖² ≤ (r_tool + r_scene)²
+// (and two tests of each node's sphere or slab against the other's slab)
+// cannot be excluded over the sub-interval of t still in question. Leaf
+// pairs of triangles run the screw-motion primitive kernels (tool vertex vs
+// scene face, scene vertex vs tool face, edge vs edge), earliest first, each
+// searching only times before the best contact found so far (plus the
+// contact window). The search is described in mesh_ccd_search.cpp.
+//
+// Conservative like the kernels: no contact during [0, 1] is missed; the
+// reported time of contact is a lower bound (every earlier time is proven
+// contact-free). Meshes need not be closed; normals follow the triangles'
+// orientation (counter-clockwise seen from outside).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/core/scene.h"
+#include "algorithms/core/triangle_mesh.h"
+#include "algorithms/god_object/ccd_settings.h"
+#include "algorithms/god_object/screw_motion.h"
+
+namespace hb {
+
+/// Which two features of the tool and of one scene object meet.
+enum class ContactFeatureKind : uint8_t {
+  kToolVertexSceneFace,  ///< tool vertex index, scene triangle index
+  kSceneVertexToolFace,  ///< tool triangle index, scene vertex index
+  kEdgeEdge,             ///< tool edge index, scene edge index (MeshCcd::tool_edges/scene_edges)
+};
+
+/// A pair of features, stable across steps (indices into the meshes given
+/// to MeshCcd), so a caller can keep a contact and re-evaluate it later.
+struct ContactFeatures {
+  ContactFeatureKind kind = ContactFeatureKind::kToolVertexSceneFace;
+  int scene_object = 0;   ///< index into the scene given to MeshCcd
+  int tool_feature = 0;   ///< tool vertex, triangle or edge index
+  int scene_feature = 0;  ///< scene triangle, vertex or edge index
+  bool operator==(const ContactFeatures&) const = default;
+};
+
+/// A feature pair's geometry at one tool pose.
+struct FeatureGeometry {
+  /// World, m: the point of the scene feature closest to the tool feature
+  /// (for scene vertex vs tool face: the scene vertex).
+  Vec3 point = Vec3::Zero();
+  /// World, unit, pushes the tool out of the scene: the scene face's normal
+  /// (tool vertex vs scene face), minus the tool face's normal (scene vertex
+  /// vs tool face), or the edges' common normal e_tool × e_scene oriented
+  /// along the sum of the scene edge's adjacent face normals (edge–edge;
+  /// along minus the tool edge's sum when the scene's is about zero).
+  Vec3 normal = Vec3::Zero();
+  /// Signed separation (m) along `normal`: (tool feature point − scene
+  /// feature point) · normal, using the closest points of the two features'
+  /// planes/lines: the vertex's distance from the face's plane, or the
+  /// distance between the edges' lines. ≥ 0 while the tool is outside.
+  double gap = 0;
+  /// Unsigned distance (m) between the two closed features themselves
+  /// (point–triangle or segment–segment); ≥ |gap|.
+  double distance = 0;
+};
+
+/// One contact at the first time of contact.
+struct MeshCcdContact {
+  ContactFeatures features;
+  double toi = 1;            ///< this pair's time-of-contact lower bound, [0, 1]
+  FeatureGeometry geometry;  ///< evaluated at the tool pose at the result's toi
+};
+
+struct MeshCcdSettings {
+  CcdSettings primitive;  ///< the kernels' tolerance and budget, per primitive pair
+  /// Pairs whose time of contact lies within this much (unitless, fraction
+  /// of the step) after the first one are reported among the contacts, so a
+  /// face landing flat yields all its touching features. In [0, 1].
+  double contact_window = 1e-3;
+};
+
+/// Throws InputError naming `field_prefix` + ".…" when a setting is out of range.
+void validate_mesh_ccd_settings(const MeshCcdSettings& settings, const std::string& field_prefix);
+
+struct MeshCcdResult {
+  bool contact = false;  ///< some pair may touch at some t in [0, 1]
+  double toi = 1;        ///< lower bound of the first time of contact; 1 when none
+  /// Every pair whose own toi is within settings.contact_window of `toi`,
+  /// earliest first, geometry at the tool pose at `toi`.
+  std::vector<MeshCcdContact> contacts;
+  int64_t bv_tests = 0;           ///< interval node-pair tests (sphere, then slabs)
+  int64_t primitive_queries = 0;  ///< kernel calls
+  /// Sub-interval evaluations of the primitive tests: the kernels' and the
+  /// one-interval tests that rule out primitive pairs before any kernel.
+  int64_t primitive_evaluations = 0;
+  bool budget_exhausted = false;  ///< some kernel answered by its budget fallback
+};
+
+/// Bounding-sphere trees of one tool and a static scene, built once.
+class MeshCcd {
+ public:
+  /// tool_mesh: in the coordinates of the frame whose poses the ScrewMotion
+  /// interpolates (for the god-object: a frame at the tool's centre of mass
+  /// with the tool frame's axes), m. scene: static objects, each mesh in its
+  /// object frame placed by its pose. Throws InputError for an empty tool
+  /// or a non-finite coordinate.
+  MeshCcd(const TriangleMesh& tool_mesh, std::span<const SceneObject> scene);
+  ~MeshCcd();
+  MeshCcd(MeshCcd&&) noexcept;
+  MeshCcd& operator=(MeshCcd&&) noexcept;
+
+  /// The first contact of the tool moving along `motion` (its frame's pose
+  /// at t = 0 to t = 1) with any scene object. Only times up to
+  /// settings.primitive.time_limit are searched. A motion with a number
+  /// that is not finite or beyond kMaxCcdCoordinate is answered, like the
+  /// kernels answer it, as contact at t = 0 (with no contacts listed).
+  MeshCcdResult first_contact(const ScrewMotion& motion, const MeshCcdSettings& settings) const;
+
+  /// The pair's geometry with the tool's frame at `tool_pose` (world).
+  FeatureGeometry evaluate(const ContactFeatures& features, const Pose& tool_pose) const;
+
+  /// Unique undirected edges (vertex index pairs, smaller first) of the tool
+  /// and of scene object `object`, as indexed by ContactFeatures.
+  std::span<const std::array<int, 2>> tool_edges() const;
+  std::span<const std::array<int, 2>> scene_edges(int object) const;
+
+  /// Radius (m) of the tool about its frame's origin; bytes held by the trees.
+  double tool_radius() const;
+  std::size_t memory_bytes() const;
+
+ private:
+  struct Data;
+  std::unique_ptr<Data> data_;
+};
+
+}  // namespace hb

@@ -1,0 +1,187 @@
+// The god-object update against closed forms: a cube and a point pressed
+// into a slab settle on its face at the standoff, never below it, with the
+// coupling force of ideal rigid contact; sliding under load follows the
+// device tangentially; random device motions never push a vertex through.
+#include "algorithms/god_object/god_object_update.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "algorithms/core/param_set.h"
+#include "algorithms/god_object/god_object.h"
+#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+
+namespace hb {
+namespace {
+
+constexpr double kCube = 0.04;  // cube tool edge (m)
+
+// A 0.4 × 0.4 × 0.02 m slab whose top face is the plane z = 0, with its mesh.
+RenderContext slab_context(const Tool& tool) {
+  RenderContext context;
+  SceneObject slab =
+      test::box_object(Vec3(0.4, 0.4, 0.02), Pose{Vec3(0, 0, -0.01), Quat::Identity()});
+  slab.mesh = shape_mesh(*slab.shape);
+  context.scene.push_back(slab);
+  context.tool = tool;
+  context.coupling = test::example_gains();
+  return context;
+}
+
+Tool cube_tool() {
+  Tool tool = test::box_tool(Vec3::Constant(kCube));
+  tool.mesh = shape_mesh(*tool.shape);
+  return tool;
+}
+
+// Lowest z of the tool's vertices at a tool-frame pose (m).
+double lowest_vertex_z(const Tool& tool, const Pose& pose) {
+  double lowest = 1e300;
+  for (const Vec3& vertex : tool.mesh.vertices)
+    lowest = std::min(lowest, pose.transform_point(vertex).z());
+  return lowest;
+}
+
+Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
+
+TEST_CASE("a cube pressed into a slab rests on the face within the standoff") {
+  const RenderContext context = slab_context(cube_tool());
+  GodObjectSettings settings;
+  GodObjectSolver solver(context, settings);
+  const double above = 0.5 * kCube;  // tool-frame height when resting on z = 0
+  solver.reset(at(Vec3(0.01, -0.02, above + 0.01)));
+
+  // The device goes 3 mm below the resting height in one jump.
+  const Pose target = at(Vec3(0.01, -0.02, above - 0.003));
+  for (int update = 0; update < 20; ++update) solver.update(target);
+
+  const Pose& proxy = solver.proxy_pose();
+  const double gap = lowest_vertex_z(context.tool, proxy);
+  CHECK(gap >= 0.0);
+  CHECK(gap <= settings.standoff_m * 1.0001);
+  CHECK(proxy.p.x() == Approx(0.01).margin(1e-9));
+  CHECK(proxy.p.y() == Approx(-0.02).margin(1e-9));
+  CHECK(proxy.q.angularDistance(Quat::Identity()) < 1e-9);
+  // Face on face: at least three corners hold it, each pushing along +z.
+  REQUIRE(solver.contacts().size() >= 3);
+  for (const KeptContact& contact : solver.contacts()) {
+    CHECK(contact.geometry.normal.z() == Approx(1.0).margin(1e-12));
+    CHECK(contact.geometry.gap >= 0.0);
+  }
+  // The coupling spring then holds 3 mm plus the gap: within 1 % of the
+  // ideal rigid contact's k_t · 3 mm.
+  const double force = context.coupling.k_t * (proxy.p.z() - target.p.z());
+  CHECK(force == Approx(context.coupling.k_t * 0.003).epsilon(0.01));
+}
+
+TEST_CASE("a cube sliding under load follows the device tangentially on the face") {
+  const RenderContext context = slab_context(cube_tool());
+  GodObjectSolver solver(context, GodObjectSettings{});
+  const double above = 0.5 * kCube;
+  solver.reset(at(Vec3(0, 0, above + 0.002)));
+  for (int tick = 0; tick <= 400; ++tick) {
+    const double x = 0.05 * std::min(1.0, tick / 300.0);
+    solver.update(at(Vec3(x, 0.0, above - 0.002)));
+    REQUIRE(lowest_vertex_z(context.tool, solver.proxy_pose()) >= 0.0);
+  }
+  CHECK(solver.proxy_pose().p.x() == Approx(0.05).margin(1e-7));
+  CHECK(solver.proxy_pose().p.z() - above <= 1.0001e-5);
+}
+
+TEST_CASE("random device motions never carry a cube vertex below the face") {
+  const RenderContext context = slab_context(cube_tool());
+  GodObjectSolver solver(context, GodObjectSettings{});
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> offset(-0.01, 0.01);
+  std::uniform_real_distribution<double> angle(-0.4, 0.4);
+  solver.reset(at(Vec3(0, 0, 0.05)));
+  Pose target = at(Vec3(0, 0, 0.05));
+  int contact_updates = 0;
+  for (int step = 0; step < 300; ++step) {
+    // A random walk that keeps returning toward (and below) the face.
+    target.p += Vec3(offset(rng), offset(rng), offset(rng) - 0.004);
+    target.p.z() = std::clamp(target.p.z(), 0.0, 0.06);
+    target.p.x() = std::clamp(target.p.x(), -0.1, 0.1);
+    target.p.y() = std::clamp(target.p.y(), -0.1, 0.1);
+    target.q =
+        (quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)) * 0.1) * target.q)
+            .normalized();
+    solver.update(target);
+    REQUIRE(lowest_vertex_z(context.tool, solver.proxy_pose()) >= 0.0);
+    if (!solver.contacts().empty()) ++contact_updates;
+  }
+  CHECK(contact_updates > 50);  // the walk did press on the face
+}
+
+TEST_CASE("a tilted cube pressed down ends with the coupling force along the face normal") {
+  // The device is tilted 0.2 rad about x and 3 mm deep: the contact-free
+  // coupling minimum lies below the face, so the proxy ends on the face with
+  // the coupling wrench along the contact normals: no tangential force.
+  const RenderContext context = slab_context(cube_tool());
+  GodObjectSolver solver(context, GodObjectSettings{});
+  solver.reset(at(Vec3(0, 0, 0.05)));
+  const Pose target =
+      at(Vec3(0, 0, 0.5 * kCube - 0.003), quat_from_rotation_vector(Vec3(0.2, 0, 0)));
+  for (int update = 0; update < 200; ++update) solver.update(target);
+  const Pose& proxy = solver.proxy_pose();
+  CHECK(lowest_vertex_z(context.tool, proxy) >= 0.0);
+  const Vec3 force = context.coupling.k_t * (target.p - proxy.p);
+  CHECK(std::abs(force.x()) < 1e-3 * force.norm());
+  CHECK(std::abs(force.y()) < 1e-3 * force.norm());
+  CHECK(force.z() < 0.0);  // the device is below the proxy: it is pushed up
+}
+
+TEST_CASE("the 3-DOF god-object keeps a point on the face and in the corner of two faces") {
+  RenderContext context = slab_context(cube_tool());
+  GodObjectSettings settings;
+  settings.point_tool = true;
+  GodObjectSolver solver(context, settings);
+
+  SECTION("pressed into the top face: projected onto it") {
+    solver.reset(at(Vec3(0.05, 0.02, 0.01)));
+    const Pose target = at(Vec3(0.07, 0.02, -0.004));
+    for (int update = 0; update < 20; ++update) solver.update(target);
+    const Vec3 p = solver.proxy_pose().p;
+    CHECK(p.z() >= 0.0);
+    CHECK(p.z() <= 1.0001e-5);
+    CHECK(p.x() == Approx(0.07).margin(1e-9));
+    REQUIRE(solver.contacts().size() >= 1);
+    CHECK(solver.contacts().front().geometry.normal.z() == Approx(1.0));
+  }
+  SECTION("pressed into the corner of a wall and the floor: held in the corner") {
+    // A wall whose face x = 0.1 stands on the slab (top face z = 0).
+    SceneObject wall =
+        test::box_object(Vec3(0.02, 0.4, 0.22), Pose{Vec3(0.11, 0, 0.09), Quat::Identity()});
+    wall.mesh = shape_mesh(*wall.shape);
+    context.scene.push_back(wall);
+    GodObjectSolver cornered(context, settings);
+    cornered.reset(at(Vec3(0.05, 0.0, 0.05)));
+    // The straight path meets the wall first (at z ≈ 6 mm), then slides down.
+    const Pose target = at(Vec3(0.11, 0.01, -0.003));
+    for (int update = 0; update < 50; ++update) cornered.update(target);
+    const Vec3 p = cornered.proxy_pose().p;
+    CHECK(p.x() <= 0.1);
+    CHECK(p.z() >= 0.0);
+    CHECK(p.x() == Approx(0.1).margin(1.1e-5));
+    CHECK(p.z() == Approx(0.0).margin(1.1e-5));
+    CHECK(p.y() == Approx(0.01).margin(1e-9));
+    CHECK(cornered.contacts().size() >= 2);
+  }
+}
+
+TEST_CASE("god-object settings are read with their field names") {
+  ParamSet params("/algorithms/0/params");
+  params.set("standoff", 1e-3);
+  params.set("contact_distance", 1e-4);
+  CHECK_THROWS_WITH(read_god_object_settings(params, false),
+                    Catch::Contains("/algorithms/0/params/contact_distance"));
+  ParamSet negative("/algorithms/0/params");
+  negative.set("max_iterations", 0.0);
+  CHECK_THROWS_WITH(read_god_object_settings(negative, false),
+                    Catch::Contains("/algorithms/0/params/max_iterations"));
+}
+
+}  // namespace
+}  // namespace hb
