@@ -4,6 +4,7 @@
 #include "algorithms/coupling_only/coupling_only.h"
 #include "algorithms/god_object/god_object.h"
 #include "algorithms/penalty_analytic/penalty_analytic.h"
+#include "algorithms/voxmap_pointshell/voxmap_pointshell.h"
 
 namespace hb {
 
@@ -22,6 +23,10 @@ constexpr AlgorithmEntry kAlgorithms[] = {
     {"god_object_3dof",
      "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
      &create_god_object_3dof},
+    {"voxmap_pointshell",
+     "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, tangent-plane "
+     "penalty per point, dynamic proxy",
+     &create_voxmap_pointshell},
 };
 }  // namespace
 

@@ -55,6 +55,10 @@ struct RenderContext {
   DeviceLimits device;
   Vec3 gravity = Vec3::Zero();  ///< m/s², world frame; zero unless the scenario sets it
   double dt_s = 1e-3;           ///< haptic tick, s
+  /// Where the tool can be (m, world frame): the device's tool-frame
+  /// positions over the trace, grown by the tool's radius about its frame
+  /// origin. A renderer may leave out geometry outside it; nullopt: unknown.
+  std::optional<Eigen::AlignedBox3d> reach;
 };
 
 }  // namespace hb

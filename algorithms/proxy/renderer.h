@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "algorithms/core/pose.h"
 
@@ -68,6 +71,16 @@ class SlowLoop {
   virtual void install_slow_result(std::unique_ptr<Result> result) = 0;
 };
 
+/// What building a renderer produced, for the run summary's "preprocess"
+/// block (the harness measures the build's wall time itself).
+struct BuildReport {
+  int64_t memory_bytes = 0;  ///< bytes its precomputed structures hold
+  bool cache_hit = false;    ///< everything came from an on-disk cache
+  /// Further figures by name, units in the name (e.g. "pointshell_points",
+  /// "voxmap_vdb_bytes"); flags as 0/1.
+  std::vector<std::pair<std::string, double>> details;
+};
+
 class Renderer {
  public:
   virtual ~Renderer() = default;
@@ -77,6 +90,8 @@ class Renderer {
   virtual TickResult step(const DeviceSample& device) = 0;
   /// The slow loop of a multi-rate algorithm, or nullptr.
   virtual SlowLoop* slow_loop() { return nullptr; }
+  /// What building it produced (empty for a renderer that precomputes nothing).
+  virtual BuildReport build_report() const { return {}; }
 };
 
 }  // namespace hb

@@ -134,7 +134,25 @@ std::string with_source(const InputError& error, const std::string& path) {
 }  // namespace
 
 namespace {
+// What the renderers are given: the scenario's context plus the box the
+// tool can reach, the trace's tool-frame positions grown by the tool's
+// radius about its frame origin.
+RenderContext context_with_reach(const Scenario& scenario) {
+  RenderContext context = scenario.context;
+  Eigen::AlignedBox3d reach;
+  for (const DeviceSample& sample : scenario.device_samples)
+    if (sample.pose.p.allFinite()) reach.extend(sample.pose.p);
+  if (!reach.isEmpty()) {
+    const double radius = context.tool.mesh.radius_about(Vec3::Zero());
+    reach.min().array() -= radius;
+    reach.max().array() += radius;
+    context.reach = reach;
+  }
+  return context;
+}
+
 std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
+                                                  const RenderContext& context,
                                                   const std::optional<std::string>& only) {
   std::vector<PreparedAlgorithm> prepared;
   for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
@@ -145,10 +163,14 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     try {
       const ParamSet params = split_replay_params(spec, algorithm);
       const auto t0 = std::chrono::steady_clock::now();
-      algorithm.renderer = create_renderer(spec.name, scenario.context, params,
-                                           "/algorithms/" + std::to_string(i) + "/name");
+      algorithm.renderer =
+          create_renderer(spec.name, context, params, "/algorithms/" + std::to_string(i) + "/name");
       const auto t1 = std::chrono::steady_clock::now();
       algorithm.preprocess.seconds = std::chrono::duration<double>(t1 - t0).count();
+      BuildReport built = algorithm.renderer->build_report();
+      algorithm.preprocess.memory_bytes = built.memory_bytes;
+      algorithm.preprocess.cache_hit = built.cache_hit;
+      algorithm.preprocess.details = std::move(built.details);
     } catch (const InputError& error) {
       throw InputError(with_source(error, scenario.path), error.location(), error.message());
     }
@@ -199,7 +221,8 @@ PreparedScenario prepare_scenario(const Scenario& scenario,
                                   const std::optional<std::string>& only) {
   PreparedScenario prepared;
   prepared.scenario = &scenario;
-  prepared.algorithms = prepare_algorithms(scenario, only);
+  prepared.context = std::make_unique<RenderContext>(context_with_reach(scenario));
+  prepared.algorithms = prepare_algorithms(scenario, *prepared.context, only);
   prepared.truth = prepare_ground_truth(scenario);
   return prepared;
 }

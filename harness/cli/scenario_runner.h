@@ -37,6 +37,9 @@ struct GroundTruth {
 /// A scenario with everything built: nothing left that bad input could stop.
 struct PreparedScenario {
   const Scenario* scenario = nullptr;
+  /// What the renderers were built from: the scenario's context with its
+  /// reach box. Renderers may keep references into it, so it outlives them.
+  std::unique_ptr<RenderContext> context;
   std::vector<PreparedAlgorithm> algorithms;
   GroundTruth truth;
 };

@@ -1,5 +1,6 @@
 #include "harness/output/run_report.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "harness/output/xml_text.h"
@@ -68,6 +69,9 @@ json run_json(const AlgorithmRun& run) {
                        {"lower_bound", budget_is_lower_bound(b.name)},
                        {"message", b.message}});
   }
+  json preprocess_details = json::object();
+  for (const auto& [name, value] : run.preprocess.details)
+    preprocess_details[name] = std::isfinite(value) ? json(value) : json(nullptr);
   json slow = nullptr;
   if (m.timing.slow_update_ns) {
     slow = {{"latency_ticks", run.slow_loop_latency},
@@ -84,7 +88,8 @@ json run_json(const AlgorithmRun& run) {
       {"preprocess",
        {{"seconds", run.preprocess.seconds},
         {"memory_bytes", run.preprocess.memory_bytes},
-        {"cache_hit", run.preprocess.cache_hit}}},
+        {"cache_hit", run.preprocess.cache_hit},
+        {"details", preprocess_details}}},
       {"timing",
        {{"ticks", m.timing.ticks},
         {"step_ns", percentiles_json(m.timing.step_ns)},

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "harness/metrics/budgets.h"
@@ -19,6 +20,8 @@ struct PreprocessInfo {
   double seconds = 0;        ///< wall time to build the renderer (s)
   int64_t memory_bytes = 0;  ///< memory its structures hold (0 when it builds none)
   bool cache_hit = false;
+  /// The renderer's own figures (Renderer::build_report), name -> number.
+  std::vector<std::pair<std::string, double>> details;
 };
 
 /// One algorithm's run within a scenario.

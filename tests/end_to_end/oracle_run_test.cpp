@@ -159,12 +159,22 @@ TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
       CHECK(oracle.at("broad_phase_skipped_ticks").get<int>() >= 0);
       const double embree = oracle.at("embree").at("penetration_max_m");
       const double cgal = oracle.at("cgal").at("penetration_max_m");
-      CHECK(embree > 0);  // every trace reaches into its scene
-      CHECK(cgal > 0);
+      CHECK(run.at("accuracy").at("penetration_source") == "embree");
+      INFO(run.at("label"));
+      if (run.at("algorithm") == "god_object") {
+        // Hard non-penetration: the proxy stops short of every contact by
+        // its standoff, so neither oracle finds any point inside.
+        CHECK(embree == 0.0);
+        CHECK(cgal == 0.0);
+        CHECK(oracle.at("intersection_volume_max_m3").get<double>() == 0.0);
+        continue;
+      }
       // CGAL sees every exact_every-th tick only, so it can miss the deepest one.
       CHECK(cgal <= embree + 1e-12);
+      if (run.at("algorithm") != "coupling_only") continue;
+      CHECK(embree > 0);  // every trace reaches into its scene: the device does
+      CHECK(cgal > 0);
       CHECK(oracle.at("intersection_volume_max_m3").get<double>() > 0);
-      CHECK(run.at("accuracy").at("penetration_source") == "embree");
     }
   }
   CHECK(scenarios >= 5);

@@ -1,0 +1,212 @@
+#include "algorithms/voxmap_pointshell/pointshell_contacts.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+namespace hb {
+
+namespace {
+constexpr std::size_t kAveragingThreshold = 10;
+}  // namespace
+
+PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                           const Vec3& centre_of_mass, double cluster_size_m) {
+  PointShell shell;
+  const std::size_t n = points.size();
+  std::vector<std::array<long, 3>> cell(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a)
+      cell[i][a] =
+          static_cast<long>(std::floor((points[i][a] - centre_of_mass[a]) / cluster_size_m));
+  }
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cell[a] < cell[b]; });
+  shell.points.reserve(n);
+  shell.normals.reserve(n);
+  for (std::size_t k = 0; k < n;) {
+    PointShell::Cluster cluster;
+    cluster.first = static_cast<int32_t>(shell.points.size());
+    Eigen::AlignedBox3d box;
+    std::size_t end = k;
+    for (; end < n && cell[order[end]] == cell[order[k]]; ++end) {
+      const Vec3 r = points[order[end]] - centre_of_mass;
+      shell.points.push_back(r);
+      shell.normals.push_back(normals[order[end]]);
+      box.extend(r);
+    }
+    cluster.count = static_cast<int32_t>(end - k);
+    cluster.centre = box.center();
+    for (int32_t i = cluster.first; i < cluster.first + cluster.count; ++i) {
+      cluster.radius = std::max(cluster.radius, (shell.points[i] - cluster.centre).norm());
+      shell.radius = std::max(shell.radius, shell.points[i].norm());
+    }
+    shell.clusters.push_back(cluster);
+    k = end;
+  }
+  return shell;
+}
+
+double averaging_divisor(std::size_t n) {
+  return n >= kAveragingThreshold ? static_cast<double>(n) / kAveragingThreshold : 1.0;
+}
+
+void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
+                          const PointShellGains& gains, const RigidBodyState& state,
+                          PointShellHits& hits, WorkCounters& work) {
+  hits.clear();
+  const Vec3& x = state.x;
+  // Bounding test: the whole tool clear of every non-free voxel.
+  ++work.bv_tests;
+  if (!(voxmap.clearance(x) <= shell.radius)) return;
+  const Mat3 rotation = state.q.toRotationMatrix();
+  for (const PointShell::Cluster& cluster : shell.clusters) {
+    ++work.bv_tests;
+    if (voxmap.clearance(x + rotation * cluster.centre) > cluster.radius) continue;
+    work.points_tested += cluster.count;
+    const int32_t end = cluster.first + cluster.count;
+    for (int32_t i = cluster.first; i < end; ++i) {
+      const Vec3 point = x + rotation * shell.points[i];
+      const Eigen::Vector3i voxel = voxmap.voxel_of(point);
+      const VoxelState voxel_state = voxmap.state(voxel);
+      if (voxel_state == VoxelState::kFree) continue;
+      if (voxel_state == VoxelState::kProximity) {
+        hits.braking.push_back(i);
+        continue;
+      }
+      const Vec3 normal = rotation * shell.normals[i];
+      if (!gains.signed_distance) {
+        if (voxel_state != VoxelState::kSurface) continue;  // interior: no force
+        const Vec3 centre = voxmap.centre_of(voxel);
+        const double depth = normal.dot(centre - point);
+        if (depth > 0) hits.contacts.push_back({i, depth, centre});
+      } else {
+        Vec3 gradient;
+        const double phi = voxmap.interpolated_distance(point, gradient);
+        if (phi < 0) hits.contacts.push_back({i, -phi, gradient});
+      }
+    }
+  }
+}
+
+ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,
+                                  const PointShellGains& gains, const RigidBodyState& state,
+                                  bool with_jacobians) {
+  ForceEvaluation result;
+  const Mat3 rotation = state.q.toRotationMatrix();
+  const double k = gains.stiffness;
+
+  // Contacts. Per point, with a = ∂d/∂x and c = ∂d/∂δθ, m = s × n:
+  //   ∂F/∂x = K n aᵀ, ∂F/∂δθ = K n cᵀ − K d [n]×,
+  //   ∂τ/∂x = K m aᵀ, ∂τ/∂δθ = K m cᵀ − K d [m]×.
+  // Voxmap: a = −n, c = n × (C − x). Signed distance: a = −∇φ, c = ∇φ × s.
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  Mat3 n_a = Mat3::Zero(), n_c = Mat3::Zero(), m_a = Mat3::Zero(), m_c = Mat3::Zero();
+  for (const PointHit& hit : hits.contacts) {
+    const Vec3 s = rotation * shell.points[hit.point];
+    const Vec3 n = rotation * shell.normals[hit.point];
+    const Vec3 m = s.cross(n);
+    force += hit.depth * n;
+    torque += hit.depth * m;
+    if (!with_jacobians) continue;
+    Vec3 a, c;
+    if (!gains.signed_distance) {
+      a = -n;
+      c = n.cross(hit.reference - state.x);
+    } else {
+      a = -hit.reference;
+      c = hit.reference.cross(s);
+    }
+    n_a.noalias() += n * a.transpose();
+    n_c.noalias() += n * c.transpose();
+    m_a.noalias() += m * a.transpose();
+    m_c.noalias() += m * c.transpose();
+  }
+  const double contact_scale = k / averaging_divisor(hits.contacts.size());
+  result.wrench.force = contact_scale * force;
+  result.wrench.torque = contact_scale * torque;
+  if (with_jacobians && !hits.contacts.empty()) {
+    result.stiffness.block<3, 3>(0, 0) = contact_scale * n_a;
+    result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c - skew(force));
+    result.stiffness.block<3, 3>(3, 0) = contact_scale * m_a;
+    result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c - skew(torque));
+  }
+
+  // Braking: F = b c u with c = n·u < 0, u = v + ω × s. With A = ∂F/∂u =
+  // b (u nᵀ + c I), p = n × s, q = u × n + s × (ω × n), and
+  // [a]×[b]× = b aᵀ − (a·b) I, every block is a sum of outer products:
+  //   ∂F/∂v = A                        = b (u nᵀ + c I)
+  //   ∂F/∂ω = −A [s]×                  = −b (u pᵀ + c [s]×)
+  //   ∂F/∂δθ = −b u uᵀ[n]× − A[ω]×[s]× = −b (u qᵀ + c s ωᵀ − c (ω·s) I)
+  //   ∂τ/∂v = [s]× A                   = b ((s × u) nᵀ + c [s]×)
+  //   ∂τ/∂ω = −[s]× A [s]×             = −b ((s × u) pᵀ + c (s sᵀ − |s|² I))
+  //   ∂τ/∂δθ = [s]× ∂F/∂δθ + [F]×[s]×  = −b (s × u) qᵀ + b c (ω·s) [s]×
+  //                                      + b c (s uᵀ − (u·s) I)
+  const double b = gains.braking_viscosity;
+  if (!(b > 0) || hits.braking.empty()) return result;
+  const Vec3& w = state.w;
+  Vec3 brake_force = Vec3::Zero(), brake_torque = Vec3::Zero();
+  Mat3 u_n = Mat3::Zero(), u_p = Mat3::Zero(), u_q = Mat3::Zero();
+  Mat3 su_n = Mat3::Zero(), su_p = Mat3::Zero(), su_q = Mat3::Zero();
+  Mat3 c_ss = Mat3::Zero(), c_su = Mat3::Zero();
+  Vec3 c_s = Vec3::Zero(), c_ws_s = Vec3::Zero();
+  double c_sum = 0, c_s2 = 0, c_ws = 0, c_us = 0;
+  std::size_t braking = 0;
+  for (const int32_t i : hits.braking) {
+    const Vec3 s = rotation * shell.points[i];
+    const Vec3 n = rotation * shell.normals[i];
+    const Vec3 u = state.v + w.cross(s);
+    const double c = n.dot(u);
+    if (!(c < 0)) continue;
+    ++braking;
+    const Vec3 s_u = s.cross(u);
+    brake_force += c * u;
+    brake_torque += c * s_u;
+    if (!with_jacobians) continue;
+    const Vec3 p = n.cross(s);
+    const Vec3 q = u.cross(n) + s.cross(w.cross(n));
+    u_n.noalias() += u * n.transpose();
+    u_p.noalias() += u * p.transpose();
+    u_q.noalias() += u * q.transpose();
+    su_n.noalias() += s_u * n.transpose();
+    su_p.noalias() += s_u * p.transpose();
+    su_q.noalias() += s_u * q.transpose();
+    c_ss.noalias() += c * s * s.transpose();
+    c_su.noalias() += c * s * u.transpose();
+    c_s += c * s;
+    c_ws_s += (c * w.dot(s)) * s;
+    c_sum += c;
+    c_s2 += c * s.squaredNorm();
+    c_ws += c * w.dot(s);
+    c_us += c * u.dot(s);
+  }
+  const double brake_scale = b / averaging_divisor(braking);
+  result.wrench.force += brake_scale * brake_force;
+  result.wrench.torque += brake_scale * brake_torque;
+  if (with_jacobians && braking > 0) {
+    const Mat3 identity = Mat3::Identity();
+    result.damping.block<3, 3>(0, 0) += brake_scale * (u_n + c_sum * identity);
+    result.damping.block<3, 3>(0, 3) += -brake_scale * (u_p + skew(c_s));
+    result.damping.block<3, 3>(3, 0) += brake_scale * (su_n + skew(c_s));
+    result.damping.block<3, 3>(3, 3) += -brake_scale * (su_p + c_ss - c_s2 * identity);
+    result.stiffness.block<3, 3>(0, 3) +=
+        -brake_scale * (u_q + c_s * w.transpose() - c_ws * identity);
+    result.stiffness.block<3, 3>(3, 3) +=
+        brake_scale * (-su_q + skew(c_ws_s) + c_su - c_us * identity);
+  }
+  return result;
+}
+
+void report_contacts(const PointShell& shell, const PointShellHits& hits,
+                     const RigidBodyState& state, std::vector<Contact>& contacts) {
+  const Mat3 rotation = state.q.toRotationMatrix();
+  for (const PointHit& hit : hits.contacts) {
+    contacts.push_back({state.x + rotation * shell.points[hit.point],
+                        rotation * shell.normals[hit.point], hit.depth});
+  }
+}
+
+}  // namespace hb

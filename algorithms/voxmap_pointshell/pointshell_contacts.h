@@ -1,0 +1,104 @@
+// The per-tick part of Voxmap PointShell (McNeely, Puterbaugh & Troy 1999):
+// the tool's points, posed by the proxy, looked up in the scene voxmap, and
+// the wrench they produce.
+//
+// With R the proxy's rotation, x its centre of mass, a point r_i (tool axes,
+// about the centre of mass) with inward unit normal n_i sits at P = x + R r_i
+// with normal n = R n_i, lever s = R r_i.
+//   Tangent-plane force (voxmap variant): a point in a surface voxel of
+//   centre C has depth d = n·(C − P) below the plane through C
+//   perpendicular to n; when d > 0 it gets F = K_ff d n (Hooke's law).
+//   Signed-distance variant: d = −φ(P), φ interpolated trilinearly from the
+//   voxel-centre signed distances, for points in surface or interior voxels;
+//   same F = K_ff d n when d > 0.
+//   Torque about the centre of mass: s × F.
+//   Averaging: with N points in contact, the net wrench is the sum when
+//   N < 10 and the sum / (N/10) when N ≥ 10.
+//   Braking viscosity: a point in a proximity voxel moving with u = v + ω × s
+//   gets F = −b u (−n·u) when n·u < 0 (moving towards the scene) and nothing
+//   otherwise. The averaging rule applies to the M braking points apart from
+//   the N contacts, so neither sum grows with the number of points.
+// The Jacobians (force_model.h coordinates) treat C, N and M as fixed, n and
+// s as turning with the body.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/proxy/force_model.h"
+#include "algorithms/proxy/renderer.h"
+#include "algorithms/proxy/rigid_body.h"
+#include "algorithms/voxmap_pointshell/voxel_lookup.h"
+
+namespace hb {
+
+/// The tool's pointshell for the haptic loop, grouped into clusters of
+/// nearby points so that clusters far from the scene are skipped whole.
+struct PointShell {
+  struct Cluster {
+    Vec3 centre = Vec3::Zero();  ///< m, tool axes, about the centre of mass
+    double radius = 0;           ///< m, every point of the cluster is within it
+    int32_t first = 0;           ///< index of its first point
+    int32_t count = 0;
+  };
+  std::vector<Vec3> points;   ///< r_i: m, tool axes, about the centre of mass
+  std::vector<Vec3> normals;  ///< n_i: unit, tool axes, pointing into the tool
+  std::vector<Cluster> clusters;
+  double radius = 0;  ///< m, max |r_i|
+};
+
+/// Groups tool-frame points (m) and inward normals into clusters of cubic
+/// cells of edge cluster_size_m, expressing them about centre_of_mass (m, tool frame).
+PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                           const Vec3& centre_of_mass, double cluster_size_m);
+
+/// A point of the shell that acts at a pose.
+struct PointHit {
+  int32_t point = 0;  ///< index into PointShell::points
+  double depth = 0;   ///< d (m), > 0
+  /// Voxmap variant: the surface voxel's centre C (m, world).
+  /// Signed-distance variant: ∇φ at the point (world, dimensionless).
+  Vec3 reference = Vec3::Zero();
+};
+
+/// What the points meet at one pose.
+struct PointShellHits {
+  std::vector<PointHit> contacts;  ///< points in contact (d > 0)
+  std::vector<int32_t> braking;    ///< points in proximity voxels
+  void clear() {
+    contacts.clear();
+    braking.clear();
+  }
+};
+
+/// The force law's constants.
+struct PointShellGains {
+  double stiffness = 10000;      ///< K_ff, N/m per point
+  double braking_viscosity = 5;  ///< b, N·s²/m²
+  bool signed_distance = false;  ///< depth from φ instead of the tangent plane
+};
+
+/// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
+double averaging_divisor(std::size_t n);
+
+/// Looks up every point of the shell at the proxy pose (x, q of `state`).
+/// Skips everything when the shell's bounding sphere is clear of every
+/// non-free voxel, and each cluster whose sphere is. Counts points looked
+/// up in work.points_tested and cluster tests in work.bv_tests.
+void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
+                          const PointShellGains& gains, const RigidBodyState& state,
+                          PointShellHits& hits, WorkCounters& work);
+
+/// The net wrench of the hits at `state` about the centre of mass (world),
+/// with Jacobians when asked.
+ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,
+                                  const PointShellGains& gains, const RigidBodyState& state,
+                                  bool with_jacobians);
+
+/// The hits as Contacts at `state`: P (world), n (world, pushes the tool out
+/// of the scene), d. Appends to `contacts`.
+void report_contacts(const PointShell& shell, const PointShellHits& hits,
+                     const RigidBodyState& state, std::vector<Contact>& contacts);
+
+}  // namespace hb

@@ -1,0 +1,163 @@
+#include "algorithms/voxmap_pointshell/voxel_lookup.h"
+
+#include <algorithm>
+#include <cstring>
+#include <deque>
+#include <limits>
+
+namespace hb {
+
+namespace {
+constexpr uint8_t kUnreached = 255;
+
+int32_t uniform_code(VoxelState state) { return -(static_cast<int32_t>(state) + 1); }
+}  // namespace
+
+VoxelLookup::VoxelLookup(double voxel_size_m, const Eigen::Vector3i& block_min,
+                         const Eigen::Vector3i& block_count, bool with_distances,
+                         float outside_distance_m)
+    : h_(voxel_size_m),
+      inv_h_(1.0 / voxel_size_m),
+      with_distances_(with_distances),
+      voxel_min_(block_min * kBlockEdge),
+      voxel_count_(block_count * kBlockEdge),
+      block_count_(block_count),
+      outside_distance_(outside_distance_m) {
+  const auto blocks = static_cast<std::size_t>(block_count.prod());
+  block_code_.assign(blocks, uniform_code(VoxelState::kFree));
+  if (with_distances_) uniform_distance_.assign(blocks, outside_distance_m);
+  clearance_.assign(blocks, kUnreached);
+}
+
+void VoxelLookup::set_uniform_block(const Eigen::Vector3i& b, VoxelState state, float distance) {
+  const std::size_t index = block_index_of_block(b);
+  block_code_[index] = uniform_code(state);
+  if (with_distances_) uniform_distance_[index] = distance;
+}
+
+void VoxelLookup::set_dense_block(const Eigen::Vector3i& b, const uint8_t* states,
+                                  const float* distances) {
+  const std::size_t index = block_index_of_block(b);
+  const std::size_t number = states_.size() / kBlockVoxels;
+  block_code_[index] = static_cast<int32_t>(number);
+  states_.insert(states_.end(), states, states + kBlockVoxels);
+  if (with_distances_) distances_.insert(distances_.end(), distances, distances + kBlockVoxels);
+}
+
+void VoxelLookup::finish() {
+  // Multi-source breadth-first search over the 26-neighbourhood: the number
+  // of steps is the Chebyshev distance in blocks.
+  std::deque<Eigen::Vector3i> queue;
+  for (int x = 0; x < block_count_.x(); ++x) {
+    for (int y = 0; y < block_count_.y(); ++y) {
+      for (int z = 0; z < block_count_.z(); ++z) {
+        const Eigen::Vector3i b(x, y, z);
+        const std::size_t index = block_index_of_block(b);
+        const int32_t code = block_code_[index];
+        bool occupied = code != uniform_code(VoxelState::kFree);
+        if (code >= 0) {
+          const uint8_t* s = states_.data() + static_cast<std::size_t>(code) * kBlockVoxels;
+          occupied = std::any_of(s, s + kBlockVoxels, [](uint8_t v) { return v != 0; });
+        }
+        clearance_[index] = occupied ? 0 : kUnreached;
+        if (occupied) queue.push_back(b);
+      }
+    }
+  }
+  while (!queue.empty()) {
+    const Eigen::Vector3i b = queue.front();
+    queue.pop_front();
+    const uint8_t next = static_cast<uint8_t>(clearance_[block_index_of_block(b)] + 1);
+    if (next >= kUnreached) continue;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const Eigen::Vector3i n = b + Eigen::Vector3i(dx, dy, dz);
+          if ((n.array() < 0).any() || (n.array() >= block_count_.array()).any()) continue;
+          uint8_t& c = clearance_[block_index_of_block(n)];
+          if (c > next) {
+            c = next;
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+  }
+}
+
+double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) const {
+  const Vec3 u = world * inv_h_;
+  const Vec3 base = u.array().floor();
+  const Vec3 f = u - base;
+  const Eigen::Vector3i i0 = base.cast<int>();
+  double c[2][2][2];
+  const Eigen::Vector3i v = i0 - voxel_min_;
+  constexpr int last = kBlockEdge - 1;
+  const int32_t code = inside(v) ? block_code_[block_index(v)] : -1;
+  if (code >= 0 && (v.x() & last) != last && (v.y() & last) != last && (v.z() & last) != last) {
+    // All eight corners in one dense block: x, y, z steps are 64, 8, 1.
+    const float* corner =
+        distances_.data() + static_cast<std::size_t>(code) * kBlockVoxels + local_index(v);
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int d = 0; d < 2; ++d)
+          c[a][b][d] = corner[(a << (2 * kBlockLog2)) + (b << kBlockLog2) + d];
+  } else {
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int d = 0; d < 2; ++d) c[a][b][d] = distance(i0 + Eigen::Vector3i(a, b, d));
+  }
+  // Interpolate along z, then y, then x, keeping the partial derivatives.
+  double cz[2][2], dcz[2][2];
+  for (int a = 0; a < 2; ++a) {
+    for (int b = 0; b < 2; ++b) {
+      cz[a][b] = c[a][b][0] + f.z() * (c[a][b][1] - c[a][b][0]);
+      dcz[a][b] = c[a][b][1] - c[a][b][0];
+    }
+  }
+  double cy[2], dcy_dy[2], dcy_dz[2];
+  for (int a = 0; a < 2; ++a) {
+    cy[a] = cz[a][0] + f.y() * (cz[a][1] - cz[a][0]);
+    dcy_dy[a] = cz[a][1] - cz[a][0];
+    dcy_dz[a] = dcz[a][0] + f.y() * (dcz[a][1] - dcz[a][0]);
+  }
+  const double value = cy[0] + f.x() * (cy[1] - cy[0]);
+  gradient = Vec3(cy[1] - cy[0], dcy_dy[0] + f.x() * (dcy_dy[1] - dcy_dy[0]),
+                  dcy_dz[0] + f.x() * (dcy_dz[1] - dcy_dz[0])) *
+             inv_h_;
+  return value;
+}
+
+double VoxelLookup::clearance(const Vec3& world) const {
+  if (!world.allFinite()) return std::numeric_limits<double>::infinity();
+  // Every non-free voxel lies inside the arrays' box.
+  const Vec3 low = h_ * (voxel_min_.cast<double>().array() - 0.5).matrix();
+  const Vec3 high = low + h_ * voxel_count_.cast<double>();
+  const Vec3 outside = (low - world).cwiseMax(world - high).cwiseMax(0.0);
+  if (outside.squaredNorm() > 0) return outside.norm();
+  const Eigen::Vector3i v = voxel_of(world) - voxel_min_;
+  if (!inside(v)) return 0.0;  // on the box's boundary
+  const int blocks = clearance_[block_index(v)];
+  return blocks == 0 ? 0.0 : (blocks - 1) * kBlockEdge * h_;
+}
+
+int64_t VoxelLookup::memory_bytes() const {
+  return static_cast<int64_t>(block_code_.size() * sizeof(int32_t) + states_.size() +
+                              distances_.size() * sizeof(float) +
+                              uniform_distance_.size() * sizeof(float) + clearance_.size());
+}
+
+std::vector<int64_t> VoxelLookup::state_counts() const {
+  std::vector<int64_t> counts(4, 0);
+  for (const int32_t code : block_code_) {
+    if (code < 0) {
+      counts[static_cast<std::size_t>(-(code + 1))] += kBlockVoxels;
+    } else {
+      const uint8_t* s = states_.data() + static_cast<std::size_t>(code) * kBlockVoxels;
+      for (int k = 0; k < kBlockVoxels; ++k) ++counts[s[k]];
+    }
+  }
+  return counts;
+}
+
+}  // namespace hb

@@ -1,0 +1,135 @@
+// The scene voxmap as the haptic loop reads it: plain arrays filled once
+// from the OpenVDB grids (voxmap.cpp), so a lookup is two memory reads.
+//
+// Grid: voxel (i, j, k) is the cube of edge h centred on the world point
+// h·(i, j, k) (OpenVDB's cell-centred index space with a linear transform of
+// voxel size h). The arrays cover a box of whole blocks of 8³ voxels, the
+// same blocks as OpenVDB's leaf nodes; everything outside the box is free.
+// A block is either uniform (one state, no per-voxel storage) or dense (one
+// state byte per voxel, and for the signed-distance variant one float).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+
+namespace hb {
+
+/// McNeely et al.'s voxel states.
+enum class VoxelState : uint8_t {
+  kFree = 0,       ///< outside the scene, beyond the proximity layers
+  kInterior = 1,   ///< inside the scene, more than half a voxel below its surface
+  kSurface = 2,    ///< centre within half a voxel of the surface
+  kProximity = 3,  ///< outside, centre within the proximity layers
+};
+
+class VoxelLookup {
+ public:
+  static constexpr int kBlockLog2 = 3;
+  static constexpr int kBlockEdge = 1 << kBlockLog2;  ///< voxels per block edge
+  static constexpr int kBlockVoxels = kBlockEdge * kBlockEdge * kBlockEdge;
+
+  /// An empty lookup: every point is free.
+  VoxelLookup() = default;
+
+  /// Sizes the arrays for blocks [block_min, block_min + block_count) of
+  /// voxel size h (m); all uniform free until set. outside_distance_m: the
+  /// signed distance read outside the arrays (the exterior band, m).
+  VoxelLookup(double voxel_size_m, const Eigen::Vector3i& block_min,
+              const Eigen::Vector3i& block_count, bool with_distances, float outside_distance_m);
+
+  /// Makes block b (index relative to block_min) uniform; `distance` (m) is
+  /// what the signed-distance variant reads anywhere in it.
+  void set_uniform_block(const Eigen::Vector3i& b, VoxelState state, float distance);
+  /// Makes block b dense with 512 states and (with distances) 512 signed
+  /// distances at the voxel centres, both in OpenVDB's leaf order
+  /// (x major: local index (x << 6) | (y << 3) | z).
+  void set_dense_block(const Eigen::Vector3i& b, const uint8_t* states, const float* distances);
+  /// Computes, per block, the Chebyshev distance in blocks to the nearest
+  /// block holding a non-free voxel (saturated at 255). Call once after filling.
+  void finish();
+
+  double voxel_size() const { return h_; }
+  bool has_distances() const { return with_distances_; }
+
+  /// Index of the voxel containing a world point (m).
+  Eigen::Vector3i voxel_of(const Vec3& world) const {
+    return Eigen::Vector3i(static_cast<int>(std::floor(world.x() * inv_h_ + 0.5)),
+                           static_cast<int>(std::floor(world.y() * inv_h_ + 0.5)),
+                           static_cast<int>(std::floor(world.z() * inv_h_ + 0.5)));
+  }
+  /// World position of a voxel's centre (m).
+  Vec3 centre_of(const Eigen::Vector3i& voxel) const { return h_ * voxel.cast<double>(); }
+
+  /// State of a voxel (free outside the arrays).
+  VoxelState state(const Eigen::Vector3i& voxel) const {
+    const Eigen::Vector3i v = voxel - voxel_min_;
+    if (!inside(v)) return VoxelState::kFree;
+    const int32_t code = block_code_[block_index(v)];
+    if (code < 0) return static_cast<VoxelState>(-(code + 1));
+    return static_cast<VoxelState>(
+        states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
+  }
+
+  /// Signed distance stored at a voxel centre (m, negative inside); the
+  /// exterior band value outside the arrays. Only with distances.
+  float distance(const Eigen::Vector3i& voxel) const {
+    const Eigen::Vector3i v = voxel - voxel_min_;
+    if (!inside(v)) return outside_distance_;
+    const int32_t code = block_code_[block_index(v)];
+    if (code < 0) return uniform_distance_[block_index(v)];
+    return distances_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)];
+  }
+
+  /// Trilinear interpolation of the voxel-centre distances at a world
+  /// point (m) and its exact gradient (world, dimensionless). Only with distances.
+  double interpolated_distance(const Vec3& world, Vec3& gradient) const;
+
+  /// A lower bound (m) on the distance from a world point to any non-free voxel.
+  double clearance(const Vec3& world) const;
+
+  /// Bytes the arrays hold.
+  int64_t memory_bytes() const;
+  int64_t dense_blocks() const { return static_cast<int64_t>(states_.size() / kBlockVoxels); }
+  /// Voxels per state over the arrays, indexed by VoxelState.
+  std::vector<int64_t> state_counts() const;
+
+ private:
+  bool inside(const Eigen::Vector3i& v) const {
+    return static_cast<unsigned>(v.x()) < static_cast<unsigned>(voxel_count_.x()) &&
+           static_cast<unsigned>(v.y()) < static_cast<unsigned>(voxel_count_.y()) &&
+           static_cast<unsigned>(v.z()) < static_cast<unsigned>(voxel_count_.z());
+  }
+  std::size_t block_index(const Eigen::Vector3i& v) const {
+    return (static_cast<std::size_t>(v.x() >> kBlockLog2) * block_count_.y() +
+            static_cast<std::size_t>(v.y() >> kBlockLog2)) *
+               block_count_.z() +
+           static_cast<std::size_t>(v.z() >> kBlockLog2);
+  }
+  static int local_index(const Eigen::Vector3i& v) {
+    constexpr int mask = kBlockEdge - 1;
+    return ((v.x() & mask) << (2 * kBlockLog2)) | ((v.y() & mask) << kBlockLog2) | (v.z() & mask);
+  }
+  std::size_t block_index_of_block(const Eigen::Vector3i& b) const {
+    return (static_cast<std::size_t>(b.x()) * block_count_.y() + static_cast<std::size_t>(b.y())) *
+               block_count_.z() +
+           static_cast<std::size_t>(b.z());
+  }
+
+  double h_ = 1;
+  double inv_h_ = 1;
+  bool with_distances_ = false;
+  Eigen::Vector3i voxel_min_ = Eigen::Vector3i::Zero();    ///< first voxel of the arrays
+  Eigen::Vector3i voxel_count_ = Eigen::Vector3i::Zero();  ///< voxels per axis
+  Eigen::Vector3i block_count_ = Eigen::Vector3i::Zero();  ///< blocks per axis
+  std::vector<int32_t> block_code_;  ///< >= 0: dense block number; < 0: uniform state −(code+1)
+  std::vector<uint8_t> states_;      ///< kBlockVoxels per dense block
+  std::vector<float> distances_;     ///< kBlockVoxels per dense block (with distances)
+  std::vector<float> uniform_distance_;  ///< per block (with distances)
+  std::vector<uint8_t> clearance_;       ///< per block, Chebyshev blocks to a non-free block
+  float outside_distance_ = 0;           ///< m, read outside the arrays
+};
+
+}  // namespace hb

@@ -1,0 +1,239 @@
+// The per-tick force model of Voxmap PointShell (algorithms/voxmap_pointshell/
+// pointshell_contacts.cpp): the tangent-plane depth, Hooke's law, the N ≥ 10
+// averaging rule, the braking viscosity's sign, the early exits, and the
+// Jacobians against central differences. Units m, N, s.
+#include "algorithms/voxmap_pointshell/pointshell_contacts.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "algorithms/core/shapes.h"
+#include "algorithms/voxmap_pointshell/voxmap.h"
+#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+
+namespace hb {
+namespace {
+
+CacheSettings no_cache() { return CacheSettings{false, {}}; }
+
+// A shell of n copies of one point, in one cluster.
+PointShell repeated_point(std::size_t n, const Vec3& r, const Vec3& normal) {
+  return make_pointshell(std::vector<Vec3>(n, r), std::vector<Vec3>(n, normal), Vec3::Zero(), 1.0);
+}
+
+// A 40 cm slab whose top face is the plane z = 0, on the voxel-centre plane
+// of the grid.
+SceneVoxmap slab_voxmap(double h, bool signed_distance) {
+  SceneObject slab;
+  Shape shape;
+  shape.type = ShapeType::kBox;
+  shape.size = Vec3(0.4, 0.4, 0.02);
+  slab.shape = shape;
+  slab.mesh = shape_mesh(shape);
+  slab.pose.p = Vec3(0, 0, -0.01);
+  VoxmapSettings settings;
+  settings.voxel_size_m = h;
+  settings.proximity_layers = 2;
+  settings.signed_distance = signed_distance;
+  return build_scene_voxmap({slab},
+                            Eigen::AlignedBox3d(Vec3(-0.05, -0.05, -0.03), Vec3(0.05, 0.05, 0.05)),
+                            settings, no_cache());
+}
+
+PointShell sphere_shell(double radius, double spacing) {
+  Shape sphere;
+  sphere.type = ShapeType::kSphere;
+  sphere.radius = radius;
+  sphere.subdivisions = 4;
+  const PointShellPoints points = build_pointshell(shape_mesh(sphere), spacing, no_cache());
+  return make_pointshell(points.points, points.normals, Vec3::Zero(), 8 * spacing);
+}
+
+TEST_CASE("the averaging rule divides the summed wrench by N/10 from N = 10 on",
+          "[voxmap_pointshell]") {
+  CHECK(averaging_divisor(0) == 1);
+  CHECK(averaging_divisor(9) == 1);
+  CHECK(averaging_divisor(10) == 1);
+  CHECK(averaging_divisor(25) == 2.5);
+  PointShellGains gains;
+  gains.stiffness = 3000;
+  gains.braking_viscosity = 0;
+  const double depth = 4e-4;
+  for (std::size_t n = 1; n <= 30; ++n) {
+    const PointShell shell = repeated_point(n, Vec3(0.003, 0, -0.01), Vec3::UnitZ());
+    PointShellHits hits;
+    for (std::size_t i = 0; i < n; ++i)
+      hits.contacts.push_back({static_cast<int32_t>(i), depth, Vec3::Zero()});
+    const ForceEvaluation f = pointshell_wrench(shell, hits, gains, RigidBodyState{}, true);
+    // Each point alone: F = K d n, τ = r × F.
+    const Vec3 single_force = gains.stiffness * depth * Vec3::UnitZ();
+    const Vec3 single_torque = Vec3(0.003, 0, -0.01).cross(single_force);
+    const double divisor = n < 10 ? 1.0 : static_cast<double>(n) / 10.0;
+    INFO("N = " << n);
+    CHECK((f.wrench.force - static_cast<double>(n) / divisor * single_force).norm() < 1e-12);
+    CHECK((f.wrench.torque - static_cast<double>(n) / divisor * single_torque).norm() < 1e-12);
+    // The Jacobians scale alike: ∂F_z/∂z = −K N/divisor.
+    CHECK(f.stiffness(2, 2) ==
+          Approx(-gains.stiffness * static_cast<double>(n) / divisor).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("the tangent-plane depth is measured from the voxel centre along the point's normal",
+          "[voxmap_pointshell]") {
+  const double h = 0.002;
+  const SceneVoxmap voxmap = slab_voxmap(h, false);
+  PointShellGains gains;
+  gains.braking_viscosity = 0;
+  const Vec3 normal = Vec3(0.3, -0.2, 1).normalized();
+  const PointShell shell = repeated_point(1, Vec3::Zero(), normal);
+  int in_contact = 0;
+  for (double x = -0.0031; x < 0.003; x += 0.00037) {
+    for (double z = -0.00117; z <= 0.0012; z += 0.0001) {
+      RigidBodyState state;
+      state.x = Vec3(x, 0.0007, z);
+      PointShellHits hits;
+      WorkCounters work;
+      find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+      // The surface layer is |z_centre| ≤ h/2: only the voxels centred on z = 0.
+      const Vec3 centre = h * (state.x / h).array().round().matrix();
+      const double expected = std::abs(centre.z()) < 1e-12 ? normal.dot(centre - state.x) : 0.0;
+      INFO("point " << state.x.transpose());
+      if (expected > 1e-12) {
+        REQUIRE(hits.contacts.size() == 1);
+        CHECK(hits.contacts[0].depth == Approx(expected).margin(1e-15));
+        const ForceEvaluation f = pointshell_wrench(shell, hits, gains, state, false);
+        CHECK((f.wrench.force - gains.stiffness * expected * normal).norm() < 1e-9);
+        ++in_contact;
+      } else if (expected < -1e-12 || std::abs(centre.z()) > 1e-12) {
+        CHECK(hits.contacts.empty());
+      }
+    }
+  }
+  CHECK(in_contact > 20);
+}
+
+TEST_CASE("braking viscosity opposes motion towards the scene and is zero moving away",
+          "[voxmap_pointshell]") {
+  PointShellGains gains;
+  gains.braking_viscosity = 7;
+  // A point on the +x side of a tool, inward normal −x; the scene lies at +x.
+  const Vec3 r(0.01, 0, 0);
+  const Vec3 n(-1, 0, 0);
+  const PointShell shell = repeated_point(1, r, n);
+  PointShellHits hits;
+  hits.braking.push_back(0);
+  RigidBodyState state;
+
+  state.v = Vec3(0.2, 0.05, 0);  // towards the scene: n·v = −0.2 < 0
+  ForceEvaluation f = pointshell_wrench(shell, hits, gains, state, false);
+  // F = −b v (−n·v)
+  CHECK((f.wrench.force - (-gains.braking_viscosity * state.v * (-n.dot(state.v)))).norm() < 1e-12);
+  CHECK(f.wrench.force.dot(state.v) < 0);
+  CHECK((f.wrench.torque - r.cross(f.wrench.force)).norm() < 1e-15);
+
+  state.v = Vec3(-0.2, 0.05, 0);  // away from the scene
+  f = pointshell_wrench(shell, hits, gains, state, true);
+  CHECK(f.wrench.force.norm() == 0);
+  CHECK(f.damping.norm() == 0);
+  state.v = Vec3(0, 0.3, 0.1);  // sliding along it: n·v = 0
+  CHECK(pointshell_wrench(shell, hits, gains, state, false).wrench.force.norm() == 0);
+
+  // Turning into the scene: u = ω × r.
+  state.v = Vec3::Zero();
+  state.w = Vec3(0, 0, -5);  // ω × r = (0, −0.05, 0): tangential, no braking
+  CHECK(pointshell_wrench(shell, hits, gains, state, false).wrench.force.norm() == 0);
+  state.x = Vec3::Zero();
+  const PointShell tilted = repeated_point(1, r, Vec3(-1, 1, 0).normalized());
+  state.w = Vec3(0, 0, -5);  // u = (0, −0.05, 0), n·u < 0
+  f = pointshell_wrench(tilted, hits, gains, state, false);
+  const Vec3 u = state.w.cross(r);
+  CHECK(f.wrench.force.dot(u) < 0);
+
+  // The averaging rule holds for braking points apart: 20 points brake
+  // like 10.
+  const PointShell twenty = repeated_point(20, r, n);
+  PointShellHits all;
+  for (int32_t i = 0; i < 20; ++i) all.braking.push_back(i);
+  state = RigidBodyState{};
+  state.v = Vec3(0.2, 0, 0);
+  const ForceEvaluation one = pointshell_wrench(shell, hits, gains, state, false);
+  const ForceEvaluation many = pointshell_wrench(twenty, all, gains, state, false);
+  CHECK((many.wrench.force - 10 * one.wrench.force).norm() < 1e-12);
+}
+
+TEST_CASE("a tool clear of the scene costs one bounding test", "[voxmap_pointshell]") {
+  const SceneVoxmap voxmap = slab_voxmap(0.001, false);
+  const PointShell shell = sphere_shell(0.02, 0.001);
+  PointShellGains gains;
+  RigidBodyState state;
+  state.x = Vec3(0, 0, 0.04);  // 2 cm above the slab, beyond the proximity layers
+  PointShellHits hits;
+  WorkCounters work;
+  find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+  CHECK(hits.contacts.empty());
+  CHECK(hits.braking.empty());
+  CHECK(work.points_tested == 0);
+  CHECK(work.bv_tests == 1);
+  // Close to the slab only the clusters near it are looked up.
+  state.x = Vec3(0, 0, 0.0205);
+  work = WorkCounters{};
+  find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+  INFO(work.points_tested << " of " << shell.points.size() << " points looked up");
+  CHECK(work.points_tested > 0);
+  CHECK(work.points_tested < static_cast<int64_t>(shell.points.size()) / 3);
+  CHECK_FALSE(hits.braking.empty());
+}
+
+TEST_CASE("the contact Jacobians match central differences", "[voxmap_pointshell]") {
+  for (const bool signed_distance : {false, true}) {
+    const double h = 0.002;
+    const SceneVoxmap voxmap = slab_voxmap(h, signed_distance);
+    const PointShell shell = sphere_shell(0.02, h);
+    PointShellGains gains;
+    gains.stiffness = 5000;
+    gains.braking_viscosity = 40;
+    gains.signed_distance = signed_distance;
+    RigidBodyState state;
+    state.x = Vec3(0.00031, -0.00047, 0.02 - 0.0013);
+    state.q = quat_from_rotation_vector(Vec3(0.11, 0.23, -0.31));
+    state.v = Vec3(0.02, -0.01, -0.05);
+    state.w = Vec3(0.3, -0.2, 0.5);
+
+    const auto hits_at = [&](const RigidBodyState& s) {
+      PointShellHits hits;
+      WorkCounters work;
+      find_pointshell_hits(shell, voxmap.lookup, gains, s, hits, work);
+      return hits;
+    };
+    const PointShellHits hits = hits_at(state);
+    INFO((signed_distance ? "signed distance" : "voxmap")
+         << ": " << hits.contacts.size() << " contacts, " << hits.braking.size() << " braking");
+    REQUIRE(hits.contacts.size() >= 10);  // the averaging rule is in play
+    REQUIRE_FALSE(hits.braking.empty());
+
+    // The same points act at every perturbed state, so the force is smooth there.
+    const double step = 1e-7;
+    for (int c = 0; c < 12; ++c) {
+      for (const double sign : {-1.0, 1.0}) {
+        const PointShellHits moved = hits_at(test::perturbed(state, c, sign * step));
+        REQUIRE(moved.contacts.size() == hits.contacts.size());
+        for (std::size_t i = 0; i < hits.contacts.size(); ++i)
+          REQUIRE(moved.contacts[i].point == hits.contacts[i].point);
+        REQUIRE(moved.braking == hits.braking);
+      }
+    }
+    const auto wrench = [&](const RigidBodyState& s) {
+      return pointshell_wrench(shell, hits_at(s), gains, s, false).wrench;
+    };
+    const Eigen::Matrix<double, 6, 12> numeric = test::numeric_jacobian(wrench, state, step);
+    const Eigen::Matrix<double, 6, 12> analytic =
+        test::analytic_jacobian(pointshell_wrench(shell, hits, gains, state, true));
+    INFO("analytic\n" << analytic << "\nnumeric\n" << numeric);
+    CHECK((analytic - numeric).cwiseAbs().maxCoeff() <= 1e-5 * analytic.cwiseAbs().maxCoeff());
+    CHECK(analytic.block<6, 6>(0, 6).norm() > 0);  // braking damping present
+  }
+}
+
+}  // namespace
+}  // namespace hb

@@ -1,0 +1,291 @@
+// The voxmap_pointshell renderer (algorithms/voxmap_pointshell/
+// voxmap_pointshell.cpp) end to end on a sphere pressed onto a slab: the
+// displayed force against the closed form of ideal rigid contact, the
+// contacts it reports, determinism with and without the on-disk cache, the
+// reach box, free-space ticks, and parameter errors. Units m, N, s.
+#include "algorithms/voxmap_pointshell/voxmap_pointshell.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/shapes.h"
+#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/scratch_dir.h"
+
+namespace hb {
+namespace {
+
+constexpr double kSphereRadius = 0.02;
+
+SceneObject slab(const Vec3& centre) {
+  SceneObject object;
+  object.name = "slab";
+  Shape shape;
+  shape.type = ShapeType::kBox;
+  shape.size = Vec3(0.4, 0.4, 0.02);
+  object.shape = shape;
+  object.mesh = shape_mesh(shape);
+  object.pose.p = centre;
+  object.content_hash = "slab";
+  return object;
+}
+
+// A 2 cm sphere over a slab whose top face is z = top_z; the reach box is
+// the region the presses below use.
+RenderContext sphere_over_slab(double top_z = 0) {
+  RenderContext context;
+  context.scene = {slab(Vec3(0, 0, top_z - 0.01))};
+  context.tool = test::sphere_tool(kSphereRadius);
+  context.tool.shape->subdivisions = 4;
+  context.tool.mesh = shape_mesh(*context.tool.shape);
+  context.tool.content_hash = "sphere";
+  context.coupling = test::example_gains();
+  context.reach = Eigen::AlignedBox3d(Vec3(-0.03, -0.03, -0.01), Vec3(0.03, 0.03, 0.06));
+  return context;
+}
+
+ParamSet params_of(std::initializer_list<std::pair<const char*, ParamValue>> values) {
+  ParamSet params("/algorithms/0/params");
+  for (const auto& [key, value] : values) params.set(key, value);
+  return params;
+}
+
+// The device lowered at 1 cm/s from 4 mm above contact with a surface at
+// z = top_z to `depth` below it, then held (sphere centre on the z axis),
+// then moved sideways.
+std::vector<DeviceSample> press_trace(double depth, int hold_ticks, int slide_ticks = 0,
+                                      double top_z = 0) {
+  std::vector<DeviceSample> samples;
+  const double start = top_z + kSphereRadius + 0.004;
+  const double end = top_z + kSphereRadius - depth;
+  const double speed = 0.01;
+  const int descent = static_cast<int>(std::ceil((start - end) / (speed * 1e-3)));
+  for (int k = 0; k < descent + hold_ticks + slide_ticks; ++k) {
+    DeviceSample s;
+    s.tick = k;
+    s.t_ns = k * 1'000'000LL;
+    if (k < descent) {
+      s.pose.p = Vec3(0, 0, start - speed * 1e-3 * k);
+      s.twist.v = Vec3(0, 0, -speed);
+    } else if (k < descent + hold_ticks) {
+      s.pose.p = Vec3(0, 0, end);
+    } else {
+      const double t = (k - descent - hold_ticks) * 1e-3;
+      s.pose.p = Vec3(0.01 * t, 0.004 * t, end);
+      s.twist.v = Vec3(0.01, 0.004, 0);
+    }
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+double result_centre_z(const TickResult& result) { return result.proxy.p.z(); }
+
+TickResult run(Renderer& renderer, const std::vector<DeviceSample>& trace) {
+  renderer.reset(trace.front().pose);
+  TickResult last;
+  for (const DeviceSample& s : trace) last = renderer.step(s);
+  return last;
+}
+
+TEST_CASE("sphere pressed on a slab: the display is k_t·d within the voxel-size bound",
+          "[voxmap_pointshell]") {
+  const double depth = 0.004;  // device below the surface, m
+  // The slab's top on a plane of voxel centres, and between them.
+  for (const double top_z : {0.0, 0.00073}) {
+    const RenderContext context = sphere_over_slab(top_z);
+    const double ideal = context.coupling.k_t * depth;
+    for (const char* variant : {"voxmap", "signed_distance"}) {
+      for (const double h : {0.002, 0.001}) {
+        auto renderer = create_voxmap_pointshell(
+            context,
+            params_of({{"voxel_size", h}, {"variant", std::string(variant)}, {"cache", false}}));
+        const TickResult last = run(*renderer, press_trace(depth, 1500, 0, top_z));
+        // At rest, the display is the coupling spring k_t (x_p − x_h): its
+        // error against k_t·d is k_t times the proxy's penetration, which the
+        // voxel size bounds: the surface layer is within h/2 of the surface
+        // and each point within √3/2 h of the tool's, so the proxy rests
+        // within √3 h (equal spacing) of the surface.
+        const double bound = context.coupling.k_t * std::sqrt(3.0) * h;
+        const double penetration = top_z + kSphereRadius - result_centre_z(last);
+        INFO("top " << top_z << " " << variant << " h = " << h << ": force "
+                    << last.display.force.transpose() << ", proxy penetration " << penetration);
+        CHECK(std::abs(last.display.force.z() - ideal) <= bound);
+        CHECK(last.display.force.head<2>().norm() <= bound);
+        CHECK(std::abs(penetration) <= std::sqrt(3.0) * h);
+        CHECK(last.display.force.allFinite());
+        // The contacts it reports are on the slab's top face, pushing up.
+        REQUIRE_FALSE(last.contacts.empty());
+        for (const Contact& c : last.contacts) {
+          CHECK(c.depth > 0);
+          CHECK(std::abs(c.point.z() - top_z) <= std::sqrt(3.0) * h);
+          CHECK(c.normal.z() > 0.7);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("explicit Euler presses stably at a stiffness its step allows", "[voxmap_pointshell]") {
+  const RenderContext context = sphere_over_slab();
+  // Explicit Euler needs (10·K_ff + k_t)·Δt < b_t (at most 10 points count
+  // under the averaging rule), so the contact is soft: 2 N must fit in the
+  // surface layer (h/2 = 2 mm) at 10·K_ff = 2500 N/m.
+  const double h = 0.004;
+  const double depth = 0.001;
+  auto renderer =
+      create_voxmap_pointshell(context, params_of({{"voxel_size", h},
+                                                   {"integrator", std::string("explicit_euler")},
+                                                   {"proxy_mass_kg", 0.2},
+                                                   {"point_stiffness", 250.0},
+                                                   {"braking_viscosity", 0.0},
+                                                   {"cache", false}}));
+  const std::vector<DeviceSample> trace = press_trace(depth, 1500);
+  renderer->reset(trace.front().pose);
+  TickResult last;
+  for (const DeviceSample& s : trace) {
+    last = renderer->step(s);
+    REQUIRE(last.display.force.allFinite());
+    REQUIRE((last.flags & kFlagProxyReset) == 0);
+  }
+  const double penetration = kSphereRadius - result_centre_z(last);
+  INFO("force " << last.display.force.transpose() << ", proxy penetration " << penetration);
+  CHECK(std::abs(last.display.force.z() - context.coupling.k_t * depth) <=
+        context.coupling.k_t * std::sqrt(3.0) * h);
+  CHECK(std::abs(penetration) <= std::sqrt(3.0) * h);
+  CHECK_FALSE(last.contacts.empty());
+}
+
+TEST_CASE("replays are deterministic, and a cached voxmap renders the same as a built one",
+          "[voxmap_pointshell]") {
+  test::ScratchDir dir("vps_renderer_cache");
+  ::setenv("HAPTICBENCH_CACHE_DIR", dir.path().c_str(), 1);
+  const RenderContext context = sphere_over_slab();
+  const std::vector<DeviceSample> trace = press_trace(0.003, 300, 400);
+  for (const char* variant : {"voxmap", "signed_distance"}) {
+    const ParamSet params = params_of({{"voxel_size", 0.002}, {"variant", std::string(variant)}});
+    auto built = create_voxmap_pointshell(context, params);
+    auto loaded = create_voxmap_pointshell(context, params);
+    auto again = create_voxmap_pointshell(context, params);
+    INFO(variant);
+    CHECK_FALSE(built->build_report().cache_hit);
+    CHECK(loaded->build_report().cache_hit);
+    for (Renderer* r : {built.get(), loaded.get(), again.get()}) r->reset(trace.front().pose);
+    for (const DeviceSample& s : trace) {
+      const TickResult a = built->step(s);
+      const TickResult b = loaded->step(s);
+      const TickResult c = again->step(s);
+      for (const TickResult* other : {&b, &c}) {
+        REQUIRE(a.display.force == other->display.force);
+        REQUIRE(a.display.torque == other->display.torque);
+        REQUIRE(a.proxy.p == other->proxy.p);
+        REQUIRE(a.proxy.q.coeffs() == other->proxy.q.coeffs());
+        REQUIRE(a.contacts.size() == other->contacts.size());
+      }
+    }
+    // A reset replays the same ticks.
+    built->reset(trace.front().pose);
+    again->reset(trace.front().pose);
+    for (const DeviceSample& s : trace) {
+      const TickResult a = built->step(s);
+      const TickResult b = again->step(s);
+      REQUIRE(a.display.force == b.display.force);
+    }
+  }
+  ::unsetenv("HAPTICBENCH_CACHE_DIR");
+}
+
+TEST_CASE("the build report names the pointshell and voxmap sizes", "[voxmap_pointshell]") {
+  const RenderContext context = sphere_over_slab();
+  auto renderer =
+      create_voxmap_pointshell(context, params_of({{"voxel_size", 0.002}, {"cache", false}}));
+  const BuildReport report = renderer->build_report();
+  CHECK_FALSE(report.cache_hit);
+  CHECK(report.memory_bytes > 0);
+  const auto figure = [&](const std::string& name) {
+    for (const auto& [key, value] : report.details)
+      if (key == name) return value;
+    FAIL("no " << name << " in the build report");
+    return 0.0;
+  };
+  // About one point per 4 mm² of the sphere's 50 cm².
+  const double area = 4 * M_PI * kSphereRadius * kSphereRadius;
+  CHECK(figure("pointshell_points") > 0.9 * area / (0.002 * 0.002));
+  CHECK(figure("pointshell_points") < 1.1 * area / (0.002 * 0.002));
+  CHECK(figure("voxmap_surface_voxels") > 0);
+  CHECK(figure("voxmap_vdb_bytes") > 0);
+  CHECK(figure("voxmap_objects") == 1);
+}
+
+TEST_CASE("only scene objects within the reach box are voxelised", "[voxmap_pointshell]") {
+  RenderContext context = sphere_over_slab();
+  context.scene.push_back(slab(Vec3(2, 0, -0.01)));
+  auto renderer =
+      create_voxmap_pointshell(context, params_of({{"voxel_size", 0.002}, {"cache", false}}));
+  double objects = -1;
+  for (const auto& [key, value] : renderer->build_report().details)
+    if (key == "voxmap_objects") objects = value;
+  CHECK(objects == 1);
+}
+
+TEST_CASE("a free-space tick looks up no points", "[voxmap_pointshell]") {
+  const RenderContext context = sphere_over_slab();
+  auto renderer =
+      create_voxmap_pointshell(context, params_of({{"voxel_size", 0.002}, {"cache", false}}));
+  DeviceSample s;
+  s.pose.p = Vec3(0, 0, 0.05);
+  renderer->reset(s.pose);
+  for (int k = 0; k < 10; ++k) {
+    s.tick = k;
+    const TickResult result = renderer->step(s);
+    CHECK(result.work.points_tested == 0);
+    CHECK(result.contacts.empty());
+    CHECK(result.display.force.norm() < 1e-9);
+  }
+}
+
+TEST_CASE("bad parameters are named by field", "[voxmap_pointshell]") {
+  const auto location_of = [](const ParamSet& params,
+                              const RenderContext& in = sphere_over_slab()) -> std::string {
+    try {
+      create_voxmap_pointshell(in, params);
+    } catch (const InputError& error) {
+      return error.location();
+    }
+    return "(no error)";
+  };
+  const std::string p = "/algorithms/0/params/";
+  CHECK(location_of(params_of({{"voxel_size", -0.001}})) == p + "voxel_size");
+  CHECK(location_of(params_of({{"voxel_size", std::string("fine")}})) == p + "voxel_size");
+  CHECK(location_of(params_of({{"pointshell_spacing", 0.0}})) == p + "pointshell_spacing");
+  CHECK(location_of(params_of({{"point_stiffness", -5.0}})) == p + "point_stiffness");
+  CHECK(location_of(params_of({{"variant", std::string("octree")}})) == p + "variant");
+  CHECK(location_of(params_of({{"proximity_layers", 1.5}})) == p + "proximity_layers");
+  CHECK(location_of(params_of({{"braking_viscosity", -1.0}})) == p + "braking_viscosity");
+  CHECK(location_of(params_of({{"integrator", std::string("rk4")}})) == p + "integrator");
+  CHECK(location_of(params_of({{"cache", 1.0}})) == p + "cache");
+  CHECK(location_of(params_of({{"voxel_sise", 0.001}})) == p + "voxel_sise");
+  // interior_layers belongs to the signed-distance variant only.
+  CHECK(location_of(params_of({{"interior_layers", 2.0}})) == p + "interior_layers");
+  CHECK(location_of(params_of({{"variant", std::string("signed_distance")},
+                               {"interior_layers", 0.0}})) == p + "interior_layers");
+  // An open surface has no inside for the signed-distance variant.
+  RenderContext open_scene = sphere_over_slab();
+  open_scene.scene[0].distance_only = true;
+  CHECK(location_of(params_of({{"variant", std::string("signed_distance")}}), open_scene) ==
+        p + "variant");
+  // Sizes that would need unreasonable memory are refused before any work.
+  RenderContext whole_scene = sphere_over_slab();
+  whole_scene.reach.reset();
+  CHECK(location_of(params_of({{"voxel_size", 2e-5}, {"pointshell_spacing", 0.002}}),
+                    whole_scene) == p + "voxel_size");
+  CHECK(location_of(params_of({{"voxel_size", 0.002}, {"pointshell_spacing", 1e-5}})) ==
+        p + "pointshell_spacing");
+}
+
+}  // namespace
+}  // namespace hb
