@@ -4,6 +4,7 @@
 #include "algorithms/coupling_only/coupling_only.h"
 #include "algorithms/god_object/god_object.h"
 #include "algorithms/penalty_analytic/penalty_analytic.h"
+#include "algorithms/sensation_preserving/sensation_preserving.h"
 #include "algorithms/voxmap_pointshell/voxmap_pointshell.h"
 
 namespace hb {
@@ -27,6 +28,10 @@ constexpr AlgorithmEntry kAlgorithms[] = {
      "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, tangent-plane "
      "penalty per point, dynamic proxy",
      &create_voxmap_pointshell},
+    {"sensation_preserving",
+     "Otaduy & Lin 2003/2005: convex hierarchies refined where detail is perceptible, GJK/EPA, "
+     "k-means contact clusters, penalty proxy with implicit Euler",
+     &create_sensation_preserving},
 };
 }  // namespace
 

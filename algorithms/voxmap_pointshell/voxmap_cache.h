@@ -13,10 +13,6 @@
 
 namespace hb {
 
-/// The cache folder: $HAPTICBENCH_CACHE_DIR, else $XDG_CACHE_HOME/hapticbench,
-/// else $HOME/.cache/hapticbench; nullopt when none of them is set.
-std::optional<std::filesystem::path> default_cache_directory();
-
 /// Exact text of a double (hexadecimal floating point), for keys.
 std::string exact_key_text(double value);
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/core/cache_directory.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/dynamic_proxy.h"

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/core/cache_directory.h"
 #include "algorithms/proxy/rigid_body.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"

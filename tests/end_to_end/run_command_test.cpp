@@ -278,7 +278,7 @@ TEST_CASE("bad input exits with 2, names file and field, and writes nothing") {
 
 TEST_CASE("every shipped scenario validates") {
   const hb::test::ScratchDir work_dir("e2e_validate_all");
-  for (const char* suite : {"smoke", "analytic", "meshes"}) {
+  for (const char* suite : {"smoke", "analytic", "meshes", "stress"}) {
     const hb::test::CommandResult result = hb::test::run_hapticbench(
         "validate " + (kSource / "scenarios" / suite).string() + "/*.json", work_dir.path());
     INFO(suite << ": " << result.stderr_text);

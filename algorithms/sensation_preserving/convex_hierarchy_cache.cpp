@@ -1,0 +1,263 @@
+// The on-disk cache of convex hierarchies. One file per key:
+//   <cache folder>/convex_hierarchy-<hash of key>.hbcache
+// holding, in native byte order,
+//   magic "HBCVXHIE", u32 format version, u32 key length, key bytes,
+//   u64 payload length, u64 payload checksum (FNV-1a 64), payload,
+// where the payload lists the root, the pieces per level and every node.
+// The key spells out the caller's content hash, a hash of the mesh's
+// coordinates and triangles as stored, and the exact settings. A file whose
+// header, key, length, checksum or structure does not match is rebuilt.
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <type_traits>
+#include <vector>
+
+#include "algorithms/core/cache_directory.h"
+#include "algorithms/core/content_hash.h"
+#include "algorithms/sensation_preserving/convex_hierarchy.h"
+
+namespace hb {
+
+namespace {
+
+constexpr char kMagic[8] = {'H', 'B', 'C', 'V', 'X', 'H', 'I', 'E'};
+// Bump when the payload's layout or how the hierarchy is built changes.
+constexpr uint32_t kFormatVersion = 1;
+
+std::string hex_double(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%a", value);
+  return text;
+}
+
+std::string mesh_hash(const TriangleMesh& mesh) {
+  ContentHash hash;
+  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.vertices.data()),
+                            mesh.vertices.size() * sizeof(Vec3)));
+  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.triangles.data()),
+                            mesh.triangles.size() * sizeof(mesh.triangles[0])));
+  return hash.hex();
+}
+
+std::string hierarchy_key(const TriangleMesh& mesh, const std::string& content_hash,
+                          const ConvexHierarchySettings& settings) {
+  return "convex hierarchy format " + std::to_string(kFormatVersion) + "\ncontent " + content_hash +
+         "\nmesh " + mesh_hash(mesh) + " " + std::to_string(mesh.vertices.size()) + " " +
+         std::to_string(mesh.triangles.size()) + "\nconvexity_tolerance_rad " +
+         hex_double(settings.convexity_tolerance_rad) + "\nmax_piece_vertices " +
+         std::to_string(settings.max_piece_vertices) + "\n";
+}
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&value), sizeof value);
+  }
+  template <class T>
+  void put_array(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    put(static_cast<uint64_t>(values.size()));
+    bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  }
+  void put_vec(const Vec3& v) {
+    for (int i = 0; i < 3; ++i) put(v[i]);
+  }
+  void put_points(const std::vector<Vec3>& points) {
+    put(static_cast<uint64_t>(points.size()));
+    for (const Vec3& p : points) put_vec(p);
+  }
+  std::string& bytes() { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+  template <class T>
+  bool get(T& value) {
+    if (bytes_.size() - position_ < sizeof value) return false;
+    std::memcpy(&value, bytes_.data() + position_, sizeof value);
+    position_ += sizeof value;
+    return true;
+  }
+  template <class T>
+  bool get_array(std::vector<T>& values) {
+    uint64_t count = 0;
+    if (!get(count) || count > (bytes_.size() - position_) / sizeof(T)) return false;
+    values.resize(static_cast<std::size_t>(count));
+    std::memcpy(values.data(), bytes_.data() + position_, values.size() * sizeof(T));
+    position_ += values.size() * sizeof(T);
+    return true;
+  }
+  bool get_vec(Vec3& v) { return get(v[0]) && get(v[1]) && get(v[2]); }
+  bool get_points(std::vector<Vec3>& points) {
+    uint64_t count = 0;
+    if (!get(count) || count > remaining() / (3 * sizeof(double))) return false;
+    points.resize(static_cast<std::size_t>(count));
+    for (Vec3& p : points)
+      if (!get_vec(p)) return false;
+    return true;
+  }
+  bool get_text(std::string& text, std::size_t length) {
+    if (bytes_.size() - position_ < length) return false;
+    text.assign(bytes_.data() + position_, length);
+    position_ += length;
+    return true;
+  }
+  std::size_t remaining() const { return bytes_.size() - position_; }
+  std::string_view rest() const { return bytes_.substr(position_); }
+
+ private:
+  std::string_view bytes_;
+  std::size_t position_ = 0;
+};
+
+std::string payload_of(const ConvexHierarchy& hierarchy) {
+  Writer out;
+  out.put(static_cast<int32_t>(hierarchy.root));
+  out.put_array(hierarchy.pieces_per_level);
+  out.put(static_cast<uint64_t>(hierarchy.nodes.size()));
+  for (const ConvexNode& node : hierarchy.nodes) {
+    out.put_points(node.vertices);
+    out.put_array(node.triangles);
+    out.put_vec(node.centre);
+    out.put(node.radius);
+    out.put(node.deviation_m);
+    out.put(static_cast<int32_t>(node.level));
+    out.put(node.children);
+    out.put_array(node.faces);
+  }
+  return std::move(out.bytes());
+}
+
+// The hierarchy in a payload, if it is complete and consistent with a mesh
+// of triangle_count triangles.
+std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size_t triangle_count) {
+  Reader in(payload);
+  ConvexHierarchy hierarchy;
+  int32_t root = -1;
+  uint64_t node_count = 0;
+  if (!in.get(root) || !in.get_array(hierarchy.pieces_per_level) || !in.get(node_count))
+    return std::nullopt;
+  if (node_count == 0 || node_count > payload.size() || root < 0 ||
+      static_cast<uint64_t>(root) >= node_count)
+    return std::nullopt;
+  hierarchy.root = root;
+  hierarchy.nodes.resize(static_cast<std::size_t>(node_count));
+  for (std::size_t n = 0; n < hierarchy.nodes.size(); ++n) {
+    ConvexNode& node = hierarchy.nodes[n];
+    int32_t level = 0;
+    if (!in.get_points(node.vertices) || !in.get_array(node.triangles) ||
+        !in.get_vec(node.centre) || !in.get(node.radius) || !in.get(node.deviation_m) ||
+        !in.get(level) || !in.get(node.children) || !in.get_array(node.faces))
+      return std::nullopt;
+    node.level = level;
+    const int vertex_count = static_cast<int>(node.vertices.size());
+    for (const Vec3& v : node.vertices)
+      if (!v.allFinite()) return std::nullopt;
+    for (const auto& t : node.triangles)
+      for (const int v : t)
+        if (v < 0 || v >= vertex_count) return std::nullopt;
+    if (!node.centre.allFinite() || !std::isfinite(node.radius) || !(node.radius >= 0) ||
+        !std::isfinite(node.deviation_m) || !(node.deviation_m >= 0) || level < 0)
+      return std::nullopt;
+    const bool leaf = node.children[0] < 0 && node.children[1] < 0;
+    for (const int child : node.children)
+      if (!leaf && (child < 0 || child >= static_cast<int>(n))) return std::nullopt;
+    for (const int f : node.faces)
+      if (f < 0 || static_cast<std::size_t>(f) >= triangle_count) return std::nullopt;
+  }
+  if (in.remaining() != 0) return std::nullopt;
+  return hierarchy;
+}
+
+std::optional<ConvexHierarchy> read_cache(const std::filesystem::path& path, const std::string& key,
+                                          std::size_t triangle_count) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return std::nullopt;
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  Reader in(bytes);
+  std::string magic, stored_key;
+  uint32_t version = 0, key_length = 0;
+  uint64_t payload_length = 0, checksum = 0;
+  if (!in.get_text(magic, sizeof kMagic) || magic != std::string_view(kMagic, sizeof kMagic) ||
+      !in.get(version) || version != kFormatVersion || !in.get(key_length) ||
+      !in.get_text(stored_key, key_length) || stored_key != key || !in.get(payload_length) ||
+      !in.get(checksum) || payload_length != in.remaining() ||
+      ContentHash().add(in.rest()).value() != checksum)
+    return std::nullopt;
+  std::optional<ConvexHierarchy> hierarchy = parse_payload(in.rest(), triangle_count);
+  if (hierarchy) hierarchy->key = key;
+  return hierarchy;
+}
+
+// Writes to a fresh temporary name beside the target, then renames it into
+// place, so readers never see a partial file. Failures leave no file.
+void write_cache(const std::filesystem::path& path, const std::string& key,
+                 const ConvexHierarchy& hierarchy) {
+  static std::atomic<unsigned> counter{0};
+  const std::string payload = payload_of(hierarchy);
+  Writer header;
+  for (const char c : kMagic) header.put(c);
+  header.put(kFormatVersion);
+  header.put(static_cast<uint32_t>(key.size()));
+  header.bytes() += key;
+  header.put(static_cast<uint64_t>(payload.size()));
+  header.put(ContentHash().add(payload).value());
+  const std::filesystem::path temporary =
+      path.parent_path() / (path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                            std::to_string(counter++));
+  std::error_code error;
+  std::filesystem::create_directories(path.parent_path(), error);
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
+    file.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    file.close();
+    if (!file) {
+      std::filesystem::remove(temporary, error);
+      return;
+    }
+  }
+  std::filesystem::rename(temporary, path, error);
+  if (error) std::filesystem::remove(temporary, error);
+}
+
+}  // namespace
+
+ConvexHierarchy cached_convex_hierarchy(const TriangleMesh& mesh, const std::string& content_hash,
+                                        const ConvexHierarchySettings& settings, bool* cache_hit) {
+  if (cache_hit != nullptr) *cache_hit = false;
+  const std::string key = hierarchy_key(mesh, content_hash, settings);
+  const std::optional<std::filesystem::path> folder = default_cache_directory();
+  std::filesystem::path path;
+  if (folder) {
+    path = *folder / ("convex_hierarchy-" + ContentHash().add(key).hex() + ".hbcache");
+    if (std::optional<ConvexHierarchy> cached = read_cache(path, key, mesh.triangles.size())) {
+      if (cache_hit != nullptr) *cache_hit = true;
+      return std::move(*cached);
+    }
+  }
+  ConvexHierarchy hierarchy = build_convex_hierarchy(mesh, settings);
+  hierarchy.key = key;
+  if (folder) write_cache(path, key, hierarchy);
+  return hierarchy;
+}
+
+}  // namespace hb
