@@ -21,4 +21,19 @@ std::string file_content_hash(const std::string& path) {
   return ContentHash().add(bytes).hex();
 }
 
+std::string exact_key_text(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%a", value);
+  return text;
+}
+
+std::string mesh_geometry_hash(const TriangleMesh& mesh) {
+  ContentHash hash;
+  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.vertices.data()),
+                            mesh.vertices.size() * sizeof(Vec3)));
+  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.triangles.data()),
+                            mesh.triangles.size() * sizeof(mesh.triangles[0])));
+  return hash.hex();
+}
+
 }  // namespace hb

@@ -5,6 +5,8 @@
 #include <string>
 #include <string_view>
 
+#include "algorithms/core/triangle_mesh.h"
+
 namespace hb {
 
 /// Incremental FNV-1a 64-bit hash.
@@ -24,6 +26,12 @@ class ContentHash {
  private:
   uint64_t state_ = 0xcbf29ce484222325ULL;
 };
+
+/// Exact text of a double (hexadecimal floating point), for cache keys.
+std::string exact_key_text(double value);
+
+/// Hash (hex) of a mesh's vertices and triangles as stored.
+std::string mesh_geometry_hash(const TriangleMesh& mesh);
 
 /// Hash of a file's bytes as hex; throws InputError naming the file if unreadable.
 std::string file_content_hash(const std::string& path);

@@ -36,27 +36,12 @@ constexpr char kMagic[8] = {'H', 'B', 'C', 'V', 'X', 'H', 'I', 'E'};
 // Bump when the payload's layout or how the hierarchy is built changes.
 constexpr uint32_t kFormatVersion = 1;
 
-std::string hex_double(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%a", value);
-  return text;
-}
-
-std::string mesh_hash(const TriangleMesh& mesh) {
-  ContentHash hash;
-  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.vertices.data()),
-                            mesh.vertices.size() * sizeof(Vec3)));
-  hash.add(std::string_view(reinterpret_cast<const char*>(mesh.triangles.data()),
-                            mesh.triangles.size() * sizeof(mesh.triangles[0])));
-  return hash.hex();
-}
-
 std::string hierarchy_key(const TriangleMesh& mesh, const std::string& content_hash,
                           const ConvexHierarchySettings& settings) {
   return "convex hierarchy format " + std::to_string(kFormatVersion) + "\ncontent " + content_hash +
-         "\nmesh " + mesh_hash(mesh) + " " + std::to_string(mesh.vertices.size()) + " " +
+         "\nmesh " + mesh_geometry_hash(mesh) + " " + std::to_string(mesh.vertices.size()) + " " +
          std::to_string(mesh.triangles.size()) + "\nconvexity_tolerance_rad " +
-         hex_double(settings.convexity_tolerance_rad) + "\nmax_piece_vertices " +
+         exact_key_text(settings.convexity_tolerance_rad) + "\nmax_piece_vertices " +
          std::to_string(settings.max_piece_vertices) + "\n";
 }
 

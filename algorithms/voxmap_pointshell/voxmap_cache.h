@@ -8,19 +8,14 @@
 #include <optional>
 #include <string>
 
+#include "algorithms/core/content_hash.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/triangle_mesh.h"
 
 namespace hb {
 
-/// Exact text of a double (hexadecimal floating point), for keys.
-std::string exact_key_text(double value);
-
 /// Exact text of a pose: p then qw, qx, qy, qz.
 std::string exact_key_text(const Pose& pose);
-
-/// Hash (hex) of a mesh's vertices and triangles as stored.
-std::string mesh_geometry_hash(const TriangleMesh& mesh);
 
 /// `<folder>/<prefix>-<hash of key>.hbcache` (voxmap.cpp writes it: a
 /// header with the key and a hash, then the grids as an OpenVDB stream).
