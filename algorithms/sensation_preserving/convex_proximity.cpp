@@ -63,8 +63,8 @@ struct Body {
   /// Largest distance of a vertex from the first (m): the size of the piece.
   double extent() const {
     double largest = 0;
-    for (const Vec3& v : vertices) largest = std::max(largest, (v - vertices[0]).norm());
-    return largest;
+    for (const Vec3& v : vertices) largest = std::max(largest, (v - vertices[0]).squaredNorm());
+    return std::sqrt(largest);
   }
 
   std::span<const Vec3> vertices;
@@ -189,6 +189,38 @@ DifferencePoint difference_support(const Body& a, const Body& b, const Vec3& d) 
   return p;
 }
 
+/// Affine coordinates μ of the origin's projection onto the face spanned
+/// by base + edges[0..m) (m = 1, 2 or 3): the Gram system
+/// (EᵀE) μ = −Eᵀ base, solved in closed form. False for a degenerate face
+/// (Gram determinant ≤ 1e-12 of the product of its diagonal).
+bool solve_face_projection(const std::array<Vec3, 3>& edges, int m, const Vec3& base,
+                           std::array<double, 3>& mu) {
+  if (m == 1) {
+    const double g = edges[0].squaredNorm();
+    if (!(g > 0)) return false;
+    mu[0] = -edges[0].dot(base) / g;
+    return true;
+  }
+  if (m == 2) {
+    const double g00 = edges[0].squaredNorm(), g11 = edges[1].squaredNorm();
+    const double g01 = edges[0].dot(edges[1]);
+    const double det = g00 * g11 - g01 * g01;
+    if (!(det > 1e-12 * g00 * g11)) return false;
+    const double r0 = -edges[0].dot(base), r1 = -edges[1].dot(base);
+    mu[0] = (r0 * g11 - r1 * g01) / det;
+    mu[1] = (r1 * g00 - r0 * g01) / det;
+    return true;
+  }
+  Mat3 e;
+  e << edges[0], edges[1], edges[2];
+  const Mat3 gram = e.transpose() * e;
+  const double det = gram.determinant();
+  if (!(det > 1e-12 * gram.diagonal().prod())) return false;
+  const Vec3 solution = gram.inverse() * (-e.transpose() * base);
+  mu = {solution.x(), solution.y(), solution.z()};
+  return true;
+}
+
 /// The point of the simplex's hull closest to the origin, by trying every
 /// face of it (Johnson's sub-distance search): the answer lies inside the
 /// face whose affine projection of the origin has non-negative barycentric
@@ -209,22 +241,19 @@ Vec3 closest_on_simplex(std::array<DifferencePoint, 4>& simplex, int& size,
       lambda[0] = 1;
     } else {
       const int m = count - 1;
-      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> edges(3, m);
+      std::array<Vec3, 3> edges;
       for (int j = 0; j < m; ++j)
-        edges.col(j) =
+        edges[static_cast<std::size_t>(j)] =
             simplex[static_cast<std::size_t>(members[static_cast<std::size_t>(j + 1)])].w - base;
-      const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> gram =
-          edges.transpose() * edges;
-      const double det = gram.determinant();
-      if (!(det > 1e-12 * gram.diagonal().prod())) continue;  // degenerate face
-      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> mu =
-          gram.fullPivLu().solve(-edges.transpose() * base);
+      std::array<double, 3> mu{};
+      if (!solve_face_projection(edges, m, base, mu)) continue;  // degenerate face
       double rest = 1;
       bool inside = true;
       for (int j = 0; j < m; ++j) {
-        lambda[static_cast<std::size_t>(j + 1)] = mu(j);
-        rest -= mu(j);
-        if (mu(j) < 0) inside = false;
+        const double mu_j = mu[static_cast<std::size_t>(j)];
+        lambda[static_cast<std::size_t>(j + 1)] = mu_j;
+        rest -= mu_j;
+        if (mu_j < 0) inside = false;
       }
       lambda[0] = rest;
       if (rest < 0 || !inside) continue;
