@@ -35,6 +35,7 @@
 #include "algorithms/god_object/mesh_ccd.h"
 #include "algorithms/god_object/screw_motion.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "tests/bench/fcl_models.h"
 
 namespace hb {
 namespace {
@@ -45,28 +46,8 @@ constexpr double kReferenceTolerance = 1e-7;
 constexpr double kLateTolerance = 1e-7;
 constexpr int kConservativeAdvancementMotions = 5;
 
-using FclModel = fcl::BVHModel<fcl::OBBRSSd>;
-
-std::shared_ptr<FclModel> fcl_model(const TriangleMesh& mesh) {
-  auto model = std::make_shared<FclModel>();
-  std::vector<fcl::Vector3d> points(mesh.vertices.begin(), mesh.vertices.end());
-  std::vector<fcl::Triangle> triangles;
-  triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    triangles.emplace_back(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
-                           static_cast<std::size_t>(t[2]));
-  model->beginModel();
-  model->addSubModel(points, triangles);
-  model->endModel();
-  return model;
-}
-
-fcl::Transform3d transform(const Pose& pose) {
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  tf.linear() = pose.q.normalized().toRotationMatrix();
-  tf.translation() = pose.p;
-  return tf;
-}
+using bench::fcl_model;
+using bench::FclModel;
 
 Pose pose_at(const ScrewMotion& motion, double t) {
   return Pose{motion.point_at(Vec3::Zero(), t), Quat(motion.rotation_at(t)).normalized()};
@@ -174,10 +155,13 @@ Setup make_setup() {
     m.start =
         Pose{m.end.p + (0.005 + 0.025 * unit(rng)) * away,
              (end_rotation * Quat(Eigen::AngleAxisd(0.4 * unit(rng), random_unit()))).normalized()};
-    if (s.collide(transform(m.start)) || !s.collide(transform(m.end))) continue;
+    if (s.collide(bench::fcl_transform(m.start)) || !s.collide(bench::fcl_transform(m.end)))
+      continue;
     const ScrewMotion motion(m.start, m.end);
-    m.reference = s.first_collision([&](double t) { return transform(pose_at(motion, t)); });
-    const fcl::ScrewMotion<double> fcl_motion(transform(m.start), transform(m.end));
+    m.reference =
+        s.first_collision([&](double t) { return bench::fcl_transform(pose_at(motion, t)); });
+    const fcl::ScrewMotion<double> fcl_motion(bench::fcl_transform(m.start),
+                                              bench::fcl_transform(m.end));
     m.fcl_reference = s.first_collision([&](double t) {
       fcl_motion.integrate(t);
       fcl::Transform3d tf;
@@ -250,7 +234,8 @@ std::pair<bool, double> run_fcl(const Motion& m, fcl::CCDSolverType solver, std:
   request.ccd_solver_type = solver;
   if (samples > 0) request.num_max_iterations = samples;
   fcl::ContinuousCollisionResultd result;
-  fcl::continuousCollide(s.fcl_tool.get(), transform(m.start), transform(m.end), s.fcl_bunny.get(),
+  fcl::continuousCollide(s.fcl_tool.get(), bench::fcl_transform(m.start),
+                         bench::fcl_transform(m.end), s.fcl_bunny.get(),
                          fcl::Transform3d::Identity(), fcl::Transform3d::Identity(), request,
                          result);
   return {result.is_collide, result.time_of_contact};

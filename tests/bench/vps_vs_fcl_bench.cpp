@@ -43,6 +43,7 @@
 #include "algorithms/voxmap_pointshell/voxmap.h"
 #include "algorithms/voxmap_pointshell/voxmap_cache.h"
 #include "harness/scenario/scenario.h"
+#include "tests/bench/fcl_models.h"
 
 namespace hb {
 namespace {
@@ -58,30 +59,8 @@ constexpr std::size_t kMinimumPoses = 200;
 constexpr double kClusterSpacings = 8;
 constexpr double kReachMarginPerToolRadius = 0.1;
 
-using FclModel = fcl::BVHModel<fcl::OBBRSSd>;
-
-std::shared_ptr<FclModel> fcl_model(const TriangleMesh& mesh, const Pose& pose) {
-  auto model = std::make_shared<FclModel>();
-  std::vector<fcl::Vector3d> points;
-  points.reserve(mesh.vertices.size());
-  for (const Vec3& v : mesh.vertices) points.push_back(pose.transform_point(v));
-  std::vector<fcl::Triangle> triangles;
-  triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    triangles.emplace_back(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
-                           static_cast<std::size_t>(t[2]));
-  model->beginModel();
-  model->addSubModel(points, triangles);
-  model->endModel();
-  return model;
-}
-
-fcl::Transform3d transform(const Pose& pose) {
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  tf.linear() = pose.q.normalized().toRotationMatrix();
-  tf.translation() = pose.p;
-  return tf;
-}
+using bench::fcl_model;
+using bench::FclModel;
 
 /// A device sample as the proxy state the lookup reads: centre of mass
 /// (world, m), orientation, its velocity (m/s) and ω (rad/s).
@@ -136,14 +115,14 @@ struct Setup {
   void fcl_query(const DeviceSample& sample, fcl::CollisionResultd& result) const {
     fcl::CollisionRequestd request(kFclMaxContacts, true);
     result.clear();
-    fcl::collide(fcl_tool.get(), transform(sample.pose), fcl_scene.get(),
+    fcl::collide(fcl_tool.get(), bench::fcl_transform(sample.pose), fcl_scene.get(),
                  fcl::Transform3d::Identity(), request, result);
   }
 
   double fcl_distance(const DeviceSample& sample) const {
     fcl::DistanceRequestd request;
     fcl::DistanceResultd result;
-    return fcl::distance(fcl_tool.get(), transform(sample.pose), fcl_scene.get(),
+    return fcl::distance(fcl_tool.get(), bench::fcl_transform(sample.pose), fcl_scene.get(),
                          fcl::Transform3d::Identity(), request, result);
   }
 };
