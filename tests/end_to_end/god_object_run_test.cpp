@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/summary_runs.h"
 
 namespace {
 
@@ -38,13 +39,7 @@ std::vector<double> ticks_column(const fs::path& path, const std::string& name) 
   return values;
 }
 
-const json& run_labelled(const json& summary, const std::string& label) {
-  for (const json& run : summary.at("runs"))
-    if (run.at("label") == label) return run;
-  FAIL("no run labelled " << label);
-  static json none;
-  return none;
-}
+using hb::test::run_labelled;
 
 TEST_CASE("god-object: a tilted cube held 4 mm deep shows the ideal rigid contact within 1 %") {
   const hb::test::ScratchDir work_dir("e2e_god_object_box");

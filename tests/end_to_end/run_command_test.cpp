@@ -13,6 +13,7 @@
 
 #include "harness/output/ticks_csv.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/summary_runs.h"
 
 namespace {
 
@@ -41,13 +42,7 @@ std::map<std::string, std::vector<std::string>> read_ticks(const fs::path& path)
   return columns;
 }
 
-const json& run_labelled(const json& summary, const std::string& label) {
-  for (const json& run : summary.at("runs"))
-    if (run.at("label") == label) return run;
-  FAIL("no run labelled " << label);
-  static json none;
-  return none;
-}
+using hb::test::run_labelled;
 
 TEST_CASE("the smoke suite writes run folders with the contract keys") {
   const hb::test::ScratchDir work_dir("e2e_smoke");
