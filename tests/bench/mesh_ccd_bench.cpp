@@ -35,6 +35,7 @@
 #include "algorithms/god_object/mesh_ccd.h"
 #include "algorithms/god_object/screw_motion.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"
 
 namespace hb {
@@ -107,7 +108,7 @@ struct Setup {
 
 Setup make_setup() {
   Setup s;
-  const std::string models = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/";
+  const std::string models = bench::models_folder();
   // Scaled as scenarios/meshes/armadillo_on_bunny.json scales the tool: 5 cm;
   // the bunny (1 unit) to 20 cm.
   s.tool = read_mesh_file(models + "armadillo.off", 3.305e-4);
@@ -350,12 +351,7 @@ int main(int argc, char** argv) {
   using namespace hb;
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  const std::string models = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/";
-  if (!std::filesystem::exists(models + "armadillo.off") ||
-      !std::filesystem::exists(models + "bunny00.off")) {
-    std::fprintf(stderr, "models/ is missing: run scripts/extract-models\n");
-    return 1;
-  }
+  if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
   Setup& s = setup();
   s.results.push_back(measure("mesh_ccd (interval spheres)", kMotions, 5, false,
                               [](const Motion& m, Measured& out) { return run_mesh_ccd(m, out); }));

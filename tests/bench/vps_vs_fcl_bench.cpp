@@ -43,6 +43,7 @@
 #include "algorithms/voxmap_pointshell/voxmap.h"
 #include "algorithms/voxmap_pointshell/voxmap_cache.h"
 #include "harness/scenario/scenario.h"
+#include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"
 
 namespace hb {
@@ -356,12 +357,7 @@ int main(int argc, char** argv) {
   using namespace hb;
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  const std::string models = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/";
-  if (!std::filesystem::exists(models + "armadillo.off") ||
-      !std::filesystem::exists(models + "bunny00.off")) {
-    std::fprintf(stderr, "models/ is missing: run scripts/extract-models\n");
-    return 1;
-  }
+  if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
   Setup& s = setup();
   if (s.poses.size() < kMinimumPoses) {
     std::fprintf(stderr, "only %zu poses in contact or within %.1f mm (need %zu)\n", s.poses.size(),
