@@ -120,6 +120,7 @@ int compare_command(const std::vector<std::string>& args) {
   // Everything that can reject the input happens before anything is written.
   Comparison comparison;
   try {
+    if (arguments.out) require_replaceable_folder(*arguments.out, OutputFolderKind::kComparison);
     const SummarySet baseline = load_summary_set(arguments.baseline);
     const SummarySet candidate = load_summary_set(arguments.candidate);
     comparison = compare_summary_sets(baseline, candidate, arguments.options);
@@ -130,12 +131,13 @@ int compare_command(const std::vector<std::string>& args) {
 
   print_comparison_table(std::cout, comparison);
   if (arguments.out) {
-    StagedRunFolder staged{std::filesystem::path(*arguments.out)};
+    StagedRunFolder staged{std::filesystem::path(*arguments.out), OutputFolderKind::kComparison};
     staged.write_file("compare.json", comparison_json(comparison).dump(2) + "\n");
     staged.write_file("compare.md", comparison_markdown(comparison));
     staged.write_file("junit.xml", comparison_junit_xml(comparison));
-    staged.commit();
-    std::cout << "wrote " << *arguments.out << "/{compare.json,compare.md,junit.xml}\n";
+    const bool replaced = staged.commit();
+    std::cout << "wrote " << *arguments.out << "/{compare.json,compare.md,junit.xml}"
+              << (replaced ? " (replaced the earlier comparison)" : "") << "\n";
   }
   if (comparison.passed()) return kExitOk;
   if (!arguments.gate) {

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cstdint>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <string_view>
@@ -11,6 +12,7 @@
 #include "algorithms/core/input_error.h"
 #include "algorithms/core/param_set.h"
 #include "harness/cli/commands.h"
+#include "harness/output/output_ownership.h"
 #include "harness/trace/generators.h"
 #include "harness/trace/trace.h"
 
@@ -113,6 +115,15 @@ GenerateOptions parse_generate_options(const std::vector<std::string>& args) {
 int generate_command(const std::vector<std::string>& args) {
   try {
     const GenerateOptions options = parse_generate_options(args);
+    if (sidecar_path(options.out) == options.out)
+      throw UsageError{"--out: the sidecar is written to <stem>.json, the same name as \"" +
+                       options.out + "\"; name the trace FILE.csv"};
+    // Never overwrite a trace (or anything else) hapticbench did not generate.
+    const auto generated = [&](const std::filesystem::path&) {
+      return is_generated_trace(options.out);
+    };
+    require_replaceable_file(options.out, "generated trace", generated);
+    require_replaceable_file(sidecar_path(options.out), "generated trace's sidecar", generated);
     const Trace trace = generate_trace(options.generator, options.request, "generator");
     write_trace_file(options.out, trace);
     std::cout << "wrote " << options.out << " (" << trace.samples.size() << " samples, "

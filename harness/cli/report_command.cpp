@@ -23,6 +23,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
+#include "harness/output/output_ownership.h"
 #include "harness/scenario/json_fields.h"
 
 extern char** environ;
@@ -41,6 +42,10 @@ constexpr const char* kReportUsage =
     "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n";
 
 constexpr const char* kDefaultPython = "/usr/bin/python3";
+// In the head of every page (reports/report_template.html): how a later
+// report recognises a page it may replace.
+constexpr const char* kReportGeneratorMeta =
+    "<meta name=\"generator\" content=\"hapticbench report\">";
 constexpr const char* kRendererScript = "render_report.py";
 
 /// A usage mistake on the command line.
@@ -145,6 +150,17 @@ int run_program(const std::vector<std::string>& argv, bool quiet) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// Whether `path` is a page `hapticbench report` wrote: the renderer puts
+/// kReportGeneratorMeta in every page's head.
+bool is_report_page(const fs::path& path) {
+  constexpr std::size_t kHeadBytes = 4096;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(kHeadBytes, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(kHeadBytes));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find(kReportGeneratorMeta) != std::string::npos;
+}
+
 std::string environment_or(const char* name, const std::string& fallback) {
   const char* value = std::getenv(name);
   return value != nullptr && *value != '\0' ? std::string(value) : fallback;
@@ -160,6 +176,9 @@ int report_command(const std::vector<std::string>& args) {
     std::cerr << "error: " << error.message << "\n" << kReportUsage;
     return kExitBadInput;
   }
+
+  // Never replace what hapticbench did not write (checked before any work).
+  require_replaceable_file(options.out, "report", is_report_page);
 
   // Every run folder once, in the order given, each input's folders sorted.
   std::vector<fs::path> folders;

@@ -9,6 +9,7 @@
 #include "harness/cli/run_table.h"
 #include "harness/cli/scenario_run_folder.h"
 #include "harness/cli/scenario_runner.h"
+#include "harness/output/output_ownership.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -80,6 +81,11 @@ int run_command(const std::vector<std::string>& args) {
                            "scenario name \"" + scenarios.back().name + "\" is also used by " +
                                scenarios[i].path + "; run folders would collide");
     }
+    // Every run folder must be writable without destroying anything
+    // hapticbench did not write, before any scenario runs.
+    if (parsed->out && scenarios.size() > 1) create_output_container(*parsed->out);
+    for (const Scenario& scenario : scenarios)
+      require_replaceable_folder(run_folder_for(*parsed, scenario), OutputFolderKind::kRun);
     for (const Scenario& scenario : scenarios)
       prepared.push_back(prepare_scenario(scenario, parsed->algo));
   } catch (const InputError& error) {
@@ -92,9 +98,10 @@ int run_command(const std::vector<std::string>& args) {
     const Scenario& scenario = scenarios[s];
     ScenarioOutcome outcome = run_prepared(prepared[s]);
     const fs::path folder = run_folder_for(*parsed, scenario);
-    write_scenario_run_folder(folder, outcome);
+    const bool replaced = write_scenario_run_folder(folder, outcome);
 
-    std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
+    std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/"
+              << (replaced ? " (replaced the earlier run folder)" : "") << "\n";
     print_run_table(std::cout, outcome.report);
     all_pass = all_pass && outcome.report.all_budgets_pass();
   }

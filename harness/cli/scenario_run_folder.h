@@ -19,8 +19,10 @@ struct RunFolderFile {
 /// Writes `folder` through a staging folder: ticks_<label>.csv per
 /// algorithm, summary.json, junit.xml, then `extra_files`. The folder is
 /// replaced only once every file is written, so an interrupted write leaves
-/// the previous folder (or none) in place.
-void write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
+/// the previous folder (or none) in place. Only an empty folder or a folder
+/// hapticbench wrote is replaced (InputError otherwise); returns true when
+/// an earlier folder of hapticbench's was.
+bool write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
                                const std::vector<RunFolderFile>& extra_files = {});
 
 }  // namespace hb

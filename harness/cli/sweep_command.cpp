@@ -21,6 +21,7 @@
 #include "harness/cli/run_table.h"
 #include "harness/cli/scenario_run_folder.h"
 #include "harness/cli/scenario_runner.h"
+#include "harness/output/output_ownership.h"
 #include "harness/sweep/sweep_index.h"
 #include "harness/sweep/sweep_jobs.h"
 #include "harness/sweep/sweep_progress.h"
@@ -168,7 +169,8 @@ void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
 
 // Staging folders an interrupted worker left beside a job's run folder
 // (<job>.partial-<pid>, <job>.old-<pid>); only this shard's jobs are
-// touched, since another shard may be writing its own right now.
+// touched, since another shard may be writing its own right now, and only
+// folders that carry hapticbench's ownership marker.
 void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string>& job_names) {
   std::error_code error;
   if (!fs::is_directory(out_dir, error)) return;
@@ -183,7 +185,8 @@ void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string
           stale.push_back(entry.path());
       }
   }
-  for (const fs::path& path : stale) fs::remove_all(path, error);
+  for (const fs::path& path : stale)
+    if (is_owned_folder(path)) fs::remove_all(path, error);
 }
 
 // A scratch folder for the workers' captured output, removed on every path.
@@ -235,7 +238,8 @@ int run_sweep(const SweepArguments& args) {
 
   const SweepShard shard = args.shard.value_or(SweepShard{});
   const fs::path out_dir = output_folder(args, spec);
-  fs::create_directories(out_dir);
+  create_output_container(out_dir);
+  require_replaceable_file(out_dir / "sweep.json", "sweep index", is_sweep_index_file);
 
   std::vector<SweepJobState> states(jobs.size());
   std::vector<std::size_t> to_run;
@@ -251,6 +255,9 @@ int run_sweep(const SweepArguments& args) {
       to_run.push_back(job.index);
     }
   }
+  // Nothing is written unless every job folder to write may be written.
+  for (std::size_t index : to_run)
+    require_replaceable_folder(out_dir / jobs[index].name, OutputFolderKind::kRun);
   std::vector<bool> ran_here(jobs.size(), false);
   // Jobs this invocation does not run (other shards') are read back from
   // their run folders at the start and at the end, not after every job.

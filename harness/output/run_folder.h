@@ -1,30 +1,40 @@
-// A run folder written all or nothing: files go into a staging folder
-// beside the destination, which replaces the destination only on commit().
+// A folder written all or nothing: files go into a staging folder beside
+// the destination, which replaces the destination only on commit(). Both
+// carry the ownership marker (output_ownership.h), and only an empty folder
+// or one hapticbench wrote is ever replaced.
 #pragma once
 
 #include <filesystem>
 #include <string>
+#include <vector>
+
+#include "harness/output/output_ownership.h"
 
 namespace hb {
 
 class StagedRunFolder {
  public:
-  /// Creates `<destination>.partial-<pid>` (parents created as needed).
-  explicit StagedRunFolder(std::filesystem::path destination);
+  /// Checks that `destination` may be replaced (require_replaceable_folder;
+  /// InputError if not), then creates `<destination>.partial-<pid>` with
+  /// the marker (parents created as needed).
+  StagedRunFolder(std::filesystem::path destination, OutputFolderKind kind);
   /// Removes the staging folder unless commit() succeeded.
   ~StagedRunFolder();
   StagedRunFolder(const StagedRunFolder&) = delete;
   StagedRunFolder& operator=(const StagedRunFolder&) = delete;
 
   /// Writes one file into the staging folder.
-  void write_file(const std::string& name, const std::string& content) const;
-  /// Replaces the destination with the staged folder.
-  void commit();
+  void write_file(const std::string& name, const std::string& content);
+  /// Replaces the destination with the staged folder. Returns true when an
+  /// earlier folder of hapticbench's was replaced.
+  bool commit();
   const std::filesystem::path& destination() const { return destination_; }
 
  private:
   std::filesystem::path destination_;
   std::filesystem::path staging_;
+  OutputFolderKind kind_;
+  std::vector<std::string> files_;
   bool committed_ = false;
 };
 

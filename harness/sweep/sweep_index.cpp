@@ -83,4 +83,15 @@ void write_sweep_index(const fs::path& out_dir, const Json& index) {
   fs::rename(temporary, destination);
 }
 
+bool is_sweep_index_file(const fs::path& path) {
+  // A sweep index of a million jobs is some hundreds of MB; more is not one.
+  constexpr std::uintmax_t kMaxBytes = std::uintmax_t{1} << 30;
+  std::error_code error;
+  const std::uintmax_t size = fs::file_size(path, error);
+  if (error || size > kMaxBytes) return false;
+  std::ifstream in(path, std::ios::binary);
+  const Json index = Json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return index.is_object() && index.contains("jobs") && index.contains("written_by_shard");
+}
+
 }  // namespace hb

@@ -46,4 +46,9 @@ nlohmann::ordered_json sweep_index_json(const SweepSpec& spec, const std::vector
 /// reader (or a shard writing at the same time) never sees half a file.
 void write_sweep_index(const std::filesystem::path& out_dir, const nlohmann::ordered_json& index);
 
+/// Whether `path` is a sweep.json that write_sweep_index wrote (a JSON
+/// object with its "jobs" and "written_by_shard" keys), so that a later
+/// sweep may replace it.
+bool is_sweep_index_file(const std::filesystem::path& path);
+
 }  // namespace hb

@@ -51,7 +51,17 @@ Trace read_trace_file(const std::string& path, TraceFileFormat format);
 
 /// Writes `<path>` (hapticbench CSV, full double precision) and the JSON
 /// sidecar beside it (same stem, .json). Writes to temporary names first.
+/// A path whose sidecar would be itself (`x.json`) is an InputError.
 void write_trace_file(const std::string& path, const Trace& trace);
+
+/// The sidecar of a trace file: same stem, extension .json.
+std::string sidecar_path(const std::string& trace_path);
+
+/// Whether `trace_path` and its sidecar are what `hapticbench generate`
+/// wrote: the sidecar's source starts with "generator:" and its content
+/// hash is the trace's (or the trace is gone). Only such a trace may be
+/// overwritten by `generate`.
+bool is_generated_trace(const std::string& trace_path);
 
 /// Resamples onto the 1 kHz clock from t = 0 to the last sample: linear in
 /// position, slerp in orientation (shorter arc). Tick k is at t_ns =

@@ -281,10 +281,6 @@ std::vector<TraceSample> parse_tum(const std::string& path, std::string_view byt
   return samples;
 }
 
-std::string sidecar_path(const std::string& trace_path) {
-  return std::filesystem::path(trace_path).replace_extension(".json").string();
-}
-
 /// Reads the sidecar's metadata into info and checks that its hash is the
 /// hash of the trace bytes: a stale sidecar describes another trace.
 void read_sidecar(const std::string& path, const std::string& trace_path, TraceInfo& info) {
@@ -377,6 +373,34 @@ void rename_into_place(const std::string& temporary, const std::string& path) {
 
 }  // namespace
 
+std::string sidecar_path(const std::string& trace_path) {
+  return std::filesystem::path(trace_path).replace_extension(".json").string();
+}
+
+bool is_generated_trace(const std::string& trace_path) {
+  // A sidecar is a few hundred bytes and a trace of a day at 1 kHz some
+  // 15 GB; larger files are not read to decide.
+  constexpr std::uintmax_t kMaxSidecarBytes = 1 << 20, kMaxTraceBytes = std::uintmax_t{1} << 34;
+  const std::string sidecar = sidecar_path(trace_path);
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(sidecar, error) ||
+      std::filesystem::file_size(sidecar, error) > kMaxSidecarBytes || error)
+    return false;
+  std::ifstream in(sidecar, std::ios::binary);
+  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!json.is_object() || !json.contains("source") || !json["source"].is_string() ||
+      json["source"].get<std::string>().rfind("generator:", 0) != 0 ||
+      !json.contains("content_hash") || !json["content_hash"].is_string())
+    return false;
+  const std::filesystem::file_status trace = std::filesystem::symlink_status(trace_path, error);
+  if (trace.type() == std::filesystem::file_type::not_found) return true;
+  if (trace.type() != std::filesystem::file_type::regular ||
+      std::filesystem::file_size(trace_path, error) > kMaxTraceBytes || error)
+    return false;
+  return json["content_hash"].get<std::string>() ==
+         ContentHash().add(read_file_bytes(trace_path)).hex();
+}
+
 Trace read_trace_file(const std::string& path, TraceFileFormat format) {
   const std::string bytes = read_file_bytes(path);
   Trace trace;
@@ -396,6 +420,10 @@ Trace read_trace_file(const std::string& path, TraceFileFormat format) {
 }
 
 void write_trace_file(const std::string& path, const Trace& trace) {
+  if (sidecar_path(path) == path)
+    throw InputError(path, "",
+                     "the trace's sidecar would have the same name (<stem>.json); name the "
+                     "trace something.csv");
   const auto& samples = trace.samples;
   if (samples.size() < 2) throw std::invalid_argument("write_trace_file: fewer than 2 samples");
   std::size_t with_twist = 0;

@@ -247,15 +247,23 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
     CHECK(job.at("done_earlier") == true);
   }
 
-  // An interrupted job leaves no run folder, at most a staging folder.
+  // An interrupted job leaves no run folder, at most a staging folder
+  // with hapticbench's marker, which is cleaned up; a folder of the same
+  // name without the marker is not hapticbench's and stays.
   fs::remove_all(out / names[2]);
-  fs::create_directories(out / (names[2] + ".partial-99999999"));
+  const fs::path staging = out / (names[2] + ".partial-99999999");
+  write_file(staging / ".hapticbench-output",
+             R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
+  write_file(staging / "ticks_a.csv", "tick\n");
+  const fs::path foreign = out / (names[2] + ".partial-99999998");
+  write_file(foreign / "notes.txt", "mine");
   const CommandResult resumed = hapticbench("sweep sweeps/grid.json", work);
   INFO(resumed.stderr_text);
   REQUIRE(resumed.exit_code == 0);
   CHECK(resumed.stderr_text.find("3 done earlier, 1 to run") != std::string::npos);
   CHECK(ticks_hashes(out / names[2]) == first_hashes);
-  CHECK_FALSE(fs::exists(out / (names[2] + ".partial-99999999")));
+  CHECK_FALSE(fs::exists(staging));
+  CHECK(hb::test::read_text_file(foreign / "notes.txt") == "mine");
   for (const std::string& name : {names[0], names[1], names[3]})
     CHECK(fs::last_write_time(out / name / "summary.json") == written[name]);
 }
