@@ -396,7 +396,7 @@ def pareto_error(run):
 
 
 def pareto_front(points):
-    """Indices of the points no other point beats in both step p99 and error."""
+    """Indices of the points no other point beats in both cost and error."""
     order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
     front, best = [], math.inf
     for i in order:
@@ -406,53 +406,95 @@ def pareto_front(points):
     return front
 
 
-def pareto_figure(runs):
-    """Error against step p99 for every run, Pareto front drawn; (uri, front names, left out)."""
-    groups = {"force_err_rms_n": [], "penetration_max_m": []}
-    left_out = []
+def cost_us(run):
+    """CPU time per tick of both loops at p99 (µs): the step plus the slow-loop work
+    attributed to the tick; the step alone for summaries without it."""
+    cpu = microseconds(dig(run.summary, "timing", "cpu_per_tick_ns", "p99"))
+    return cpu if cpu is not None else run.p99_us()
+
+
+def failure_of(run):
+    """Why a run cannot be on a front ('diverged', 'non-finite'), or None."""
+    if dig(run.summary, "stability", "diverged") is True:
+        return "diverged"
+    nonfinite = dig(run.summary, "stability", "nonfinite")
+    if isinstance(nonfinite, (int, float)) and nonfinite > 0:
+        return "non-finite"
+    return None
+
+
+def pareto_panels(runs):
+    """Per scenario and error metric, the runs that can be drawn: [(scenario, metric, points)]
+    with points (cost µs, error, run, failure); and the runs left out."""
+    panels, left_out = {}, []
     for run in runs:
         metric, value = pareto_error(run)
-        p99 = run.p99_us()
-        if metric is None or p99 is None or p99 <= 0:
+        cost = cost_us(run)
+        if metric is None or cost is None or cost <= 0:
             left_out.append(run)
-        else:
-            groups[metric].append((p99, value, run))
-    panels = [(metric, points) for metric, points in groups.items() if points]
+            continue
+        panels.setdefault((run.folder.scenario, metric), []).append(
+            (cost, value, run, failure_of(run)))
+    return [(scenario, metric, points) for (scenario, metric), points in panels.items()], left_out
+
+
+def pareto_figure(runs):
+    """Error against CPU time per tick, one panel per scenario (errors of different scenarios
+    are not comparable), each with its own Pareto front over the runs that stayed stable;
+    diverged or non-finite runs are drawn hollow and never on a front.
+    Returns (uri, {scenario: front names}, left out, [(run, failure)])."""
+    panels, left_out = pareto_panels(runs)
+    failed = [(p[2], p[3]) for _, _, points in panels for p in points if p[3]]
     if not panels:
-        return None, [], left_out
-    fig = Figure(figsize=(10, 5.2 if len(panels) == 1 else 9.0), dpi=DPI)
-    axes = fig.subplots(len(panels), 1, squeeze=False)[:, 0]
-    on_front = []
-    for ax, (metric, points) in zip(axes, panels):
+        return None, {}, left_out, failed
+    columns = 1 if len(panels) == 1 else 2
+    rows = (len(panels) + columns - 1) // columns
+    fig = Figure(figsize=(10 if columns == 1 else 12, 4.6 * rows), dpi=DPI)
+    axes = fig.subplots(rows, columns, squeeze=False).ravel()
+    fronts = {}
+    placed = []
+    for ax, (scenario, metric, points) in zip(axes, panels):
         scale = 1.0 if metric == "force_err_rms_n" else 1e3
-        xy = [(p99, value * scale) for p99, value, _ in points]
-        front = pareto_front(xy)
-        on_front += [points[i][2].name for i in front]
-        ax.scatter([x for x, _ in xy], [y for _, y in xy], s=22, color="#4a6fa5", zorder=3)
-        fx = [xy[i][0] for i in front]
-        fy = [xy[i][1] for i in front]
-        ax.step(fx, fy, where="post", color="crimson", lw=1.4, zorder=2, label="Pareto front")
-        ax.scatter(fx, fy, s=40, facecolors="none", edgecolors="crimson", zorder=4)
+        healthy = [p for p in points if not p[3]]
+        xy = [(cost, value * scale) for cost, value, _, _ in healthy]
+        front = pareto_front(xy) if xy else []
+        fronts.setdefault(scenario, []).extend(healthy[i][2].label for i in front)
+        if xy:
+            ax.scatter([x for x, _ in xy], [y for _, y in xy], s=22, color="#4a6fa5", zorder=3)
+            fx = [xy[i][0] for i in front]
+            fy = [xy[i][1] for i in front]
+            ax.step(fx, fy, where="post", color="crimson", lw=1.4, zorder=2,
+                    label="Pareto front")
+            ax.scatter(fx, fy, s=40, facecolors="none", edgecolors="crimson", zorder=4)
+        bad = [(cost, value * scale) for cost, value, _, failure in points if failure]
+        if bad:
+            ax.scatter([x for x, _ in bad], [y for _, y in bad], s=40, facecolors="none",
+                       edgecolors="grey", zorder=3, label="diverged or non-finite (not ranked)")
+        every = xy + bad
         ax.set_xscale("log")
-        sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in xy]))
-        if all(y > 0 for _, y in xy):
+        sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in every]))
+        if all(y > 0 for _, y in every):
             ax.set_yscale("log")
-            sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in xy]))
+            sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in every]))
         ax.margins(x=0.15, y=0.12)
-        ax.set_xlabel("step time p99 (µs)")
+        ax.set_title(scenario, fontsize=10)
+        ax.set_xlabel("CPU time per tick, p99 (µs): step + slow loop")
         ax.set_ylabel("force error RMS (N)" if metric == "force_err_rms_n"
                       else "penetration max (mm)")
         ax.grid(True, alpha=0.3, which="both")
-        ax.legend(loc="upper right", fontsize=8)
-    fig.suptitle("error against step time: lower left is better", fontsize=11)
+        ax.legend(loc="upper right", fontsize=7)
+        placed.append((ax, healthy, front, points, scale))
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle("error against CPU time per tick, per scenario: lower left is better",
+                 fontsize=11)
     fig.tight_layout()
-    for ax, (metric, points) in zip(axes, panels):  # labels once the axes have their place
-        scale = 1.0 if metric == "force_err_rms_n" else 1e3
-        front = set(pareto_front([(p99, value) for p99, value, _ in points]))
-        chosen = [i for i in range(len(points)) if len(points) <= MAX_PARETO_LABELS or i in front]
-        label_points(ax, [((points[i][0], points[i][1] * scale), points[i][2].name, i in front)
-                          for i in chosen])
-    return png_data_uri(fig), on_front, left_out
+    for ax, healthy, front, points, scale in placed:  # labels once the axes have their place
+        on_front = {id(healthy[i][2]) for i in front}
+        chosen = [p for p in points if len(points) <= MAX_PARETO_LABELS or id(p[2]) in on_front]
+        label_points(ax, [((p[0], p[1] * scale), p[2].label, id(p[2]) in on_front)
+                          for p in chosen])
+    return png_data_uri(fig), fronts, left_out, failed
 
 
 def label_points(ax, labelled):
@@ -920,7 +962,7 @@ def render(folders, template):
             "<details%s><summary>Run folders covered (%d)</summary>%s</details></header>"
             % (" open" if len(folders) <= 12 else "", len(folders), folders_html(folders))]
     body.append("<nav><h2>Contents</h2><ul><li><a href='#summary'>Summary</a></li>"
-                "<li><a href='#pareto'>Error against step time</a></li>"
+                "<li><a href='#pareto'>Error against CPU time per tick</a></li>"
                 "<li><a href='#stability'>Stability</a></li>%s</ul></nav>"
                 % "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
                           for f in folders))
@@ -936,15 +978,24 @@ def render(folders, template):
                 "penetration comes from the analytic reference, else the Embree oracle; "
                 "E_min is the passivity observer's minimum (below zero: energy given away). "
                 "— : the metric does not apply to the run.</p></section>")
-    body.append('<section id="pareto"><h2>Error against step time</h2>')
-    uri, front, left_out = pareto_figure(runs)
+    body.append('<section id="pareto"><h2>Error against CPU time per tick</h2>')
+    uri, fronts, left_out, failed = pareto_figure(runs)
     if uri:
+        on_front = "; ".join("%s: %s" % (scenario, ", ".join(labels))
+                             for scenario, labels in fronts.items())
         body.append(figure_html(
-            "fig-pareto", uri, "error against step time p99, all runs",
-            "Every run of the report: force error RMS against the analytic reference (or, for "
-            "runs without one, the maximum penetration) against the p99 step time. The red "
-            "line is the Pareto front: no other run is both faster and more accurate. On the "
-            "front: %s." % esc(", ".join(front))))
+            "fig-pareto", uri, "error against CPU time per tick p99, one panel per scenario",
+            "One panel per scenario (errors of different scenarios are not comparable): force "
+            "error RMS against the analytic reference (or, without one, the maximum "
+            "penetration) against the p99 CPU time per tick of both loops, the haptic step "
+            "plus the slow-loop work attributed to the tick (timing.cpu_per_tick_ns), so that "
+            "an algorithm whose work sits in its slow loop is not shown as free. The red line "
+            "is each scenario's Pareto front: no other run of that scenario is both cheaper "
+            "and more accurate. On the fronts: %s." % esc(on_front)))
+    if failed:
+        body.append(note("Drawn hollow and never on a front, because their error says nothing "
+                         "about the algorithm's accuracy: %s." % esc(", ".join(
+                             "%s (%s)" % (run.name, why) for run, why in failed))))
     if left_out:
         body.append(note("Not on the figure (no force error, no penetration or no step time): "
                          "%s." % esc(", ".join(r.name for r in left_out))))

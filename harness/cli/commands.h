@@ -18,5 +18,6 @@ int report_command(const std::vector<std::string>& args);    ///< hapticbench re
 int compare_command(const std::vector<std::string>& args);   ///< hapticbench compare
 int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sweep
 int ccd_command(const std::vector<std::string>& args);       ///< hapticbench ccd
+int export_command(const std::vector<std::string>& args);    ///< hapticbench export
 
 }  // namespace hb

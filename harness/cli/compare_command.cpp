@@ -18,12 +18,17 @@ namespace {
 constexpr const char* kCompareUsage =
     "usage: hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]\n"
     "                           [--rel-tol X] [--timing-ratio X] [--alpha X]\n"
+    "                           [--timing-same-cpu] [--timing-quiet-only] [--instructions-tol X]\n"
     "  BASELINE, CANDIDATE  a run folder, a summary.json, or a folder of run folders\n"
     "                       (a suite; scenarios matched by name, runs by label)\n"
     "  --gate            exit 1 when a check regressed or failed (default: report, exit 0)\n"
     "  --out DIR         write DIR/compare.json, DIR/compare.md and DIR/junit.xml\n"
-    "  --no-timing       skip the timing checks\n"
-    "  --timing-same-cpu timing only gates when both runs name the same CPU\n"
+    "  --no-timing       skip the wall-clock timing checks (instruction counts stay)\n"
+    "  --timing-same-cpu wall-clock timing only gates when both runs name the same CPU\n"
+    "  --timing-quiet-only  wall-clock timing only gates when both runs measured a quiet\n"
+    "                    machine and their calibration workloads agree within 10 %\n"
+    "  --instructions-tol X  instruction counts (run --instructions) regress beyond this\n"
+    "                    share (default 0.02)\n"
     "  --rel-tol X       accuracy/stability tolerance relative to the baseline (default 0.05)\n"
     "  --timing-ratio X  step time p50 or p99 ratio above which a significant slowdown\n"
     "                    is a regression (default 1.25)\n"
@@ -76,7 +81,10 @@ ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
       parsed.options.timing = false;
     } else if (a == "--timing-same-cpu") {
       parsed.options.timing_same_cpu_only = true;
-    } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha") {
+    } else if (a == "--timing-quiet-only") {
+      parsed.options.timing_quiet_only = true;
+    } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha" ||
+               a == "--instructions-tol") {
       if (i + 1 >= args.size()) return usage_error(a + " needs a value");
       const std::string& value = args[++i];
       if (a == "--out") {
@@ -90,13 +98,14 @@ ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
       const std::optional<double> number = number_in(value, min, max);
       if (!number || (a == "--alpha" && *number == 0))
         return usage_error(a + " expects " +
-                           (a == "--rel-tol"        ? "a number >= 0"
-                            : a == "--timing-ratio" ? "a number >= 1"
+                           (a == "--rel-tol" || a == "--instructions-tol" ? "a number >= 0"
+                            : a == "--timing-ratio"                       ? "a number >= 1"
                                                     : "a probability in (0, 1]") +
                            ", got \"" + value + "\"");
-      (a == "--rel-tol"        ? parsed.options.rel_tol
-       : a == "--timing-ratio" ? parsed.options.timing_ratio
-                               : parsed.options.alpha) = *number;
+      (a == "--rel-tol"            ? parsed.options.rel_tol
+       : a == "--instructions-tol" ? parsed.options.instructions_rel_tol
+       : a == "--timing-ratio"     ? parsed.options.timing_ratio
+                                   : parsed.options.alpha) = *number;
     } else if (a.rfind("--", 0) == 0) {
       return usage_error("unknown option " + a);
     } else {

@@ -6,11 +6,13 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/instruction_counting.h"
 
 namespace {
 constexpr const char* kUsage =
     "usage: hapticbench COMMAND [ARGS]\n"
-    "  run SCENARIO... [--algo NAME] [--out DIR]   replay scenarios, write run folders\n"
+    "  run SCENARIO... [--algo NAME] [--out DIR] [--repeat N] [--instructions] [--schedule P]\n"
+    "                                              replay scenarios, write run folders\n"
     "  validate FILE...                            check a scenario, mesh or trace file\n"
     "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
     "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
@@ -18,6 +20,7 @@ constexpr const char* kUsage =
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
     "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
+    "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
     "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
 }  // namespace
 
@@ -37,6 +40,8 @@ int main(int argc, char** argv) {
     if (command == "compare") return hb::compare_command(args);
     if (command == "sweep") return hb::sweep_command(args);
     if (command == "ccd") return hb::ccd_command(args);
+    if (command == "export") return hb::export_command(args);
+    if (command == "count-instructions") return hb::count_instructions_command(args);
     if (command == "-h" || command == "--help" || command == "help") {
       std::cout << kUsage;
       return hb::kExitOk;

@@ -6,6 +6,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/instruction_counting.h"
 #include "harness/cli/run_table.h"
 #include "harness/cli/scenario_run_folder.h"
 #include "harness/cli/scenario_runner.h"
@@ -18,15 +19,27 @@ namespace fs = std::filesystem;
 
 namespace {
 constexpr const char* kRunUsage =
-    "usage: hapticbench run SCENARIO.json... [--algo NAME] [--out DIR]\n"
-    "  --algo NAME  run only the algorithm with this name or label\n"
-    "  --out DIR    run folder (one scenario) or parent of <scenario name>/ (several);\n"
-    "               default out/<scenario name>/\n";
+    "usage: hapticbench run SCENARIO.json... [--algo NAME] [--out DIR] [--repeat N]\n"
+    "                      [--instructions] [--schedule PATH]\n"
+    "  --algo NAME     run only the algorithm with this name or label\n"
+    "  --out DIR       run folder (one scenario) or parent of <scenario name>/ (several);\n"
+    "                  default out/<scenario name>/\n"
+    "  --repeat N      N timing passes per algorithm; the summary gives the spread of\n"
+    "                  their step time p50 and p99 (the first pass's times are the metrics)\n"
+    "  --instructions  also count the instructions of step() and of slow-loop updates\n"
+    "                  under valgrind's callgrind (deterministic; needs valgrind)\n"
+    "  --schedule PATH multi-rate algorithms follow the slow-loop schedule recorded in\n"
+    "                  PATH: a schedule_<label>.csv, a run folder or a suite of them\n";
+
+constexpr int kMaxRepeat = 1000;
 
 struct RunArguments {
   std::vector<std::string> scenarios;
   std::optional<std::string> algo;
   std::optional<std::string> out;
+  std::optional<std::string> schedule;
+  bool instructions = false;
+  RunOptions options;
 };
 
 // Returns nullopt after printing a usage error.
@@ -34,12 +47,27 @@ std::optional<RunArguments> parse_run_arguments(const std::vector<std::string>& 
   RunArguments parsed;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "--algo" || a == "--out") {
+    if (a == "--algo" || a == "--out" || a == "--schedule" || a == "--repeat") {
       if (i + 1 >= args.size()) {
         std::cerr << "error: " << a << " needs a value\n" << kRunUsage;
         return std::nullopt;
       }
-      (a == "--algo" ? parsed.algo : parsed.out) = args[++i];
+      const std::string& value = args[++i];
+      if (a == "--repeat") {
+        const bool digits = !value.empty() && value.size() <= 4 &&
+                            value.find_first_not_of("0123456789") == std::string::npos;
+        if (!digits || std::stoi(value) < 1 || std::stoi(value) > kMaxRepeat) {
+          std::cerr << "error: --repeat: expected a whole number in [1, " << kMaxRepeat
+                    << "], got \"" << value << "\"\n"
+                    << kRunUsage;
+          return std::nullopt;
+        }
+        parsed.options.repeat = std::stoi(value);
+      } else {
+        (a == "--algo" ? parsed.algo : a == "--out" ? parsed.out : parsed.schedule) = value;
+      }
+    } else if (a == "--instructions") {
+      parsed.instructions = true;
     } else if (a == "-h" || a == "--help") {
       std::cout << kRunUsage;
       return std::nullopt;
@@ -86,8 +114,10 @@ int run_command(const std::vector<std::string>& args) {
     if (parsed->out && scenarios.size() > 1) create_output_container(*parsed->out);
     for (const Scenario& scenario : scenarios)
       require_replaceable_folder(run_folder_for(*parsed, scenario), OutputFolderKind::kRun);
-    for (const Scenario& scenario : scenarios)
+    for (const Scenario& scenario : scenarios) {
       prepared.push_back(prepare_scenario(scenario, parsed->algo));
+      if (parsed->schedule) use_recorded_schedules(prepared.back(), *parsed->schedule);
+    }
   } catch (const InputError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
@@ -96,7 +126,14 @@ int run_command(const std::vector<std::string>& args) {
   bool all_pass = true;
   for (std::size_t s = 0; s < scenarios.size(); ++s) {
     const Scenario& scenario = scenarios[s];
-    ScenarioOutcome outcome = run_prepared(prepared[s]);
+    ScenarioOutcome outcome;
+    try {
+      outcome = run_prepared(prepared[s], parsed->options);
+      if (parsed->instructions) count_instructions(scenario.path, parsed->algo, outcome);
+    } catch (const InputError& error) {
+      std::cerr << "error: " << error.what() << "\n";
+      return kExitBadInput;
+    }
     const fs::path folder = run_folder_for(*parsed, scenario);
     const bool replaced = write_scenario_run_folder(folder, outcome);
 

@@ -8,8 +8,11 @@ namespace hb {
 bool write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
                                const std::vector<RunFolderFile>& extra_files) {
   StagedRunFolder staged(folder, OutputFolderKind::kRun);
-  for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)
+  for (std::size_t i = 0; i < outcome.report.runs.size(); ++i) {
     staged.write_file(outcome.report.runs[i].ticks_file, outcome.ticks_csv[i]);
+    if (!outcome.report.runs[i].schedule_file.empty())
+      staged.write_file(outcome.report.runs[i].schedule_file, outcome.schedule_csv[i]);
+  }
   staged.write_file("summary.json", summary_json(outcome.report).dump(2) + "\n");
   staged.write_file("junit.xml", junit_xml(outcome.report));
   for (const RunFolderFile& file : extra_files) staged.write_file(file.name, file.content);

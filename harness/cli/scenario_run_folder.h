@@ -17,7 +17,8 @@ struct RunFolderFile {
 };
 
 /// Writes `folder` through a staging folder: ticks_<label>.csv per
-/// algorithm, summary.json, junit.xml, then `extra_files`. The folder is
+/// algorithm (and schedule_<label>.csv per multi-rate one), summary.json,
+/// junit.xml, then `extra_files`. The folder is
 /// replaced only once every file is written, so an interrupted write leaves
 /// the previous folder (or none) in place. Only an empty folder or a folder
 /// hapticbench wrote is replaced (InputError otherwise); returns true when

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <optional>
 #include <string_view>
 
@@ -10,6 +11,7 @@
 #include "harness/metrics/budgets.h"
 #include "harness/output/ticks_csv.h"
 #include "harness/reference/analytic_reference.h"
+#include "harness/replay/noise_floor.h"
 
 namespace hb {
 
@@ -21,9 +23,15 @@ ParamSet split_replay_params(const AlgorithmSpec& spec, PreparedAlgorithm& prepa
   ParamSet renderer_params(spec.params.prefix());
   for (const auto& [key, value] : spec.params.values())
     if (key != "slow_loop_latency") renderer_params.set(key, value);
+  // Measured by default: an update is installed as many ticks after it
+  // started as it took on this machine; a whole number is an idealised,
+  // fixed latency.
   const std::optional<long long> latency =
-      spec.params.integer_or_word("slow_loop_latency", 1, 1, 100000, "measured");
-  prepared.replay.slow_loop_latency_ticks = latency;
+      spec.params.has("slow_loop_latency")
+          ? spec.params.integer_or_word("slow_loop_latency", 1, 1, 100000, "measured")
+          : std::nullopt;
+  prepared.replay.slow_loop_timing = latency ? SlowLoopTiming::kFixed : SlowLoopTiming::kMeasured;
+  if (latency) prepared.replay.fixed_latency_ticks = *latency;
   prepared.slow_loop_latency = latency ? std::to_string(*latency) : "measured";
   return renderer_params;
 }
@@ -52,6 +60,8 @@ class TimingObserver : public TickObserver {
   }
   std::vector<int64_t> step_ns, slow_ns;
   ContentHash results;
+  SlowLoopSchedule schedule;  ///< what the pass followed
+  NoiseFloor noise;           ///< how quiet the machine was during the pass
 };
 
 // Ground truth and logging for one algorithm's replay. With timings from a
@@ -227,7 +237,50 @@ PreparedScenario prepare_scenario(const Scenario& scenario,
   return prepared;
 }
 
-ScenarioOutcome run_prepared(PreparedScenario& prepared) {
+void use_recorded_schedules(PreparedScenario& prepared, const std::string& path) {
+  namespace fs = std::filesystem;
+  const Scenario& scenario = *prepared.scenario;
+  std::error_code error;
+  if (fs::is_regular_file(path, error)) {
+    const std::string name = fs::path(path).filename().string();
+    const std::string prefix = "schedule_", suffix = ".csv";
+    const std::string label =
+        name.size() > prefix.size() + suffix.size() && name.rfind(prefix, 0) == 0 &&
+                name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0
+            ? name.substr(prefix.size(), name.size() - prefix.size() - suffix.size())
+            : "";
+    for (PreparedAlgorithm& algorithm : prepared.algorithms)
+      if (algorithm.spec->label == label && algorithm.has_slow_loop()) {
+        algorithm.replayed_schedule = std::make_unique<SlowLoopSchedule>(read_schedule_file(path));
+        algorithm.schedule_source = path;
+        return;
+      }
+    throw InputError(path, "--schedule",
+                     "expected schedule_<label>.csv for a multi-rate algorithm of " +
+                         scenario.path + "; no such label");
+  }
+  if (!fs::is_directory(path, error))
+    throw InputError(path, "--schedule", "expected a schedule file or a run folder holding one");
+  for (PreparedAlgorithm& algorithm : prepared.algorithms) {
+    if (!algorithm.has_slow_loop()) continue;
+    const std::string file = "schedule_" + algorithm.spec->label + ".csv";
+    fs::path found;
+    for (const fs::path& candidate : {fs::path(path) / file, fs::path(path) / scenario.name / file})
+      if (fs::is_regular_file(candidate, error)) {
+        found = candidate;
+        break;
+      }
+    if (found.empty())
+      throw InputError(path, "--schedule",
+                       "no " + file + " here or in " + scenario.name + "/ for " +
+                           algorithm.spec->label + " of " + scenario.path);
+    algorithm.replayed_schedule =
+        std::make_unique<SlowLoopSchedule>(read_schedule_file(found.string()));
+    algorithm.schedule_source = found.string();
+  }
+}
+
+ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& options) {
   const Scenario& scenario = *prepared.scenario;
   GroundTruth& truth = prepared.truth;
   ScenarioOutcome outcome;
@@ -253,16 +306,33 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared) {
   metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
 
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
-    // Two passes when the slow loop's latency is fixed (the passes then
-    // compute the same); with a measured latency the second pass could
-    // differ, so it is timed and evaluated at once.
-    std::optional<TimingObserver> timing;
-    if (algorithm.replay.slow_loop_latency_ticks) {
-      timing.emplace();
-      replay(*algorithm.renderer, scenario.device_samples, algorithm.replay, *timing);
+    ReplaySettings timing_settings = algorithm.replay;
+    if (algorithm.replayed_schedule) {
+      timing_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+      timing_settings.replayed_schedule = algorithm.replayed_schedule.get();
     }
-    EvaluatingObserver observer(truth, metrics_settings, timing ? &*timing : nullptr);
-    replay(*algorithm.renderer, scenario.device_samples, algorithm.replay, observer);
+    // Timing passes: step() with nothing else between the ticks. The first
+    // one's times and schedule are the run's; repetitions give the spread.
+    std::vector<TimingObserver> passes(static_cast<std::size_t>(std::max(1, options.repeat)));
+    for (TimingObserver& pass : passes) {
+      const NoiseFloorProbe probe;
+      try {
+        pass.schedule = replay(*algorithm.renderer, scenario.device_samples, timing_settings, pass);
+      } catch (const ScheduleMismatch& mismatch) {
+        throw InputError(algorithm.schedule_source, "",
+                         std::string("the schedule does not fit ") + algorithm.spec->label +
+                             " of " + scenario.path + ": " + mismatch.what());
+      }
+      pass.noise = probe.finish();
+    }
+    const TimingObserver& timing = passes.front();
+    // The evaluation pass follows the first timing pass's schedule, so both
+    // compute the same forces whatever the slow loop's timing.
+    ReplaySettings evaluation_settings = algorithm.replay;
+    evaluation_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+    evaluation_settings.replayed_schedule = &timing.schedule;
+    EvaluatingObserver observer(truth, metrics_settings, &timing);
+    replay(*algorithm.renderer, scenario.device_samples, evaluation_settings, observer);
 
     AlgorithmRun run;
     run.name = algorithm.spec->name;
@@ -270,18 +340,36 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared) {
     run.params_json = algorithm.spec->params_json;
     run.preprocess = algorithm.preprocess;
     run.metrics = observer.metrics();
-    if (run.metrics.timing.slow_update_ns) run.slow_loop_latency = algorithm.slow_loop_latency;
+    run.noise = timing.noise;
+    if (passes.size() > 1) {
+      std::vector<double> p50, p99;
+      for (const TimingObserver& pass : passes) {
+        const Percentiles p = percentiles_of(pass.step_ns);
+        p50.push_back(p.p50);
+        p99.push_back(p.p99);
+      }
+      run.repeats = TimingRepeats{static_cast<int>(passes.size()), spread_of(p50), spread_of(p99)};
+    }
+    std::string schedule_text;
+    if (algorithm.has_slow_loop()) {
+      run.slow_loop_latency =
+          algorithm.replayed_schedule ? "replayed" : algorithm.slow_loop_latency;
+      run.schedule_source = algorithm.schedule_source;
+      run.schedule_file = "schedule_" + algorithm.spec->label + ".csv";
+      schedule_text = schedule_csv(timing.schedule);
+    }
     for (const Budget& budget : scenario.budgets)
       run.budgets.push_back(evaluate_budget(budget.name, budget.limit, run.metrics));
     run.ticks_file = "ticks_" + run.label + ".csv";
     run.ticks_hash = observer.ticks().deterministic_hash();
-    run.timing_pass = timing ? "separate" : "combined";
-    if (timing) run.passes_agree = timing->results.value() == observer.results().value();
+    run.timing_pass = "separate";
+    run.passes_agree = timing.results.value() == observer.results().value();
     run.analytic_reference = truth.analytic_name;
     run.reference_note = truth.analytic_note;
     run.penetration_source = penetration_source(truth);
     report.runs.push_back(std::move(run));
     outcome.ticks_csv.push_back(observer.ticks().text());
+    outcome.schedule_csv.push_back(std::move(schedule_text));
   }
   return outcome;
 }

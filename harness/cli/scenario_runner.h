@@ -21,8 +21,13 @@ struct PreparedAlgorithm {
   const AlgorithmSpec* spec = nullptr;
   std::unique_ptr<Renderer> renderer;
   ReplaySettings replay;
-  std::string slow_loop_latency;  ///< as written: "1", "measured", ...
+  std::string slow_loop_latency;  ///< "measured" (the default), "1", ..., "replayed"
+  /// With --schedule: the recorded schedule its slow loop follows, and the file.
+  std::unique_ptr<SlowLoopSchedule> replayed_schedule;
+  std::string schedule_source;
   PreprocessInfo preprocess;
+
+  bool has_slow_loop() const { return renderer && renderer->slow_loop() != nullptr; }
 };
 
 /// The ground truth a scenario asks for, built once and shared by its algorithms.
@@ -51,13 +56,31 @@ struct PreparedScenario {
 /// anything runs.
 PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only);
 
-/// The outcome of a scenario: the report and each algorithm's ticks CSV.
-struct ScenarioOutcome {
-  ScenarioRun report;
-  std::vector<std::string> ticks_csv;  ///< parallel to report.runs
+/// Makes every multi-rate algorithm of `prepared` follow a recorded
+/// schedule (`hapticbench run --schedule PATH`). PATH is a schedule file
+/// `schedule_<label>.csv` (for the algorithm with that label) or a folder
+/// holding such files: a run folder, or a suite folder with one run folder
+/// per scenario name. Throws InputError naming PATH when a multi-rate
+/// algorithm finds no schedule there, or a file names no algorithm.
+void use_recorded_schedules(PreparedScenario& prepared, const std::string& path);
+
+/// How the timing passes run.
+struct RunOptions {
+  int repeat = 1;  ///< timing passes per algorithm (the first one's times are the metrics)
 };
 
-/// Replays every prepared algorithm and evaluates metrics and budgets.
-ScenarioOutcome run_prepared(PreparedScenario& prepared);
+/// The outcome of a scenario: the report and each algorithm's files.
+struct ScenarioOutcome {
+  ScenarioRun report;
+  std::vector<std::string> ticks_csv;     ///< parallel to report.runs
+  std::vector<std::string> schedule_csv;  ///< parallel; empty without a slow loop
+};
+
+/// Replays every prepared algorithm and evaluates metrics and budgets:
+/// per algorithm, `options.repeat` timing passes with nothing between the
+/// steps (the first one records the slow loop's schedule), then an
+/// evaluation pass with ground truth that replays that schedule. Throws
+/// InputError when a recorded schedule does not fit the run.
+ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& options = {});
 
 }  // namespace hb

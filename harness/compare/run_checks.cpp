@@ -195,6 +195,11 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
         timing_checks(baseline_scenario, baseline, candidate_scenario, candidate, options);
     rows.insert(rows.end(), timing.begin(), timing.end());
   }
+  // Instruction counts do not depend on the machine's load: compared even
+  // with the wall-clock checks off.
+  std::vector<CheckRow> instructions =
+      instruction_checks(baseline_scenario, baseline, candidate_scenario, candidate, options);
+  rows.insert(rows.end(), instructions.begin(), instructions.end());
   return rows;
 }
 

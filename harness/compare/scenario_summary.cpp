@@ -1,5 +1,6 @@
 #include "harness/compare/scenario_summary.h"
 
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -42,6 +43,31 @@ std::optional<double> embree_penetration(const JsonField& run) {
   return number_or_null(object_member(oracle, "embree"), "penetration_max_m");
 }
 
+bool present(const JsonField& parent, const std::string& key) {
+  return parent.has(key) && !parent.existing_member(key).json().is_null();
+}
+
+// timing.noise and timing.instructions: newer keys, absent or null in older
+// summaries and where they were not measured.
+void read_noise_and_instructions(const JsonField& timing, RunSummary& r) {
+  if (present(timing, "noise")) {
+    const JsonField noise = object_member(timing, "noise");
+    r.timing_quiet = noise.member("quiet", "true or false").boolean("expected true or false");
+    r.calibration_ns = number_or_null(noise, "calibration_before_ns");
+    char text[160];
+    std::snprintf(text, sizeof text, "cpu share %.2f, calibration spread %.2f, load %.2f",
+                  number_or_null(noise, "cpu_share").value_or(0),
+                  number_or_null(noise, "calibration_spread").value_or(0),
+                  number_or_null(noise, "load_average_1m").value_or(0));
+    r.noise_text = text;
+  }
+  if (present(timing, "instructions")) {
+    const JsonField instructions = object_member(timing, "instructions");
+    r.instructions_step_per_tick = number_or_null(instructions, "step_per_tick_mean");
+    r.instructions_slow_update_per_call = number_or_null(instructions, "slow_update_per_call_mean");
+  }
+}
+
 RunSummary read_run(const JsonField& run) {
   run.require_object("expected an object (one algorithm run)");
   RunSummary r;
@@ -60,6 +86,8 @@ RunSummary read_run(const JsonField& run) {
   for (std::size_t i = 0; i < count; ++i)
     r.step_ns_sample.push_back(static_cast<double>(sample.element(i).integer(
         0, int64_t{1} << 53, "expected a whole, non-negative number of ns")));
+
+  read_noise_and_instructions(timing, r);
 
   const JsonField accuracy = object_member(run, "accuracy");
   r.force_err_rms_n = number_or_null(accuracy, "force_err_rms_n");

@@ -36,6 +36,15 @@ struct RunSummary {
   std::optional<double> step_ns_p99;
   /// Evenly spaced sample of per-tick step times (ns), in tick order.
   std::vector<double> step_ns_sample;
+  /// timing.noise: whether the machine was quiet while the steps were timed
+  /// and the calibration workload's median (ns); empty in summaries without it.
+  std::optional<bool> timing_quiet;
+  std::optional<double> calibration_ns;
+  std::string noise_text;  ///< e.g. "cpu share 0.62, load 2.9": why a run was not quiet
+
+  // Instruction counts (timing.instructions), empty without --instructions.
+  std::optional<double> instructions_step_per_tick;
+  std::optional<double> instructions_slow_update_per_call;
 
   // Accuracy against ground truth.
   std::optional<double> force_err_rms_n;

@@ -1,5 +1,6 @@
 #include "harness/compare/timing_checks.h"
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -122,6 +123,53 @@ CheckRow rank_test_row(CheckRow row, const StepTimeSamples& samples,
   return row;
 }
 
+// Why wall-clock rows of these two runs may not gate: empty when they may.
+std::string wall_clock_ungated_reason(const RunSummary& baseline, const RunSummary& candidate) {
+  if (!baseline.timing_quiet || !candidate.timing_quiet)
+    return "no noise floor measured on " +
+           std::string(!baseline.timing_quiet ? "the baseline" : "the candidate");
+  if (!*baseline.timing_quiet) return "baseline machine not quiet (" + baseline.noise_text + ")";
+  if (!*candidate.timing_quiet) return "candidate machine not quiet (" + candidate.noise_text + ")";
+  if (baseline.calibration_ns && candidate.calibration_ns && *baseline.calibration_ns > 0) {
+    const double ratio = *candidate.calibration_ns / *baseline.calibration_ns;
+    if (std::abs(ratio - 1) > kCalibrationMatch)
+      return "the calibration workload took " + printf_text("x%.2f", ratio) +
+             " the baseline's time: the machines run at different speeds";
+  }
+  return "";
+}
+
+CheckRow instructions_row(CheckRow row, std::optional<double> baseline,
+                          std::optional<double> candidate, const BuildContext& baseline_context,
+                          const BuildContext& candidate_context, const CompareOptions& options) {
+  row.baseline = baseline ? nlohmann::json(*baseline) : nlohmann::json(nullptr);
+  row.candidate = candidate ? nlohmann::json(*candidate) : nlohmann::json(nullptr);
+  if (!baseline || !candidate) {
+    row.verdict = baseline || candidate ? Verdict::kInfo : Verdict::kNotApplicable;
+    if (baseline || candidate)
+      row.note = std::string("counted on the ") + (baseline ? "baseline" : "candidate") +
+                 " only (run with --instructions to compare)";
+    return row;
+  }
+  const double ratio = *baseline > 0 ? *candidate / *baseline : 1.0;
+  row.change = printf_text("%+.2f%%", 100 * (ratio - 1));
+  row.detail = {{"ratio", ratio}, {"rel_tol", options.instructions_rel_tol}};
+  const std::string tolerance = printf_text("%.1f%%", 100 * options.instructions_rel_tol);
+  const bool comparable = baseline_context.compiler == candidate_context.compiler &&
+                          baseline_context.build_type == candidate_context.build_type;
+  if (ratio > 1 + options.instructions_rel_tol) {
+    row.verdict = comparable ? Verdict::kRegression : Verdict::kInfo;
+    row.note = "more instructions than the tolerance " + tolerance +
+               (comparable ? "" : "; not gated: different compilers or build types");
+  } else if (ratio < 1 - options.instructions_rel_tol) {
+    row.verdict = comparable ? Verdict::kImproved : Verdict::kInfo;
+    row.note = "fewer instructions, beyond " + tolerance;
+  } else {
+    row.note = "within " + tolerance;
+  }
+  return row;
+}
+
 }  // namespace
 
 std::vector<CheckRow> timing_checks(const ScenarioSummary& baseline_scenario,
@@ -150,15 +198,46 @@ std::vector<CheckRow> timing_checks(const ScenarioSummary& baseline_scenario,
       rank_test_row(row("timing.step_ns.mann_whitney"), samples, slower, baseline_scenario.context,
                     candidate_scenario.context, options),
   };
+  std::string ungated;
   if (options.timing_same_cpu_only &&
-      baseline_scenario.context.cpu != candidate_scenario.context.cpu) {
+      baseline_scenario.context.cpu != candidate_scenario.context.cpu)
+    ungated = "measured on different CPUs";
+  else if (options.timing_quiet_only)
+    ungated = wall_clock_ungated_reason(baseline, candidate);
+  if (!ungated.empty()) {
     for (CheckRow& r : rows) {
       if (r.verdict == Verdict::kRegression || r.verdict == Verdict::kImproved) {
         r.verdict = Verdict::kInfo;
-        r.note += "; not gated: measured on different CPUs";
+        r.note += "; not gated: " + ungated;
       }
     }
   }
+  return rows;
+}
+
+std::vector<CheckRow> instruction_checks(const ScenarioSummary& baseline_scenario,
+                                         const RunSummary& baseline,
+                                         const ScenarioSummary& candidate_scenario,
+                                         const RunSummary& candidate,
+                                         const CompareOptions& options) {
+  auto row = [&](const char* check) {
+    CheckRow r;
+    r.scenario = baseline_scenario.scenario_name;
+    r.label = baseline.label;
+    r.check = check;
+    return r;
+  };
+  std::vector<CheckRow> rows;
+  if (baseline.instructions_step_per_tick || candidate.instructions_step_per_tick)
+    rows.push_back(instructions_row(row("timing.instructions.step_per_tick_mean"),
+                                    baseline.instructions_step_per_tick,
+                                    candidate.instructions_step_per_tick, baseline_scenario.context,
+                                    candidate_scenario.context, options));
+  if (baseline.instructions_slow_update_per_call || candidate.instructions_slow_update_per_call)
+    rows.push_back(instructions_row(
+        row("timing.instructions.slow_update_per_call_mean"),
+        baseline.instructions_slow_update_per_call, candidate.instructions_slow_update_per_call,
+        baseline_scenario.context, candidate_scenario.context, options));
   return rows;
 }
 

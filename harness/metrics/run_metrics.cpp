@@ -67,7 +67,10 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   const bool reported_contact = !result.contacts.empty();
   const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
   (in_contact ? contact_step_ns_ : free_step_ns_).push_back(record.step_ns);
-  if (record.slow_started) slow_ns_.push_back(record.slow_ns);
+  if (record.slow_started) {
+    slow_ns_.push_back(record.slow_ns);
+    slow_starts_.push_back({step_ns_.size() - 1, record.slow_ns, record.slow_latency_ticks});
+  }
   if (record.slow_data_age_ticks >= 0) {
     slow_age_sum_ += record.slow_data_age_ticks;
     ++slow_age_count_;
@@ -193,6 +196,25 @@ RunMetrics MetricsAccumulator::finish() const {
     m.timing.step_ns_sample.push_back(step_ns_[i]);
   if (!free_step_ns_.empty()) m.timing.free_space_step_ns = percentiles_of(free_step_ns_);
   if (!contact_step_ns_.empty()) m.timing.contact_step_ns = percentiles_of(contact_step_ns_);
+  {
+    std::vector<double> cpu(step_ns_.begin(), step_ns_.end());
+    for (const SlowStart& slow : slow_starts_) {
+      const int64_t latency = std::max<int64_t>(1, slow.latency_ticks);
+      const double share = static_cast<double>(slow.ns) / static_cast<double>(latency);
+      for (std::size_t k = slow.tick_index;
+           k < cpu.size() && k < slow.tick_index + static_cast<std::size_t>(latency); ++k)
+        cpu[k] += share;
+    }
+    std::vector<int64_t> rounded;
+    rounded.reserve(cpu.size());
+    double sum = 0;
+    for (double value : cpu) {
+      rounded.push_back(std::llround(value));
+      sum += value;
+    }
+    m.timing.cpu_per_tick_ns.percentiles = percentiles_of(std::move(rounded));
+    m.timing.cpu_per_tick_ns.mean = cpu.empty() ? 0 : sum / static_cast<double>(cpu.size());
+  }
   if (!slow_ns_.empty()) {
     m.timing.slow_update_ns = percentiles_of(slow_ns_);
     const double seconds =

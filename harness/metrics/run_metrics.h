@@ -31,6 +31,15 @@ struct Percentiles {
 /// Percentiles of values (sorted copy); count 0 and zeros when empty.
 Percentiles percentiles_of(std::vector<int64_t> values);
 
+/// CPU time per tick of both loops together: the tick's step() plus, for
+/// each slow update, its time spread evenly over the ticks from its start to
+/// the installation of its result (the thread's work while the haptic loop
+/// waits for it). What comparisons between algorithms use.
+struct CpuPerTick {
+  Percentiles percentiles;  ///< ns
+  double mean = 0;          ///< ns
+};
+
 struct TimingMetrics {
   int64_t ticks = 0;
   Percentiles step_ns;  ///< all ticks
@@ -45,6 +54,7 @@ struct TimingMetrics {
   std::optional<double> slow_loop_rate_hz;         ///< updates per second of virtual time
   std::optional<double> slow_data_age_mean_ticks;  ///< staleness of contact data seen by step()
   std::optional<int64_t> slow_data_age_max_ticks;
+  CpuPerTick cpu_per_tick_ns;
 };
 
 struct AccuracyMetrics {
@@ -145,6 +155,11 @@ class MetricsAccumulator {
   std::vector<int64_t> volume_ns_;
   double contact_normal_sq_ = 0, contact_depth_sq_ = 0;
   std::vector<int64_t> step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;
+  struct SlowStart {
+    std::size_t tick_index;
+    int64_t ns, latency_ticks;
+  };
+  std::vector<SlowStart> slow_starts_;
   std::vector<Vec3> forces_;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
   RunMetrics partial_;

@@ -1,5 +1,6 @@
 #include "harness/output/run_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -74,12 +75,62 @@ json run_json(const AlgorithmRun& run) {
     preprocess_details[name] = std::isfinite(value) ? json(value) : json(nullptr);
   json slow = nullptr;
   if (m.timing.slow_update_ns) {
-    slow = {{"latency_ticks", run.slow_loop_latency},
+    const std::string& latency = run.slow_loop_latency;
+    slow = {{"latency_ticks", latency},
+            {"schedule", latency == "measured" || latency == "replayed" ? latency : "fixed"},
+            {"schedule_file", run.schedule_file.empty() ? json(nullptr) : json(run.schedule_file)},
+            {"schedule_source",
+             run.schedule_source.empty() ? json(nullptr) : json(run.schedule_source)},
             {"update_ns", percentiles_json(m.timing.slow_update_ns)},
             {"rate_hz", or_null(m.timing.slow_loop_rate_hz)},
             {"data_age_mean_ticks", or_null(m.timing.slow_data_age_mean_ticks)},
             {"data_age_max_ticks", or_null(m.timing.slow_data_age_max_ticks)}};
   }
+  const NoiseFloor& n = run.noise;
+  const json noise = {{"quiet", n.quiet},
+                      {"cpu_share", n.cpu_share},
+                      {"calibration_before_ns", n.calibration_before_ns},
+                      {"calibration_after_ns", n.calibration_after_ns},
+                      {"calibration_spread", n.calibration_spread},
+                      {"calibration_drift", n.calibration_drift},
+                      {"load_average_1m", n.load_average_1m},
+                      {"logical_cores", n.logical_cores},
+                      {"rule",
+                       "quiet: cpu_share >= 0.97, calibration spread and drift <= 0.10, "
+                       "load average <= cores - 0.5"}};
+  json repeats = nullptr;
+  if (run.repeats) {
+    auto spread = [](const Spread& s) {
+      return json{{"min", s.min}, {"median", s.median}, {"max", s.max}};
+    };
+    repeats = {{"count", run.repeats->count},
+               {"step_p50_ns", spread(run.repeats->step_p50_ns)},
+               {"step_p99_ns", spread(run.repeats->step_p99_ns)}};
+  }
+  json instructions = nullptr;
+  if (const std::optional<InstructionCounts>& c = run.instructions) {
+    auto mean = [](int64_t total, int64_t count) {
+      return count > 0 ? json(static_cast<double>(total) / static_cast<double>(count))
+                       : json(nullptr);
+    };
+    instructions = {
+        {"tool", "valgrind callgrind, user-space instructions (Ir) inside the measured calls"},
+        {"step_per_tick_mean", mean(c->step_total, c->ticks)},
+        {"step_total", c->step_total},
+        {"slow_update_per_call_mean",
+         c->has_slow_loop ? mean(c->slow_update_total, c->slow_updates) : json(nullptr)},
+        {"slow_update_total", c->has_slow_loop ? json(c->slow_update_total) : json(nullptr)},
+        {"slow_updates", c->has_slow_loop ? json(c->slow_updates) : json(nullptr)}};
+  }
+  const CpuPerTick& cpu = m.timing.cpu_per_tick_ns;
+  const json cpu_per_tick = {
+      {"p50", cpu.percentiles.p50},
+      {"p99", cpu.percentiles.p99},
+      {"max", cpu.percentiles.max},
+      {"mean", cpu.mean},
+      {"attribution",
+       "step() of the tick plus, for each slow update, its time spread evenly over the ticks "
+       "from its start to its installation"}};
   return {
       {"algorithm", run.name},
       {"label", run.label},
@@ -97,7 +148,11 @@ json run_json(const AlgorithmRun& run) {
         {"step_ns_sample", m.timing.step_ns_sample},
         {"free_space_step_ns", percentiles_json(m.timing.free_space_step_ns)},
         {"contact_step_ns", percentiles_json(m.timing.contact_step_ns)},
-        {"slow_loop", slow}}},
+        {"slow_loop", slow},
+        {"cpu_per_tick_ns", cpu_per_tick},
+        {"noise", noise},
+        {"repeats", repeats},
+        {"instructions", instructions}}},
       {"accuracy",
        {{"reference",
          run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
@@ -144,6 +199,12 @@ json run_json(const AlgorithmRun& run) {
 
 }  // namespace
 
+Spread spread_of(std::vector<double> values) {
+  if (values.empty()) return {};
+  std::sort(values.begin(), values.end());
+  return {values.front(), values[(values.size() - 1) / 2], values.back()};
+}
+
 bool ScenarioRun::all_budgets_pass() const {
   for (const AlgorithmRun& run : runs)
     for (const BudgetVerdict& b : run.budgets)
@@ -168,7 +229,13 @@ json summary_json(const ScenarioRun& run) {
            {{"commit", run.context.commit},
             {"build_type", run.context.build_type},
             {"compiler", run.context.compiler},
+            {"compiler_flags", run.context.compiler_flags},
             {"cpu", run.context.cpu},
+            {"logical_cores", run.context.logical_cores},
+            {"cpu_governor",
+             run.context.cpu_governor.empty() ? json(nullptr) : json(run.context.cpu_governor)},
+            {"load_average_1m", or_null(run.context.load_average_1m)},
+            {"clock_overhead_ns", run.context.clock_overhead_ns},
             {"date", run.context.date},
             {"hapticbench_version", run.context.hapticbench_version}}},
           {"scenario",

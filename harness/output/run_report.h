@@ -12,6 +12,7 @@
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
+#include "harness/replay/noise_floor.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -24,14 +25,43 @@ struct PreprocessInfo {
   std::vector<std::pair<std::string, double>> details;
 };
 
+/// min / median / max of a figure over repeated timing passes.
+struct Spread {
+  double min = 0, median = 0, max = 0;
+};
+/// The spread of `values` (zeros when empty).
+Spread spread_of(std::vector<double> values);
+
+/// `run --repeat N`: the spread of step time percentiles over N timing passes.
+struct TimingRepeats {
+  int count = 0;
+  Spread step_p50_ns, step_p99_ns;
+};
+
+/// `run --instructions`: user-space instructions callgrind counted inside
+/// Renderer::step and inside slow-loop updates (nothing else).
+struct InstructionCounts {
+  int64_t ticks = 0;
+  int64_t step_total = 0;
+  bool has_slow_loop = false;
+  int64_t slow_updates = 0;
+  int64_t slow_update_total = 0;
+};
+
 /// One algorithm's run within a scenario.
 struct AlgorithmRun {
   std::string name;
   std::string label;
-  std::string params_json;        ///< the params object as written in the scenario
-  std::string slow_loop_latency;  ///< "1", "5", "measured"; empty without a slow loop
+  std::string params_json;  ///< the params object as written in the scenario
+  /// "measured" (default), "1", "5" (fixed), "replayed"; empty without a slow loop.
+  std::string slow_loop_latency;
+  std::string schedule_file;    ///< schedule_<label>.csv in the run folder; empty without
+  std::string schedule_source;  ///< the file a replayed schedule came from
   PreprocessInfo preprocess;
   RunMetrics metrics;
+  NoiseFloor noise;                               ///< of the (first) timing pass
+  std::optional<TimingRepeats> repeats;           ///< with --repeat N > 1
+  std::optional<InstructionCounts> instructions;  ///< with --instructions
   std::vector<BudgetVerdict> budgets;
   std::string ticks_file;  ///< file name inside the run folder
   std::string ticks_hash;  ///< determinism fingerprint (TicksCsvWriter)

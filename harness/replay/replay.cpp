@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
+
+#include "harness/replay/instruction_count.h"
 
 namespace hb {
 
@@ -18,13 +21,54 @@ struct PendingSlowResult {
   int64_t start_tick = 0;
   int64_t install_tick = 0;
 };
+
+// Ticks from the start of update `index` (started at `start_tick`, took
+// `update_ns`) to the installation of its result.
+int64_t latency_ticks(const ReplaySettings& settings, std::size_t index, int64_t start_tick,
+                      int64_t update_ns) {
+  switch (settings.slow_loop_timing) {
+    case SlowLoopTiming::kFixed:
+      return std::max<int64_t>(1, settings.fixed_latency_ticks);
+    case SlowLoopTiming::kMeasured:
+      return std::max<int64_t>(1, (update_ns + kTickNs - 1) / kTickNs);
+    case SlowLoopTiming::kReplayed:
+      break;
+  }
+  const SlowLoopSchedule* schedule = settings.replayed_schedule;
+  if (!schedule || index >= schedule->updates.size())
+    throw ScheduleMismatch("the replayed schedule has " +
+                           std::to_string(schedule ? schedule->updates.size() : 0) +
+                           " updates; this run starts update " + std::to_string(index + 1) +
+                           " at tick " + std::to_string(start_tick));
+  const SlowLoopUpdate& recorded = schedule->updates[index];
+  if (recorded.start_tick != start_tick)
+    throw ScheduleMismatch("update " + std::to_string(index + 1) + " starts at tick " +
+                           std::to_string(start_tick) + " in this run but at tick " +
+                           std::to_string(recorded.start_tick) + " in the replayed schedule");
+  return recorded.install_tick - recorded.start_tick;
+}
 }  // namespace
 
-void replay(Renderer& renderer, std::span<const DeviceSample> samples,
-            const ReplaySettings& settings, TickObserver& observer) {
-  if (samples.empty()) return;
+const char* slow_loop_timing_name(SlowLoopTiming timing) {
+  switch (timing) {
+    case SlowLoopTiming::kMeasured:
+      return "measured";
+    case SlowLoopTiming::kFixed:
+      return "fixed";
+    case SlowLoopTiming::kReplayed:
+      return "replayed";
+  }
+  return "measured";
+}
+
+SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> samples,
+                        const ReplaySettings& settings, TickObserver& observer) {
+  SlowLoopSchedule followed;
+  if (samples.empty()) return followed;
   renderer.reset(samples.front().pose);
   SlowLoop* slow_loop = renderer.slow_loop();
+  const bool count_step = settings.counted == CountedCalls::kStep;
+  const bool count_slow = settings.counted == CountedCalls::kSlowUpdate;
 
   std::optional<PendingSlowResult> pending;
   int64_t installed_start_tick = -1;
@@ -41,7 +85,9 @@ void replay(Renderer& renderer, std::span<const DeviceSample> samples,
     }
 
     const auto t0 = std::chrono::steady_clock::now();
+    if (count_step) toggle_instruction_collection();
     record.result = renderer.step(sample);
+    if (count_step) toggle_instruction_collection();
     const auto t1 = std::chrono::steady_clock::now();
     record.step_ns = elapsed_ns(t0, t1);
     record.contacts.assign(record.result.contacts.begin(), record.result.contacts.end());
@@ -51,22 +97,21 @@ void replay(Renderer& renderer, std::span<const DeviceSample> samples,
 
     if (slow_loop && !pending) {
       const auto s0 = std::chrono::steady_clock::now();
+      if (count_slow) toggle_instruction_collection();
       std::unique_ptr<SlowLoop::Result> result = slow_loop->run_slow_update();
+      if (count_slow) toggle_instruction_collection();
       const auto s1 = std::chrono::steady_clock::now();
       record.slow_started = true;
       record.slow_ns = elapsed_ns(s0, s1);
-      int64_t latency = 1;
-      if (settings.slow_loop_latency_ticks) {
-        latency = *settings.slow_loop_latency_ticks;
-      } else {
-        latency = (record.slow_ns + kTickNs - 1) / kTickNs;
-      }
-      if (latency < 1) latency = 1;
+      const int64_t latency =
+          latency_ticks(settings, followed.updates.size(), sample.tick, record.slow_ns);
       record.slow_latency_ticks = latency;
+      followed.updates.push_back({sample.tick, sample.tick + latency, record.slow_ns});
       pending = PendingSlowResult{std::move(result), sample.tick, sample.tick + latency};
     }
     observer.on_tick(record);
   }
+  return followed;
 }
 
 }  // namespace hb

@@ -4,21 +4,44 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "algorithms/proxy/renderer.h"
+#include "harness/replay/slow_loop_schedule.h"
 
 namespace hb {
 
 /// Virtual clock period: one haptic tick.
 inline constexpr int64_t kTickNs = 1'000'000;
 
+/// How the slow updates of a multi-rate algorithm are placed in virtual time.
+enum class SlowLoopTiming {
+  /// Each update is installed ceil(its wall time / 1 ms) ticks after it
+  /// started (at least 1): what this machine would show. The default.
+  kMeasured,
+  /// Each update is installed a fixed number of ticks after it started: an
+  /// idealised machine, reproducible anywhere.
+  kFixed,
+  /// The latencies of a recorded schedule, update by update.
+  kReplayed,
+};
+
+/// "measured", "fixed", "replayed".
+const char* slow_loop_timing_name(SlowLoopTiming timing);
+
+/// Which calls the instruction counter (instruction_count.h) collects.
+enum class CountedCalls { kNone, kStep, kSlowUpdate };
+
 struct ReplaySettings {
-  /// Ticks between the start of a slow update and the installation of its
-  /// result (>= 1); nullopt means "measured": ceil(wall time of the update / 1 ms).
-  std::optional<int64_t> slow_loop_latency_ticks = 1;
+  SlowLoopTiming slow_loop_timing = SlowLoopTiming::kMeasured;
+  int64_t fixed_latency_ticks = 1;  ///< with kFixed (>= 1)
+  /// With kReplayed: the schedule to follow. Its update k must start at the
+  /// tick update k starts in this replay (ScheduleMismatch otherwise).
+  const SlowLoopSchedule* replayed_schedule = nullptr;
+  /// Under valgrind's callgrind: collect only these calls (no effect otherwise).
+  CountedCalls counted = CountedCalls::kNone;
 };
 
 /// Everything the replay loop knows about one tick, handed to the observer
@@ -47,8 +70,10 @@ class TickObserver {
 /// At tick k: install a pending slow result whose installation tick is k;
 /// time step(sample k); if the renderer has a slow loop and no update is in
 /// flight, run one on the state after step k (timed apart) and schedule its
-/// installation at k + L; hand the record to the observer.
-void replay(Renderer& renderer, std::span<const DeviceSample> samples,
-            const ReplaySettings& settings, TickObserver& observer);
+/// installation at k + L (L from the settings); hand the record to the
+/// observer. Returns the schedule it followed (empty without a slow loop).
+/// Throws ScheduleMismatch when a replayed schedule does not fit.
+SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> samples,
+                        const ReplaySettings& settings, TickObserver& observer);
 
 }  // namespace hb

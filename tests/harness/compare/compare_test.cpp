@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -516,6 +517,95 @@ TEST_CASE("reports: JSON verdict, Markdown failures first, JUnit failure per fai
   const std::string clean = comparison_markdown(compare(summary(), summary()));
   CHECK(clean.rfind("**hapticbench compare: pass: 14 checks, no regression**", 0) == 0);
   CHECK(clean.find("| accuracy") > clean.find("<details>"));
+}
+
+}  // namespace
+}  // namespace hb
+
+namespace hb {
+namespace {
+
+Json with_instructions(Json document, double step_per_tick, std::optional<double> slow_per_call) {
+  document["runs"][0]["timing"]["instructions"] = {
+      {"step_per_tick_mean", step_per_tick},
+      {"slow_update_per_call_mean", slow_per_call ? Json(*slow_per_call) : Json(nullptr)}};
+  return document;
+}
+
+Json with_noise(Json document, bool quiet, double calibration_ns) {
+  document["runs"][0]["timing"]["noise"] = {{"quiet", quiet},
+                                            {"cpu_share", quiet ? 1.0 : 0.6},
+                                            {"calibration_before_ns", calibration_ns},
+                                            {"calibration_spread", 0.01},
+                                            {"load_average_1m", quiet ? 0.2 : 3.1}};
+  return document;
+}
+
+TEST_CASE("instruction counts: 5 % more fails the gate, identical passes, 1 % passes") {
+  const Json baseline = with_instructions(summary(), 10000, 200000);
+  CompareOptions no_wall_clock;
+  no_wall_clock.timing = false;  // instruction counts are compared all the same
+  const Comparison same = compare(baseline, baseline, no_wall_clock);
+  CHECK(same.passed());
+  CHECK(row_named(same, "timing.instructions.step_per_tick_mean").verdict == Verdict::kPass);
+
+  const Comparison step_5 =
+      compare(baseline, with_instructions(summary(), 10500, 200000), no_wall_clock);
+  CHECK_FALSE(step_5.passed());
+  const CheckRow& row = row_named(step_5, "timing.instructions.step_per_tick_mean");
+  CHECK(row.verdict == Verdict::kRegression);
+  CHECK(row.change == "+5.00%");
+  CHECK(failing(step_5).size() == 1);
+
+  const Comparison slow_5 =
+      compare(baseline, with_instructions(summary(), 10000, 210000), no_wall_clock);
+  CHECK(row_named(slow_5, "timing.instructions.slow_update_per_call_mean").verdict ==
+        Verdict::kRegression);
+  CHECK(compare(baseline, with_instructions(summary(), 10100, 200000), no_wall_clock).passed());
+
+  SECTION("another compiler: informs, never gates") {
+    Json other = with_instructions(summary(), 12000, 200000);
+    other["context"]["compiler"] = "clang 14";
+    const Comparison c = compare(baseline, other, no_wall_clock);
+    CHECK(row_named(c, "timing.instructions.step_per_tick_mean").verdict == Verdict::kInfo);
+  }
+  SECTION("counted on one side only: informs") {
+    const Comparison c = compare(baseline, summary(), no_wall_clock);
+    CHECK(c.passed());
+    CHECK(row_named(c, "timing.instructions.step_per_tick_mean").verdict == Verdict::kInfo);
+  }
+}
+
+TEST_CASE("timing quiet only: wall-clock gates only between quiet runs at one speed") {
+  CompareOptions options;
+  options.timing_quiet_only = true;
+  options.timing_ratio = 1.8;
+  const Json baseline = with_noise(summary(), true, 10000);
+  SECTION("quiet on both sides, 2 times slower: regression") {
+    const Json slower = with_noise(summary("a0c10976b673", step_times(1000, 2.0)), true, 10200);
+    const Comparison c = compare(baseline, slower, options);
+    CHECK_FALSE(c.passed());
+    CHECK(row_named(c, "timing.step_ns.p50").verdict == Verdict::kRegression);
+  }
+  SECTION("the candidate's machine was busy: informs") {
+    const Json busy = with_noise(summary("a0c10976b673", step_times(1000, 3.5)), false, 10000);
+    const Comparison c = compare(baseline, busy, options);
+    CHECK(c.passed());
+    const CheckRow& p99 = row_named(c, "timing.step_ns.p99");
+    CHECK(p99.verdict == Verdict::kInfo);
+    CHECK_THAT(p99.note, Catch::Contains("not quiet"));
+  }
+  SECTION("quiet, but the calibration ran 1.5 times slower: informs") {
+    const Json slower_machine =
+        with_noise(summary("a0c10976b673", step_times(1000, 2.0)), true, 15000);
+    const Comparison c = compare(baseline, slower_machine, options);
+    CHECK(c.passed());
+    CHECK_THAT(row_named(c, "timing.step_ns.p50").note, Catch::Contains("calibration"));
+  }
+  SECTION("no noise floor in the baseline: informs") {
+    const Json slower = with_noise(summary("a0c10976b673", step_times(1000, 2.0)), true, 10000);
+    CHECK(compare(summary(), slower, options).passed());
+  }
 }
 
 }  // namespace

@@ -1,7 +1,12 @@
 #include "harness/replay/replay.h"
 
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <map>
 #include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "harness/replay/slow_loop_schedule.h"
 
 namespace hb {
 namespace {
@@ -39,6 +44,15 @@ class ProbeRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return with_slow_loop_ ? this : nullptr; }
   std::unique_ptr<Result> run_slow_update() override {
     started_after_.push_back(last_step_tick_);
+    // Optionally busy for 0, 1.5 or 2.5 ms in turn: measured latencies differ.
+    if (busy_) {
+      const double ms[] = {0.0, 1.5, 2.5};
+      const auto until =
+          std::chrono::steady_clock::now() +
+          std::chrono::microseconds(static_cast<int64_t>(1000 * ms[started_after_.size() % 3]));
+      while (std::chrono::steady_clock::now() < until) {
+      }
+    }
     return std::make_unique<Snapshot>(last_step_tick_);
   }
   void install_slow_result(std::unique_ptr<Result> result) override {
@@ -46,6 +60,7 @@ class ProbeRenderer : public Renderer, public SlowLoop {
   }
 
   bool with_slow_loop_ = true;
+  bool busy_ = false;
   int64_t last_step_tick_ = -1;
   int64_t installed_tick_ = -1;
   int resets_ = 0;
@@ -78,7 +93,8 @@ TEST_CASE("a slow update started at tick k is installed before step k + L") {
     ProbeRenderer renderer;
     Recorder recorder;
     ReplaySettings settings;
-    settings.slow_loop_latency_ticks = latency;
+    settings.slow_loop_timing = SlowLoopTiming::kFixed;
+    settings.fixed_latency_ticks = latency;
     const auto samples = ticks(40);
     replay(renderer, samples, settings, recorder);
 
@@ -108,16 +124,91 @@ TEST_CASE("a slow update started at tick k is installed before step k + L") {
 
 TEST_CASE("measured latency is the update's wall time in whole ticks, at least one") {
   ProbeRenderer renderer;
+  renderer.busy_ = true;
   Recorder recorder;
-  ReplaySettings settings;
-  settings.slow_loop_latency_ticks = std::nullopt;
-  const auto samples = ticks(20);
-  replay(renderer, samples, settings, recorder);
+  const ReplaySettings settings;  // measured is the default
+  REQUIRE(settings.slow_loop_timing == SlowLoopTiming::kMeasured);
+  const auto samples = ticks(40);
+  const SlowLoopSchedule schedule = replay(renderer, samples, settings, recorder);
+  std::map<int64_t, int64_t> latency_by_start;
   for (const TickRecord& r : recorder.records) {
     if (!r.slow_started) continue;
     const int64_t expected = std::max<int64_t>(1, (r.slow_ns + kTickNs - 1) / kTickNs);
     CHECK(r.slow_latency_ticks == expected);
+    latency_by_start[r.device->tick] = r.slow_latency_ticks;
   }
+  // The busy updates take at least 1.5 ms: their results wait 2 ticks or more.
+  int64_t longest = 0;
+  for (const auto& [start, latency] : latency_by_start) longest = std::max(longest, latency);
+  CHECK(longest >= 2);
+  // Data age is never below the wall time of the update that produced it.
+  for (const TickRecord& r : recorder.records) {
+    if (r.slow_data_age_ticks < 0) continue;
+    const int64_t start = r.device->tick - r.slow_data_age_ticks;
+    REQUIRE(latency_by_start.count(start) == 1);
+    CHECK(r.slow_data_age_ticks >= latency_by_start[start]);
+  }
+  // The schedule returned is the one followed.
+  REQUIRE(schedule.updates.size() == latency_by_start.size());
+  for (const SlowLoopUpdate& u : schedule.updates)
+    CHECK(u.install_tick - u.start_tick == latency_by_start[u.start_tick]);
+}
+
+TEST_CASE("a recorded schedule replays the same ticks whatever the updates now take") {
+  const auto samples = ticks(60);
+  ProbeRenderer measured;
+  measured.busy_ = true;
+  Recorder first;
+  const SlowLoopSchedule schedule = replay(measured, samples, ReplaySettings{}, first);
+
+  ProbeRenderer quick;  // not busy: measured again, every latency would be 1
+  Recorder second;
+  ReplaySettings settings;
+  settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+  settings.replayed_schedule = &schedule;
+  // Through the file format and back.
+  const SlowLoopSchedule parsed = parse_schedule_csv(schedule_csv(schedule), "schedule.csv");
+  settings.replayed_schedule = &parsed;
+  const SlowLoopSchedule followed = replay(quick, samples, settings, second);
+  REQUIRE(first.records.size() == second.records.size());
+  for (std::size_t k = 0; k < first.records.size(); ++k) {
+    CHECK(first.records[k].result.display.force.x() == second.records[k].result.display.force.x());
+    CHECK(first.records[k].slow_data_age_ticks == second.records[k].slow_data_age_ticks);
+  }
+  REQUIRE(followed.updates.size() == schedule.updates.size());
+  for (std::size_t i = 0; i < followed.updates.size(); ++i)
+    CHECK(followed.updates[i].install_tick == schedule.updates[i].install_tick);
+}
+
+TEST_CASE("a schedule that does not fit the run is refused") {
+  const auto samples = ticks(30);
+  ProbeRenderer renderer;
+  Recorder recorder;
+  ReplaySettings settings;
+  settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+  SlowLoopSchedule short_schedule;
+  short_schedule.updates = {{0, 2, 0}, {2, 4, 0}};
+  settings.replayed_schedule = &short_schedule;
+  CHECK_THROWS_AS(replay(renderer, samples, settings, recorder), ScheduleMismatch);
+  SlowLoopSchedule shifted;
+  shifted.updates = {{1, 3, 0}};
+  settings.replayed_schedule = &shifted;
+  CHECK_THROWS_AS(replay(renderer, samples, settings, recorder), ScheduleMismatch);
+}
+
+TEST_CASE("schedule files: malformed rows are refused with the line") {
+  CHECK_THROWS_AS(parse_schedule_csv("start,install\n", "s.csv"), InputError);
+  try {
+    parse_schedule_csv("start_tick,install_tick,update_ns\n0,2,5\n2,2,5\n", "s.csv");
+    FAIL("expected an InputError");
+  } catch (const InputError& error) {
+    CHECK(error.source() == "s.csv");
+    CHECK(error.location() == "line 3");
+  }
+  CHECK_THROWS_AS(parse_schedule_csv("start_tick,install_tick,update_ns\n0,4,5\n2,6,5\n", "s"),
+                  InputError);
+  CHECK_THROWS_AS(parse_schedule_csv("start_tick,install_tick,update_ns\n0,x,5\n", "s"),
+                  InputError);
 }
 
 TEST_CASE("an empty trace replays nothing") {

@@ -1,0 +1,208 @@
+// `hapticbench export --format gbench RUN_DIR... [--out FILE]`: run folders
+// as Google Benchmark JSON, so that tools reading that format (its
+// compare.py, continuous-benchmarking dashboards, CI actions) take
+// hapticbench results unchanged. One benchmark entry per scenario and
+// algorithm label: iterations = ticks, real_time = cpu_time = the mean CPU
+// time per tick of both loops (timing.cpu_per_tick_ns.mean) in ns, and
+// counters for step percentiles, error and instruction counts.
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/cli/run_folder_search.h"
+#include "harness/output/output_ownership.h"
+#include "harness/scenario/json_fields.h"
+
+namespace hb {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kExportUsage =
+    "usage: hapticbench export --format gbench RUN_DIR... [--out FILE]\n"
+    "  RUN_DIR: a run folder or a folder of run folders (a suite, a sweep)\n"
+    "  --format gbench  Google Benchmark's JSON (the only format so far)\n"
+    "  --out FILE       write there (default: standard output); replaces only a file\n"
+    "                   export wrote\n";
+
+// A JSON value at `path` in `document`, or null where any key is missing.
+Json at(const Json& document, std::initializer_list<const char*> path) {
+  const Json* node = &document;
+  for (const char* key : path) {
+    if (!node->is_object() || !node->contains(key)) return nullptr;
+    node = &(*node)[key];
+  }
+  return *node;
+}
+
+Json read_summary(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file.string(), "", "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const Json summary = parse_json_document(text.str(), file.string());
+  const JsonField root(summary, file.string(), "");
+  root.require_object("expected a summary object");
+  const JsonField runs = root.member("runs", "expected an array of runs");
+  const std::size_t count = runs.array_size("expected an array of runs");
+  for (std::size_t i = 0; i < count; ++i) {
+    const JsonField run = runs.element(i);
+    run.require_object("expected a run object");
+    run.member("label", "expected the run's label").string("expected the run's label");
+    run.member("timing", "expected the run's timing").require_object("expected an object");
+  }
+  root.member("scenario", "expected the scenario").require_object("expected an object");
+  return summary;
+}
+
+Json benchmark_entry(const Json& summary, const Json& run, std::size_t family) {
+  const std::string name =
+      at(summary, {"scenario", "name"}).get<std::string>() + "/" + run["label"].get<std::string>();
+  Json cpu_mean = at(run, {"timing", "cpu_per_tick_ns", "mean"});
+  if (!cpu_mean.is_number()) cpu_mean = at(run, {"timing", "step_ns", "p50"});
+  Json entry = {{"name", name},
+                {"family_index", family},
+                {"per_family_instance_index", 0},
+                {"run_name", name},
+                {"run_type", "iteration"},
+                {"repetitions", 1},
+                {"repetition_index", 0},
+                {"threads", 1},
+                {"iterations", at(run, {"timing", "ticks"})},
+                {"real_time", cpu_mean},
+                {"cpu_time", cpu_mean},
+                {"time_unit", "ns"}};
+  // Counters: numbers only (Google Benchmark's counters are doubles).
+  const std::pair<const char*, Json> counters[] = {
+      {"step_p50_ns", at(run, {"timing", "step_ns", "p50"})},
+      {"step_p99_ns", at(run, {"timing", "step_ns", "p99"})},
+      {"cpu_per_tick_p99_ns", at(run, {"timing", "cpu_per_tick_ns", "p99"})},
+      {"over_budget_ticks", at(run, {"timing", "over_budget"})},
+      {"force_err_rms_n", at(run, {"accuracy", "force_err_rms_n"})},
+      {"penetration_max_m", at(run, {"accuracy", "penetration_max_m"})},
+      {"nonfinite_ticks", at(run, {"stability", "nonfinite"})},
+      {"instructions_step_per_tick", at(run, {"timing", "instructions", "step_per_tick_mean"})},
+      {"instructions_slow_update_per_call",
+       at(run, {"timing", "instructions", "slow_update_per_call_mean"})},
+  };
+  for (const auto& [key, value] : counters)
+    if (value.is_number()) entry[key] = value;
+  const Json diverged = at(run, {"stability", "diverged"});
+  if (diverged.is_boolean()) entry["diverged"] = diverged.get<bool>() ? 1 : 0;
+  return entry;
+}
+
+}  // namespace
+
+int export_command(const std::vector<std::string>& args) {
+  std::vector<fs::path> inputs;
+  std::string format;
+  std::optional<fs::path> out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      std::cout << kExportUsage;
+      return kExitOk;
+    }
+    if (a == "--format" || a == "--out") {
+      if (i + 1 >= args.size()) {
+        std::cerr << "error: " << a << " needs a value\n" << kExportUsage;
+        return kExitBadInput;
+      }
+      if (a == "--format")
+        format = args[++i];
+      else
+        out = args[++i];
+    } else if (a.rfind("--", 0) == 0) {
+      std::cerr << "error: unknown option " << a << "\n" << kExportUsage;
+      return kExitBadInput;
+    } else {
+      inputs.emplace_back(a);
+    }
+  }
+  if (format != "gbench") {
+    std::cerr << "error: --format: expected gbench, got \"" << format << "\"\n" << kExportUsage;
+    return kExitBadInput;
+  }
+  if (inputs.empty()) {
+    std::cerr << "error: missing RUN_DIR\n" << kExportUsage;
+    return kExitBadInput;
+  }
+  // A file export wrote names itself in its context.
+  const auto exported = [](const fs::path& path) {
+    std::ifstream in(path);
+    std::string head(4096, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    return head.find("\"hapticbench_export\"") != std::string::npos;
+  };
+  if (out) require_replaceable_file(*out, "benchmark export", exported);
+
+  Json benchmarks = Json::array();
+  Json first_context = nullptr;
+  std::set<fs::path> seen;
+  for (const fs::path& input : inputs) {
+    for (const fs::path& folder : find_run_folders(input)) {
+      if (!seen.insert(fs::weakly_canonical(folder)).second) continue;
+      const Json summary = read_summary(folder / "summary.json");
+      if (first_context.is_null()) first_context = at(summary, {"context"});
+      for (const Json& run : summary["runs"])
+        benchmarks.push_back(benchmark_entry(summary, run, benchmarks.size()));
+    }
+  }
+  const Json load = at(first_context, {"load_average_1m"});
+  const Json build_type = at(first_context, {"build_type"});
+  Json context = {
+      {"date", at(first_context, {"date"})},
+      {"host_name", ""},
+      {"executable", "hapticbench"},
+      {"num_cpus", at(first_context, {"logical_cores"}).is_number()
+                       ? at(first_context, {"logical_cores"})
+                       : Json(0)},
+      {"mhz_per_cpu", 0},
+      {"cpu_scaling_enabled", at(first_context, {"cpu_governor"}) != "performance"},
+      {"caches", Json::array()},
+      {"load_avg", load.is_number() ? Json::array({load}) : Json::array()},
+      {"library_build_type", build_type.is_string() && build_type == "Debug" ? "debug" : "release"},
+      {"hapticbench_export",
+       {{"cpu", at(first_context, {"cpu"})},
+        {"commit", at(first_context, {"commit"})},
+        {"compiler", at(first_context, {"compiler"})},
+        {"real_time",
+         "mean CPU time per tick of both loops (timing.cpu_per_tick_ns.mean); iterations = "
+         "ticks"}}}};
+  const std::string text = Json{{"context", context}, {"benchmarks", benchmarks}}.dump(2) + "\n";
+  if (!out) {
+    std::cout << text;
+    return kExitOk;
+  }
+  fs::path temporary = *out;
+  temporary += ".partial";
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file << text;
+    file.close();
+    if (!file) {
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      throw InputError(out->string(), "", "cannot write the file");
+    }
+  }
+  std::error_code error;
+  fs::rename(temporary, *out, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw InputError(out->string(), "", "cannot write the file: " + error.message());
+  }
+  std::cerr << "export: " << benchmarks.size() << " benchmarks -> " << out->string() << "\n";
+  return kExitOk;
+}
+
+}  // namespace hb

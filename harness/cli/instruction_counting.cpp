@@ -1,0 +1,197 @@
+#include "harness/cli/instruction_counting.h"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "algorithms/core/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/replay/instruction_count.h"
+#include "harness/scenario/scenario.h"
+#include "harness/sweep/child_process.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A scratch folder for the child's schedules, dumps and counts.
+class CountingFolder {
+ public:
+  CountingFolder() {
+    std::string pattern = (fs::temp_directory_path() / "hapticbench-instructions-XXXXXX").string();
+    if (!::mkdtemp(pattern.data()))
+      throw std::runtime_error("cannot create a scratch folder in " +
+                               fs::temp_directory_path().string());
+    path_ = pattern;
+    fs::create_directory(path_ / "dumps");
+  }
+  ~CountingFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  CountingFolder(const CountingFolder&) = delete;
+  CountingFolder& operator=(const CountingFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+fs::path find_on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream folders(path ? path : "/usr/bin:/bin");
+  for (std::string folder; std::getline(folders, folder, ':');) {
+    const fs::path candidate = fs::path(folder.empty() ? "." : folder) / program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return {};
+}
+
+fs::path this_executable() {
+  std::error_code error;
+  const fs::path path = fs::read_symlink("/proc/self/exe", error);
+  return error ? fs::path("/proc/self/exe") : path;
+}
+
+std::string tail_of(const fs::path& file) {
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return text.size() > 2000 ? text.substr(text.size() - 2000) : text;
+}
+
+// Replays whatever it is given without looking at it.
+class IgnoringObserver : public TickObserver {
+ public:
+  void on_tick(const TickRecord&) override {}
+};
+
+}  // namespace
+
+void count_instructions(const std::string& scenario_path, const std::optional<std::string>& only,
+                        ScenarioOutcome& outcome) {
+  const fs::path valgrind = find_on_path("valgrind");
+  if (valgrind.empty())
+    throw InputError("", "--instructions",
+                     "needs valgrind on PATH (Debian package valgrind; scripts/setup installs it)");
+  const CountingFolder folder;
+  for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)
+    if (!outcome.report.runs[i].schedule_file.empty())
+      std::ofstream(folder.path() / outcome.report.runs[i].schedule_file)
+          << outcome.schedule_csv[i];
+
+  std::vector<std::string> argv = {
+      valgrind.string(),
+      "--tool=callgrind",
+      "--instr-atstart=no",
+      "--collect-atstart=no",
+      "--dump-instr=no",
+      "--dump-line=no",
+      "--callgrind-out-file=" + (folder.path() / "dumps" / "callgrind.%p").string(),
+      this_executable().string(),
+      "count-instructions",
+      scenario_path,
+      "--schedule",
+      folder.path().string(),
+      "--out",
+      (folder.path() / "counts.json").string()};
+  if (only) {
+    argv.push_back("--algo");
+    argv.push_back(*only);
+  }
+  ChildProcess child(argv, folder.path() / "stdout.txt", folder.path() / "stderr.txt");
+  const ProcessEnd end = child.wait();
+  if (!end.exited || end.exit_code != 0)
+    throw std::runtime_error("counting instructions under valgrind failed (" + end.description() +
+                             "):\n" + tail_of(folder.path() / "stderr.txt"));
+
+  std::ifstream in(folder.path() / "counts.json");
+  const nlohmann::json counts = nlohmann::json::parse(in);
+  const std::map<std::string, int64_t> dumps = read_callgrind_dumps(folder.path() / "dumps");
+  for (AlgorithmRun& run : outcome.report.runs) {
+    if (!counts.contains(run.label)) continue;
+    const auto step = dumps.find("step:" + run.label);
+    if (step == dumps.end())
+      throw std::runtime_error("callgrind wrote no count for the steps of " + run.label);
+    InstructionCounts c;
+    c.ticks = counts[run.label].at("ticks").get<int64_t>();
+    c.step_total = step->second;
+    c.has_slow_loop = counts[run.label].at("slow_updates").is_number();
+    if (c.has_slow_loop) {
+      const auto slow = dumps.find("slow:" + run.label);
+      if (slow == dumps.end())
+        throw std::runtime_error("callgrind wrote no count for the slow updates of " + run.label);
+      c.slow_updates = counts[run.label]["slow_updates"].get<int64_t>();
+      c.slow_update_total = slow->second;
+    }
+    run.instructions = c;
+  }
+}
+
+int count_instructions_command(const std::vector<std::string>& args) {
+  std::string scenario_path, schedule_dir, out;
+  std::optional<std::string> only;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if ((a == "--schedule" || a == "--out" || a == "--algo") && i + 1 < args.size()) {
+      (a == "--schedule" ? schedule_dir : a == "--out" ? out : only.emplace()) = args[++i];
+    } else if (scenario_path.empty() && a.rfind("--", 0) != 0) {
+      scenario_path = a;
+    } else {
+      std::cerr << "count-instructions: unexpected argument " << a << "\n";
+      return kExitBadInput;
+    }
+  }
+  if (scenario_path.empty() || schedule_dir.empty() || out.empty()) {
+    std::cerr << "usage (internal, started by run --instructions): hapticbench "
+                 "count-instructions SCENARIO --schedule DIR --out FILE [--algo NAME]\n";
+    return kExitBadInput;
+  }
+  if (!running_on_valgrind()) {
+    std::cerr << "count-instructions: must run under valgrind --tool=callgrind (use "
+                 "`hapticbench run --instructions`)\n";
+    return kExitBadInput;
+  }
+  Scenario scenario = load_scenario(scenario_path);
+  scenario.reference.oracle = "none";  // no ground truth is counted, so none is built
+  PreparedScenario prepared = prepare_scenario(scenario, only);
+  use_recorded_schedules(prepared, schedule_dir);
+
+  start_instrumentation();
+  nlohmann::json counts = nlohmann::json::object();
+  for (PreparedAlgorithm& algorithm : prepared.algorithms) {
+    ReplaySettings settings = algorithm.replay;
+    if (algorithm.replayed_schedule) {
+      settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+      settings.replayed_schedule = algorithm.replayed_schedule.get();
+    }
+    IgnoringObserver ignore;
+    // A first pass warms what a renderer builds lazily; the counted passes
+    // then see the state every later replay sees.
+    replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+    settings.counted = CountedCalls::kStep;
+    const SlowLoopSchedule schedule =
+        replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+    dump_instruction_counts("step:" + algorithm.spec->label);
+    nlohmann::json entry = {{"ticks", scenario.device_samples.size()}, {"slow_updates", nullptr}};
+    if (algorithm.has_slow_loop()) {
+      settings.counted = CountedCalls::kSlowUpdate;
+      replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+      dump_instruction_counts("slow:" + algorithm.spec->label);
+      entry["slow_updates"] = schedule.updates.size();
+    }
+    counts[algorithm.spec->label] = entry;
+  }
+  std::ofstream(out) << counts.dump() << "\n";
+  return kExitOk;
+}
+
+}  // namespace hb

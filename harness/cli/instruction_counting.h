@@ -1,0 +1,29 @@
+// `hapticbench run --instructions`: instruction counts of Renderer::step
+// and of slow-loop updates, from a second process of this binary run under
+// valgrind's callgrind (`hapticbench count-instructions`, internal). The
+// child replays each algorithm without ground truth, following the slow-loop
+// schedules the timing pass recorded, with collection switched on only
+// around the measured calls; counts are deterministic for one build.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/cli/scenario_runner.h"
+
+namespace hb {
+
+/// Counts instructions for the runs of `outcome` (scenario file
+/// `scenario_path`, algorithms restricted to `only` when given) and stores
+/// them in each run's `instructions`. Throws InputError when valgrind is not
+/// installed, std::runtime_error when the child fails.
+void count_instructions(const std::string& scenario_path, const std::optional<std::string>& only,
+                        ScenarioOutcome& outcome);
+
+/// The child: `count-instructions SCENARIO --schedule DIR --out FILE [--algo NAME]`.
+/// Must run under callgrind (exit 2 otherwise).
+int count_instructions_command(const std::vector<std::string>& args);
+
+}  // namespace hb
