@@ -17,9 +17,9 @@ std::string fixed(std::optional<double> value, double scale, int decimals) {
 
 void print_run_table(std::ostream& out, const ScenarioRun& run) {
   char line[256];
-  std::snprintf(line, sizeof line, "  %-22s %6s %8s %8s %10s %10s %9s %5s %8s  %s\n", "label",
-                "ticks", "p50_us", "p99_us", "F_err_N", "pen_max_mm", "E_min_mJ", "nonfin",
-                "diverged", "budgets");
+  std::snprintf(line, sizeof line, "  %-22s %6s %8s %8s %9s %10s %10s %9s %5s %8s  %s\n", "label",
+                "ticks", "p50_us", "p99_us", "cpu99_us", "F_err_N", "pen_max_mm", "E_min_mJ",
+                "nonfin", "diverged", "budgets");
   out << line;
   for (const AlgorithmRun& r : run.runs) {
     const RunMetrics& m = r.metrics;
@@ -29,10 +29,11 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
         r.budgets.empty() ? "none"
                           : std::to_string(passed) + "/" + std::to_string(r.budgets.size()) +
                                 (passed == static_cast<int>(r.budgets.size()) ? " pass" : " FAIL");
-    std::snprintf(line, sizeof line, "  %-22s %6lld %8s %8s %10s %10s %9s %5lld %8s  %s\n",
+    std::snprintf(line, sizeof line, "  %-22s %6lld %8s %8s %9s %10s %10s %9s %5lld %8s  %s\n",
                   r.label.c_str(), static_cast<long long>(m.timing.ticks),
                   fixed(m.timing.step_ns.p50, 1e-3, 2).c_str(),
                   fixed(m.timing.step_ns.p99, 1e-3, 2).c_str(),
+                  fixed(m.timing.cpu_per_tick_ns.percentiles.p99, 1e-3, 2).c_str(),
                   fixed(m.accuracy.force_err_rms_n, 1, 4).c_str(),
                   fixed(m.accuracy.penetration_max_m, 1e3, 3).c_str(),
                   fixed(m.stability.passivity_energy_min_j, 1e3, 3).c_str(),
@@ -41,6 +42,13 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
     out << line;
     for (const BudgetVerdict& b : r.budgets)
       if (!b.pass) out << "    budget failed: " << b.message << "\n";
+    if (r.instructions) {
+      const InstructionCounts& c = *r.instructions;
+      out << "    instructions: " << (c.ticks > 0 ? c.step_total / c.ticks : 0) << " per step";
+      if (c.has_slow_loop && c.slow_updates > 0)
+        out << ", " << c.slow_update_total / c.slow_updates << " per slow update";
+      out << "\n";
+    }
     if (r.passes_agree && !*r.passes_agree)
       out << "    NOT DETERMINISTIC: the timing and evaluation replays computed different forces\n";
   }

@@ -11,6 +11,7 @@ std::optional<double> budget_metric(const std::string& name, const RunMetrics& m
   if (name == "tick_p99_us") return us(m.timing.step_ns.p99);
   if (name == "tick_p999_us") return us(m.timing.step_ns.p999);
   if (name == "tick_max_us") return us(m.timing.step_ns.max);
+  if (name == "cpu_per_tick_p99_us") return us(m.timing.cpu_per_tick_ns.percentiles.p99);
   if (name == "over_budget_ticks") return static_cast<double>(m.timing.over_budget);
   if (name == "max_penetration_m") return m.accuracy.penetration_max_m;
   if (name == "penetration_rms_m") return m.accuracy.penetration_rms_m;

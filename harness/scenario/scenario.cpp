@@ -558,6 +558,7 @@ const std::vector<std::string>& known_budget_names() {
                                                  "tick_p99_us",
                                                  "tick_p999_us",
                                                  "tick_max_us",
+                                                 "cpu_per_tick_p99_us",
                                                  "over_budget_ticks",
                                                  "max_penetration_m",
                                                  "penetration_rms_m",
