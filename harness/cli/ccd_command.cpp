@@ -16,6 +16,7 @@
 #include "algorithms/core/input_error.h"
 #include "algorithms/god_object/ccd_primitives.h"
 #include "harness/cli/ccd_query_file.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 
 namespace hb {
@@ -35,10 +36,6 @@ constexpr const char* kCcdUsage =
 /// Timed runs per query; its fastest counts.
 constexpr int kTimedRuns = 3;
 
-struct UsageError {
-  std::string message;
-};
-
 struct CcdOptions {
   std::vector<std::string> files;
   bool json = false;
@@ -49,10 +46,8 @@ CcdOptions parse_ccd_options(const std::vector<std::string>& args) {
   CcdOptions options;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
-      return args[++i];
-    };
+    check_help(arg);
+    auto value = [&]() -> const std::string& { return option_value(args, i); };
     if (arg == "--json") {
       options.json = true;
     } else if (arg == "--time-tolerance") {
@@ -178,8 +173,9 @@ int ccd_command(const std::vector<std::string>& args) {
   try {
     options = parse_ccd_options(args);
   } catch (const UsageError& error) {
-    std::cerr << "error: " << error.message << "\n" << kCcdUsage;
-    return kExitBadInput;
+    return print_usage_error(error, kCcdUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kCcdUsage);
   }
   // Every file is read before anything runs: bad input prints nothing else.
   std::vector<CcdQueryFile> files;

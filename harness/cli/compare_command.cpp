@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/compare/comparison.h"
 #include "harness/compare/comparison_report.h"
@@ -42,16 +43,6 @@ struct CompareArguments {
   CompareOptions options;
 };
 
-struct ParseOutcome {
-  std::optional<CompareArguments> arguments;
-  int exit_code = kExitOk;  ///< when arguments is empty: usage error or help
-};
-
-ParseOutcome usage_error(const std::string& message) {
-  std::cerr << "error: " << message << "\n" << kCompareUsage;
-  return {std::nullopt, kExitBadInput};
-}
-
 // A finite number in [min, max]; nullopt when the text is not one.
 std::optional<double> number_in(const std::string& text, double min, double max) {
   std::size_t used = 0;
@@ -66,15 +57,13 @@ std::optional<double> number_in(const std::string& text, double min, double max)
   return value;
 }
 
-ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
+// Throws UsageError or HelpRequested.
+CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
   CompareArguments parsed;
   std::vector<std::string> paths;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "-h" || a == "--help") {
-      std::cout << kCompareUsage;
-      return {std::nullopt, kExitOk};
-    }
+    check_help(a);
     if (a == "--gate") {
       parsed.gate = true;
     } else if (a == "--no-timing") {
@@ -85,8 +74,7 @@ ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
       parsed.options.timing_quiet_only = true;
     } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha" ||
                a == "--instructions-tol") {
-      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
-      const std::string& value = args[++i];
+      const std::string& value = option_value(args, i);
       if (a == "--out") {
         parsed.out = value;
         continue;
@@ -97,34 +85,39 @@ ParseOutcome parse_compare_arguments(const std::vector<std::string>& args) {
       const double max = a == "--alpha" ? 1 : HUGE_VAL;
       const std::optional<double> number = number_in(value, min, max);
       if (!number || (a == "--alpha" && *number == 0))
-        return usage_error(a + " expects " +
-                           (a == "--rel-tol" || a == "--instructions-tol" ? "a number >= 0"
-                            : a == "--timing-ratio"                       ? "a number >= 1"
-                                                    : "a probability in (0, 1]") +
-                           ", got \"" + value + "\"");
+        throw UsageError{a + " expects " +
+                         (a == "--rel-tol" || a == "--instructions-tol" ? "a number >= 0"
+                          : a == "--timing-ratio"                       ? "a number >= 1"
+                                                  : "a probability in (0, 1]") +
+                         ", got \"" + value + "\""};
       (a == "--rel-tol"            ? parsed.options.rel_tol
        : a == "--instructions-tol" ? parsed.options.instructions_rel_tol
        : a == "--timing-ratio"     ? parsed.options.timing_ratio
                                    : parsed.options.alpha) = *number;
     } else if (a.rfind("--", 0) == 0) {
-      return usage_error("unknown option " + a);
+      throw UsageError{"unknown option " + a};
     } else {
       paths.push_back(a);
     }
   }
   if (paths.size() != 2)
-    return usage_error("expected BASELINE and CANDIDATE, got " + std::to_string(paths.size()) +
-                       " path" + (paths.size() == 1 ? "" : "s"));
+    throw UsageError{"expected BASELINE and CANDIDATE, got " + std::to_string(paths.size()) +
+                     " path" + (paths.size() == 1 ? "" : "s")};
   parsed.baseline = paths[0];
   parsed.candidate = paths[1];
-  return {parsed, kExitOk};
+  return parsed;
 }
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
-  const ParseOutcome parsed = parse_compare_arguments(args);
-  if (!parsed.arguments) return parsed.exit_code;
-  const CompareArguments& arguments = *parsed.arguments;
+  CompareArguments arguments;
+  try {
+    arguments = parse_compare_arguments(args);
+  } catch (const UsageError& error) {
+    return print_usage_error(error, kCompareUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kCompareUsage);
+  }
 
   // Everything that can reject the input happens before anything is written.
   Comparison comparison;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
 #include "harness/output/output_ownership.h"
@@ -100,42 +101,45 @@ Json benchmark_entry(const Json& summary, const Json& run, std::size_t family) {
   return entry;
 }
 
+struct ExportArguments {
+  std::vector<fs::path> inputs;
+  std::optional<fs::path> out;
+};
+
+// Throws UsageError or HelpRequested.
+ExportArguments parse_export_arguments(const std::vector<std::string>& args) {
+  ExportArguments parsed;
+  std::string format;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    check_help(a);
+    if (a == "--format")
+      format = option_value(args, i);
+    else if (a == "--out")
+      parsed.out = option_value(args, i);
+    else if (a.rfind("--", 0) == 0)
+      throw UsageError{"unknown option " + a};
+    else
+      parsed.inputs.emplace_back(a);
+  }
+  if (format != "gbench") throw UsageError{"--format: expected gbench, got \"" + format + "\""};
+  if (parsed.inputs.empty()) throw UsageError{"missing RUN_DIR"};
+  return parsed;
+}
+
 }  // namespace
 
 int export_command(const std::vector<std::string>& args) {
-  std::vector<fs::path> inputs;
-  std::string format;
-  std::optional<fs::path> out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "-h" || a == "--help") {
-      std::cout << kExportUsage;
-      return kExitOk;
-    }
-    if (a == "--format" || a == "--out") {
-      if (i + 1 >= args.size()) {
-        std::cerr << "error: " << a << " needs a value\n" << kExportUsage;
-        return kExitBadInput;
-      }
-      if (a == "--format")
-        format = args[++i];
-      else
-        out = args[++i];
-    } else if (a.rfind("--", 0) == 0) {
-      std::cerr << "error: unknown option " << a << "\n" << kExportUsage;
-      return kExitBadInput;
-    } else {
-      inputs.emplace_back(a);
-    }
+  ExportArguments parsed;
+  try {
+    parsed = parse_export_arguments(args);
+  } catch (const UsageError& error) {
+    return print_usage_error(error, kExportUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kExportUsage);
   }
-  if (format != "gbench") {
-    std::cerr << "error: --format: expected gbench, got \"" << format << "\"\n" << kExportUsage;
-    return kExitBadInput;
-  }
-  if (inputs.empty()) {
-    std::cerr << "error: missing RUN_DIR\n" << kExportUsage;
-    return kExitBadInput;
-  }
+  const std::vector<fs::path>& inputs = parsed.inputs;
+  const std::optional<fs::path>& out = parsed.out;
   // A file export wrote names itself in its context.
   const auto exported = [](const fs::path& path) {
     std::ifstream in(path);

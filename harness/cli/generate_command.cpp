@@ -11,6 +11,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/core/param_set.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/output/output_ownership.h"
 #include "harness/trace/generators.h"
@@ -24,11 +25,6 @@ constexpr const char* kGenerateUsage =
     "usage: hapticbench generate NAME --duration S [--seed N] [--param key=value]... --out "
     "FILE.csv\n"
     "  value: a number, comma-separated numbers (e.g. 0,0,0.03), true/false, or a string\n";
-
-/// A usage mistake on the command line.
-struct UsageError {
-  std::string message;
-};
 
 bool parse_double(std::string_view text, double& value) {
   if (text.empty()) return false;
@@ -69,10 +65,8 @@ GenerateOptions parse_generate_options(const std::vector<std::string>& args) {
   GenerateOptions options;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
-      return args[++i];
-    };
+    check_help(arg);
+    auto value = [&]() -> const std::string& { return option_value(args, i); };
     if (arg == "--duration") {
       const std::string& text = value();
       if (!parse_double(text, options.request.duration_s) || !(options.request.duration_s > 0))
@@ -130,8 +124,9 @@ int generate_command(const std::vector<std::string>& args) {
               << trace.info.source << ", seed " << options.request.seed << ")\n";
     return kExitOk;
   } catch (const UsageError& error) {
-    std::cerr << "hapticbench generate: " << error.message << "\n" << kGenerateUsage;
-    return kExitBadInput;
+    return print_usage_error(error, kGenerateUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kGenerateUsage);
   } catch (const InputError& error) {
     std::cerr << "hapticbench generate: " << error.what() << "\n";
     return kExitBadInput;

@@ -6,7 +6,6 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
-#include "harness/cli/instruction_counting.h"
 
 namespace {
 constexpr const char* kUsage =

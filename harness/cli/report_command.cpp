@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
 #include "harness/output/output_ownership.h"
@@ -49,11 +50,6 @@ constexpr const char* kReportGeneratorMeta =
     "<meta name=\"generator\" content=\"hapticbench report\">";
 constexpr const char* kRendererScript = "render_report.py";
 
-/// A usage mistake on the command line.
-struct UsageError {
-  std::string message;
-};
-
 struct ReportOptions {
   std::vector<fs::path> inputs;
   fs::path out = "report.html";
@@ -63,9 +59,9 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
   ReportOptions options;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
+    check_help(arg);
     if (arg == "--out") {
-      if (i + 1 >= args.size()) throw UsageError{"--out needs a file name"};
-      options.out = args[++i];
+      options.out = option_value(args, i);
     } else if (arg.size() > 1 && arg[0] == '-') {
       throw UsageError{"unknown option " + arg};
     } else {
@@ -148,8 +144,9 @@ int report_command(const std::vector<std::string>& args) {
   try {
     options = parse_report_options(args);
   } catch (const UsageError& error) {
-    std::cerr << "error: " << error.message << "\n" << kReportUsage;
-    return kExitBadInput;
+    return print_usage_error(error, kReportUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kReportUsage);
   }
 
   // Never replace what hapticbench did not write (checked before any work).

@@ -5,12 +5,13 @@
 #include <optional>
 
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
-#include "harness/cli/instruction_counting.h"
-#include "harness/cli/run_table.h"
-#include "harness/cli/scenario_run_folder.h"
-#include "harness/cli/scenario_runner.h"
 #include "harness/output/output_ownership.h"
+#include "harness/output/run_table.h"
+#include "harness/run/instruction_counting.h"
+#include "harness/run/scenario_run_folder.h"
+#include "harness/run/scenario_runner.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -42,46 +43,33 @@ struct RunArguments {
   RunOptions options;
 };
 
-// Returns nullopt after printing a usage error.
-std::optional<RunArguments> parse_run_arguments(const std::vector<std::string>& args) {
+// Throws UsageError or HelpRequested.
+RunArguments parse_run_arguments(const std::vector<std::string>& args) {
   RunArguments parsed;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    check_help(a);
     if (a == "--algo" || a == "--out" || a == "--schedule" || a == "--repeat") {
-      if (i + 1 >= args.size()) {
-        std::cerr << "error: " << a << " needs a value\n" << kRunUsage;
-        return std::nullopt;
-      }
-      const std::string& value = args[++i];
+      const std::string& value = option_value(args, i);
       if (a == "--repeat") {
         const bool digits = !value.empty() && value.size() <= 4 &&
                             value.find_first_not_of("0123456789") == std::string::npos;
-        if (!digits || std::stoi(value) < 1 || std::stoi(value) > kMaxRepeat) {
-          std::cerr << "error: --repeat: expected a whole number in [1, " << kMaxRepeat
-                    << "], got \"" << value << "\"\n"
-                    << kRunUsage;
-          return std::nullopt;
-        }
+        if (!digits || std::stoi(value) < 1 || std::stoi(value) > kMaxRepeat)
+          throw UsageError{"--repeat: expected a whole number in [1, " +
+                           std::to_string(kMaxRepeat) + "], got \"" + value + "\""};
         parsed.options.repeat = std::stoi(value);
       } else {
         (a == "--algo" ? parsed.algo : a == "--out" ? parsed.out : parsed.schedule) = value;
       }
     } else if (a == "--instructions") {
       parsed.instructions = true;
-    } else if (a == "-h" || a == "--help") {
-      std::cout << kRunUsage;
-      return std::nullopt;
     } else if (a.rfind("--", 0) == 0) {
-      std::cerr << "error: unknown option " << a << "\n" << kRunUsage;
-      return std::nullopt;
+      throw UsageError{"unknown option " + a};
     } else {
       parsed.scenarios.push_back(a);
     }
   }
-  if (parsed.scenarios.empty()) {
-    std::cerr << "error: no scenario given\n" << kRunUsage;
-    return std::nullopt;
-  }
+  if (parsed.scenarios.empty()) throw UsageError{"no scenario given"};
   return parsed;
 }
 
@@ -93,8 +81,14 @@ fs::path run_folder_for(const RunArguments& args, const Scenario& scenario) {
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
-  const std::optional<RunArguments> parsed = parse_run_arguments(args);
-  if (!parsed) return kExitBadInput;
+  std::optional<RunArguments> parsed;
+  try {
+    parsed = parse_run_arguments(args);
+  } catch (const UsageError& error) {
+    return print_usage_error(error, kRunUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kRunUsage);
+  }
 
   // Load and build everything first: bad input anywhere stops the command
   // before any run folder is written.

@@ -1,37 +1,17 @@
-// hapticbench sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]
-//
-// Expands a sweep file into jobs (scenarios × grid values), validates every
-// job, then runs the jobs of its shard that have no summary.json yet, each
-// in a worker process of this same binary (`sweep SWEEP.json --run-job K`),
-// at most N at a time. A worker writes its run folder through the same code
-// as `hapticbench run`, plus the job's scenario.json.
-#include <sys/ioctl.h>
-#include <unistd.h>
-
-#include <cstdlib>
-#include <filesystem>
+// hapticbench sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]: the
+// command line of harness/sweep/sweep_runner.h.
 #include <iostream>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
-#include "harness/cli/run_table.h"
-#include "harness/cli/scenario_run_folder.h"
-#include "harness/cli/scenario_runner.h"
-#include "harness/output/output_ownership.h"
-#include "harness/sweep/sweep_index.h"
-#include "harness/sweep/sweep_jobs.h"
-#include "harness/sweep/sweep_progress.h"
+#include "harness/sweep/sweep_runner.h"
 #include "harness/sweep/sweep_shard.h"
-#include "harness/sweep/sweep_spec.h"
-#include "harness/sweep/worker_pool.h"
 
 namespace hb {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -49,10 +29,7 @@ constexpr const char* kSweepUsage =
 constexpr std::size_t kMaxParallelJobs = 1024;
 
 struct SweepArguments {
-  std::string sweep_file;
-  std::size_t jobs = 1;
-  std::optional<SweepShard> shard;
-  std::optional<std::string> out;
+  SweepRunSettings settings;
   std::optional<std::size_t> run_job;
 };
 
@@ -67,289 +44,62 @@ std::optional<std::size_t> whole_number(const std::string& text, std::size_t min
   return value;
 }
 
-// Returns nullopt after printing a usage error (or the help).
-std::optional<SweepArguments> parse_sweep_arguments(const std::vector<std::string>& args) {
+// Throws UsageError or HelpRequested.
+SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
   SweepArguments parsed;
-  auto usage_error = [](const std::string& message) {
-    std::cerr << "error: " << message << "\n" << kSweepUsage;
-    return std::nullopt;
-  };
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "-h" || a == "--help") {
-      std::cout << kSweepUsage;
-      return std::nullopt;
-    }
+    check_help(a);
     if (a == "--jobs" || a == "--shard" || a == "--out" || a == "--run-job") {
-      if (i + 1 >= args.size()) return usage_error(a + " needs a value");
-      const std::string& value = args[++i];
+      const std::string& value = option_value(args, i);
       if (a == "--jobs") {
         const std::optional<std::size_t> jobs = whole_number(value, 1, kMaxParallelJobs);
         if (!jobs)
-          return usage_error("--jobs: expected a whole number in [1, " +
-                             std::to_string(kMaxParallelJobs) + "], got \"" + value + "\"");
-        parsed.jobs = *jobs;
+          throw UsageError{"--jobs: expected a whole number in [1, " +
+                           std::to_string(kMaxParallelJobs) + "], got \"" + value + "\""};
+        parsed.settings.jobs = *jobs;
       } else if (a == "--shard") {
         try {
-          parsed.shard = parse_sweep_shard(value);
+          parsed.settings.shard = parse_sweep_shard(value);
         } catch (const InputError& error) {
-          return usage_error(error.what());
+          throw UsageError{std::string(error.what())};
         }
       } else if (a == "--out") {
-        parsed.out = value;
+        parsed.settings.out = value;
       } else {
         parsed.run_job = whole_number(value, 0, 999999999);
         if (!parsed.run_job)
-          return usage_error("--run-job: expected a job index >= 0, got \"" + value + "\"");
+          throw UsageError{"--run-job: expected a job index >= 0, got \"" + value + "\""};
       }
     } else if (a.rfind("--", 0) == 0) {
-      return usage_error("unknown option " + a);
-    } else if (!parsed.sweep_file.empty()) {
-      return usage_error("one sweep file at a time (got " + parsed.sweep_file + " and " + a + ")");
+      throw UsageError{"unknown option " + a};
+    } else if (!parsed.settings.sweep_file.empty()) {
+      throw UsageError{"one sweep file at a time (got " + parsed.settings.sweep_file + " and " + a +
+                       ")"};
     } else {
-      parsed.sweep_file = a;
+      parsed.settings.sweep_file = a;
     }
   }
-  if (parsed.sweep_file.empty()) return usage_error("no sweep file given");
-  if (parsed.run_job && (parsed.shard || parsed.jobs != 1))
-    return usage_error("--run-job runs one job; it takes no --jobs or --shard");
+  if (parsed.settings.sweep_file.empty()) throw UsageError{"no sweep file given"};
+  if (parsed.run_job && (parsed.settings.shard || parsed.settings.jobs != 1))
+    throw UsageError{"--run-job runs one job; it takes no --jobs or --shard"};
   return parsed;
-}
-
-fs::path output_folder(const SweepArguments& args, const SweepSpec& spec) {
-  return args.out ? fs::path(*args.out) : fs::path("out") / "sweeps" / spec.name;
-}
-
-// One job, in this process: load, build, replay, write its run folder.
-int run_one_job(const SweepArguments& args) {
-  const SweepSpec spec = load_sweep_spec(args.sweep_file);
-  const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
-  if (*args.run_job >= jobs.size())
-    throw InputError(args.sweep_file, "--run-job",
-                     "no job " + std::to_string(*args.run_job) + "; the sweep has " +
-                         std::to_string(jobs.size()) + " jobs (0 to " +
-                         std::to_string(jobs.size() - 1) + ")");
-  const SweepJob& job = jobs[*args.run_job];
-  const Scenario scenario = load_sweep_job_scenario(spec, job);
-  PreparedScenario prepared;
-  try {
-    prepared = prepare_scenario(scenario, std::nullopt);
-  } catch (const InputError& error) {
-    throw sweep_job_error(spec, job, error);
-  }
-  const ScenarioOutcome outcome = run_prepared(prepared);
-  const fs::path folder = output_folder(args, spec) / job.name;
-  write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}});
-  std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
-  print_run_table(std::cout, outcome.report);
-  return outcome.report.all_budgets_pass() ? kExitOk : kExitBudgetFailed;
-}
-
-// Every job loads and builds (renderers, ground truth) before any runs, so
-// that a bad value in the last job stops the sweep before the first. The
-// oracles (the costly part: a second or so on real meshes) depend only on
-// the scene, the tool and the reference settings, so they are built once
-// per distinct combination; most grids vary algorithm parameters or the
-// coupling and share one.
-void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
-  std::set<std::string> checked_ground_truth;
-  for (const SweepJob& job : jobs) {
-    Scenario scenario = load_sweep_job_scenario(spec, job);
-    std::string ground_truth_key;
-    for (const char* key : {"scene", "tool", "reference"})
-      ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
-    if (!checked_ground_truth.insert(ground_truth_key).second) scenario.reference.oracle = "none";
-    try {
-      prepare_scenario(scenario, std::nullopt);
-    } catch (const InputError& error) {
-      throw sweep_job_error(spec, job, error);
-    }
-  }
-}
-
-// Staging folders an interrupted worker left beside a job's run folder
-// (<job>.partial-<pid>, <job>.old-<pid>); only this shard's jobs are
-// touched, since another shard may be writing its own right now, and only
-// folders that carry hapticbench's ownership marker.
-void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string>& job_names) {
-  std::error_code error;
-  if (!fs::is_directory(out_dir, error)) return;
-  std::vector<fs::path> stale;
-  for (const auto& entry : fs::directory_iterator(out_dir, error)) {
-    const std::string file = entry.path().filename().string();
-    for (const std::string& job : job_names)
-      for (const char* suffix : {".partial-", ".old-"}) {
-        const std::string prefix = job + suffix;
-        if (file.size() > prefix.size() && file.compare(0, prefix.size(), prefix) == 0 &&
-            file.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
-          stale.push_back(entry.path());
-      }
-  }
-  for (const fs::path& path : stale)
-    if (is_owned_folder(path)) fs::remove_all(path, error);
-}
-
-// A scratch folder for the workers' captured output, removed on every path.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    std::string pattern = (fs::temp_directory_path() / "hapticbench-sweep-XXXXXX").string();
-    if (!::mkdtemp(pattern.data()))
-      throw std::runtime_error("cannot create a scratch folder in " +
-                               fs::temp_directory_path().string());
-    path_ = pattern;
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-fs::path this_executable() {
-  std::error_code error;
-  const fs::path path = fs::read_symlink("/proc/self/exe", error);
-  return error ? fs::path("/proc/self/exe") : path;
-}
-
-std::size_t terminal_width() {
-  winsize size{};
-  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col >= 20) return size.ws_col;
-  return 100;
-}
-
-std::string last_lines(const std::string& text, std::size_t count) {
-  std::size_t start = text.size();
-  if (start > 0 && text[start - 1] == '\n') --start;
-  for (std::size_t lines = 0; start > 0; --start)
-    if (text[start - 1] == '\n' && ++lines == count) break;
-  return text.substr(start);
-}
-
-int run_sweep(const SweepArguments& args) {
-  const SweepSpec spec = load_sweep_spec(args.sweep_file);
-  const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
-  validate_jobs(spec, jobs);
-
-  const SweepShard shard = args.shard.value_or(SweepShard{});
-  const fs::path out_dir = output_folder(args, spec);
-  create_output_container(out_dir);
-  require_replaceable_file(out_dir / "sweep.json", "sweep index", is_sweep_index_file);
-
-  std::vector<SweepJobState> states(jobs.size());
-  std::vector<std::size_t> to_run;
-  std::size_t in_this_shard = 0, done_earlier = 0;
-  for (const SweepJob& job : jobs) {
-    states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
-    if (!in_shard(job.index, shard)) continue;
-    ++in_this_shard;
-    if (fs::exists(out_dir / job.name / "summary.json")) {
-      states[job.index].done_earlier = true;
-      ++done_earlier;
-    } else {
-      to_run.push_back(job.index);
-    }
-  }
-  // Nothing is written unless every job folder to write may be written.
-  for (std::size_t index : to_run)
-    require_replaceable_folder(out_dir / jobs[index].name, OutputFolderKind::kRun);
-  std::vector<bool> ran_here(jobs.size(), false);
-  // Jobs this invocation does not run (other shards') are read back from
-  // their run folders at the start and at the end, not after every job.
-  auto write_index = [&](bool reread_others) {
-    if (reread_others)
-      for (const SweepJob& job : jobs)
-        if (!ran_here[job.index] && !states[job.index].done_earlier)
-          states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
-    write_sweep_index(out_dir, sweep_index_json(spec, jobs, states, shard));
-  };
-  write_index(false);
-
-  std::cerr << "sweep " << spec.name << ": " << jobs.size() << " jobs";
-  if (shard.count > 1) std::cerr << ", shard " << shard_text(shard) << " has " << in_this_shard;
-  std::cerr << "; " << done_earlier << " done earlier, " << to_run.size() << " to run, "
-            << std::min(args.jobs, std::max<std::size_t>(to_run.size(), 1)) << " at a time -> "
-            << out_dir.string() << "/\n";
-
-  std::vector<std::string> names;
-  std::vector<WorkerLaunch> launches;
-  const std::string executable = this_executable().string();
-  const std::string sweep_file = fs::absolute(args.sweep_file).lexically_normal().string();
-  const std::string out_text = fs::absolute(out_dir).lexically_normal().string();
-  for (std::size_t index : to_run) {
-    names.push_back(jobs[index].name);
-    launches.push_back(
-        {{executable, "sweep", sweep_file, "--run-job", std::to_string(index), "--out", out_text}});
-  }
-  remove_stale_staging(out_dir, names);
-
-  const bool terminal = ::isatty(STDERR_FILENO) == 1;
-  SweepProgress progress(std::cerr, to_run.size(), terminal, terminal_width());
-  std::size_t ok = 0, budget_failed = 0, crashed = 0;
-  WorkerCallbacks callbacks;
-  callbacks.on_start = [&](std::size_t launch) { progress.started(names[launch]); };
-  callbacks.on_wait = [&] { progress.refresh(); };
-  callbacks.on_finish = [&](std::size_t launch, const WorkerResult& result) {
-    const SweepJob& job = jobs[to_run[launch]];
-    SweepJobState& state = states[job.index];
-    ran_here[job.index] = true;
-    const bool wrote_folder = fs::exists(out_dir / job.name / "summary.json");
-    if (result.end.exited && result.end.exit_code == kExitOk && wrote_folder) {
-      state.status = SweepJobStatus::kOk;
-      ++ok;
-    } else if (result.end.exited && result.end.exit_code == kExitBudgetFailed && wrote_folder) {
-      state.status = SweepJobStatus::kBudgetFailed;
-      ++budget_failed;
-    } else {
-      state.status = SweepJobStatus::kCrashed;
-      state.detail = result.end.description() + (wrote_folder ? "" : ", no run folder written");
-      ++crashed;
-    }
-    if (terminal) std::cerr << "\r\033[K" << std::flush;
-    std::cout << result.stdout_text << std::flush;
-    if (state.status == SweepJobStatus::kCrashed && !result.stderr_text.empty())
-      std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
-                << last_lines(result.stderr_text, 20) << "\n";
-    const char* verdict = state.status == SweepJobStatus::kOk             ? "ok"
-                          : state.status == SweepJobStatus::kBudgetFailed ? "budgets failed"
-                                                                          : "CRASHED";
-    progress.finished(job.name,
-                      state.status == SweepJobStatus::kCrashed
-                          ? std::string(verdict) + " (" + state.detail + ")"
-                          : std::string(verdict),
-                      result.seconds, state.status != SweepJobStatus::kCrashed);
-    write_index(false);
-  };
-  {
-    ScratchFolder scratch;
-    run_worker_processes(launches, args.jobs, scratch.path(), callbacks);
-  }
-  progress.close();
-  write_index(true);
-
-  std::size_t failed_budgets_in_shard = 0;
-  for (const SweepJob& job : jobs)
-    if (in_shard(job.index, shard) && states[job.index].status == SweepJobStatus::kBudgetFailed)
-      ++failed_budgets_in_shard;
-  std::cout << "sweep " << spec.name << " -> " << out_dir.string()
-            << "/sweep.json: " << to_run.size() << " ran (" << ok << " ok, " << budget_failed
-            << " budgets failed, " << crashed << " crashed), " << done_earlier << " done earlier\n";
-  if (crashed > 0) return kExitInternal;
-  return failed_budgets_in_shard > 0 ? kExitBudgetFailed : kExitOk;
 }
 
 }  // namespace
 
 int sweep_command(const std::vector<std::string>& args) {
-  const std::optional<SweepArguments> parsed = parse_sweep_arguments(args);
-  if (!parsed) return kExitBadInput;
+  SweepArguments parsed;
   try {
-    return parsed->run_job ? run_one_job(*parsed) : run_sweep(*parsed);
+    parsed = parse_sweep_arguments(args);
+  } catch (const UsageError& error) {
+    return print_usage_error(error, kSweepUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kSweepUsage);
+  }
+  try {
+    return parsed.run_job ? run_sweep_job(parsed.settings, *parsed.run_job)
+                          : run_sweep(parsed.settings);
   } catch (const InputError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;

@@ -16,9 +16,10 @@
 #include "algorithms/core/shapes.h"
 #include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
-#include "harness/cli/scenario_runner.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "harness/run/scenario_runner.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
 #include "harness/trace/trace.h"
@@ -136,22 +137,29 @@ void validate_file(const std::string& path) {
 
 }  // namespace
 
-int validate_command(const std::vector<std::string>& args) {
+namespace {
+// Throws UsageError or HelpRequested.
+std::vector<std::string> parse_validate_arguments(const std::vector<std::string>& args) {
   std::vector<std::string> files;
   for (const std::string& arg : args) {
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      return kExitOk;
-    }
-    if (arg.size() > 1 && arg[0] == '-') {
-      std::cerr << "error: validate: unknown option \"" << arg << "\"\n" << kUsage;
-      return kExitBadInput;
-    }
+    check_help(arg);
+    if (arg.size() > 1 && arg[0] == '-')
+      throw UsageError{"validate: unknown option \"" + arg + "\""};
     files.push_back(arg);
   }
-  if (files.empty()) {
-    std::cerr << "error: validate: no file given\n" << kUsage;
-    return kExitBadInput;
+  if (files.empty()) throw UsageError{"validate: no file given"};
+  return files;
+}
+}  // namespace
+
+int validate_command(const std::vector<std::string>& args) {
+  std::vector<std::string> files;
+  try {
+    files = parse_validate_arguments(args);
+  } catch (const UsageError& error) {
+    return print_usage_error(error, kUsage);
+  } catch (const HelpRequested&) {
+    return print_help(kUsage);
   }
 
   int status = kExitOk;

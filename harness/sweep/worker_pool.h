@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/sweep/child_process.h"
+#include "harness/process/child_process.h"
 
 namespace hb {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/cli/scenario_runner.h"
+#include "harness/run/scenario_runner.h"
 
 namespace hb {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/cli/scenario_runner.h"
+#include "harness/run/scenario_runner.h"
 
 namespace hb {
 
@@ -22,8 +22,14 @@ namespace hb {
 void count_instructions(const std::string& scenario_path, const std::optional<std::string>& only,
                         ScenarioOutcome& outcome);
 
-/// The child: `count-instructions SCENARIO --schedule DIR --out FILE [--algo NAME]`.
-/// Must run under callgrind (exit 2 otherwise).
-int count_instructions_command(const std::vector<std::string>& args);
+/// The child's work, in the process callgrind runs: loads the scenario
+/// (no ground truth), makes its multi-rate algorithms follow the schedules
+/// in `schedule_dir`, and for each algorithm (or `only`) replays once to
+/// warm up, once collecting step() and once collecting slow updates,
+/// dumping "step:<label>" and "slow:<label>"; writes {label: {ticks,
+/// slow_updates}} to `out`.
+void count_instructions_here(const std::string& scenario_path,
+                             const std::optional<std::string>& only,
+                             const std::string& schedule_dir, const std::string& out);
 
 }  // namespace hb

@@ -1,4 +1,4 @@
-#include "harness/cli/scenario_run_folder.h"
+#include "harness/run/scenario_run_folder.h"
 
 #include "harness/output/run_folder.h"
 #include "harness/output/run_report.h"

@@ -1,4 +1,4 @@
-#include "harness/cli/run_table.h"
+#include "harness/output/run_table.h"
 
 #include <cstdio>
 #include <optional>

@@ -1,4 +1,4 @@
-#include "harness/sweep/child_process.h"
+#include "harness/process/child_process.h"
 
 #include <fcntl.h>
 #include <signal.h>

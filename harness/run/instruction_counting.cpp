@@ -1,4 +1,4 @@
-#include "harness/cli/instruction_counting.h"
+#include "harness/run/instruction_counting.h"
 
 #include <stdlib.h>
 #include <unistd.h>
@@ -12,10 +12,9 @@
 #include <stdexcept>
 
 #include "algorithms/core/input_error.h"
-#include "harness/cli/commands.h"
+#include "harness/process/child_process.h"
 #include "harness/replay/instruction_count.h"
 #include "harness/scenario/scenario.h"
-#include "harness/sweep/child_process.h"
 
 namespace hb {
 
@@ -136,30 +135,9 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
   }
 }
 
-int count_instructions_command(const std::vector<std::string>& args) {
-  std::string scenario_path, schedule_dir, out;
-  std::optional<std::string> only;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if ((a == "--schedule" || a == "--out" || a == "--algo") && i + 1 < args.size()) {
-      (a == "--schedule" ? schedule_dir : a == "--out" ? out : only.emplace()) = args[++i];
-    } else if (scenario_path.empty() && a.rfind("--", 0) != 0) {
-      scenario_path = a;
-    } else {
-      std::cerr << "count-instructions: unexpected argument " << a << "\n";
-      return kExitBadInput;
-    }
-  }
-  if (scenario_path.empty() || schedule_dir.empty() || out.empty()) {
-    std::cerr << "usage (internal, started by run --instructions): hapticbench "
-                 "count-instructions SCENARIO --schedule DIR --out FILE [--algo NAME]\n";
-    return kExitBadInput;
-  }
-  if (!running_on_valgrind()) {
-    std::cerr << "count-instructions: must run under valgrind --tool=callgrind (use "
-                 "`hapticbench run --instructions`)\n";
-    return kExitBadInput;
-  }
+void count_instructions_here(const std::string& scenario_path,
+                             const std::optional<std::string>& only,
+                             const std::string& schedule_dir, const std::string& out) {
   Scenario scenario = load_scenario(scenario_path);
   scenario.reference.oracle = "none";  // no ground truth is counted, so none is built
   PreparedScenario prepared = prepare_scenario(scenario, only);
@@ -191,7 +169,6 @@ int count_instructions_command(const std::vector<std::string>& args) {
     counts[algorithm.spec->label] = entry;
   }
   std::ofstream(out) << counts.dump() << "\n";
-  return kExitOk;
 }
 
 }  // namespace hb

@@ -1,0 +1,183 @@
+// Preparing a scenario: renderers (with the replay's own parameters split
+// off), the reach box, ground truth, and recorded schedules to follow.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <optional>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/registry.h"
+#include "harness/reference/analytic_reference.h"
+#include "harness/run/scenario_runner.h"
+
+namespace hb {
+
+namespace {
+
+// "slow_loop_latency" belongs to the replay loop, not to the algorithm: it
+// is taken out of the parameters before the renderer sees them.
+ParamSet split_replay_params(const AlgorithmSpec& spec, PreparedAlgorithm& prepared) {
+  ParamSet renderer_params(spec.params.prefix());
+  for (const auto& [key, value] : spec.params.values())
+    if (key != "slow_loop_latency") renderer_params.set(key, value);
+  // Measured by default: an update is installed as many ticks after it
+  // started as it took on this machine; a whole number is an idealised,
+  // fixed latency.
+  const std::optional<long long> latency =
+      spec.params.has("slow_loop_latency")
+          ? spec.params.integer_or_word("slow_loop_latency", 1, 1, 100000, "measured")
+          : std::nullopt;
+  prepared.replay.slow_loop_timing = latency ? SlowLoopTiming::kFixed : SlowLoopTiming::kMeasured;
+  if (latency) prepared.replay.fixed_latency_ticks = *latency;
+  prepared.slow_loop_latency = latency ? std::to_string(*latency) : "measured";
+  return renderer_params;
+}
+
+std::string analytic_reference_name(const RenderContext& context) {
+  return "ideal rigid contact: " + shape_type_name(context.tool.shape->type) + " tool on box";
+}
+
+std::string with_source(const InputError& error, const std::string& path) {
+  return error.source().empty() ? path : error.source();
+}
+
+}  // namespace
+
+namespace {
+// What the renderers are given: the scenario's context plus the box the
+// tool can reach, the trace's tool-frame positions grown by the tool's
+// radius about its frame origin.
+RenderContext context_with_reach(const Scenario& scenario) {
+  RenderContext context = scenario.context;
+  Eigen::AlignedBox3d reach;
+  for (const DeviceSample& sample : scenario.device_samples)
+    if (sample.pose.p.allFinite()) reach.extend(sample.pose.p);
+  if (!reach.isEmpty()) {
+    const double radius = context.tool.mesh.radius_about(Vec3::Zero());
+    reach.min().array() -= radius;
+    reach.max().array() += radius;
+    context.reach = reach;
+  }
+  return context;
+}
+
+std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
+                                                  const RenderContext& context,
+                                                  const std::optional<std::string>& only) {
+  std::vector<PreparedAlgorithm> prepared;
+  for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
+    const AlgorithmSpec& spec = scenario.algorithms[i];
+    if (only && spec.name != *only && spec.label != *only) continue;
+    PreparedAlgorithm algorithm;
+    algorithm.spec = &spec;
+    try {
+      const ParamSet params = split_replay_params(spec, algorithm);
+      const auto t0 = std::chrono::steady_clock::now();
+      algorithm.renderer =
+          create_renderer(spec.name, context, params, "/algorithms/" + std::to_string(i) + "/name");
+      const auto t1 = std::chrono::steady_clock::now();
+      algorithm.preprocess.seconds = std::chrono::duration<double>(t1 - t0).count();
+      BuildReport built = algorithm.renderer->build_report();
+      algorithm.preprocess.memory_bytes = built.memory_bytes;
+      algorithm.preprocess.cache_hit = built.cache_hit;
+      algorithm.preprocess.details = std::move(built.details);
+    } catch (const InputError& error) {
+      throw InputError(with_source(error, scenario.path), error.location(), error.message());
+    }
+    prepared.push_back(std::move(algorithm));
+  }
+  if (only && prepared.empty()) {
+    std::string known;
+    for (const AlgorithmSpec& spec : scenario.algorithms)
+      known += (known.empty() ? "" : ", ") + spec.label;
+    throw InputError(
+        scenario.path, "--algo",
+        "no algorithm named or labelled \"" + *only + "\" (scenario has: " + known + ")");
+  }
+  return prepared;
+}
+
+GroundTruth prepare_ground_truth(const Scenario& scenario) {
+  GroundTruth truth;
+  if (scenario.reference.analytic == "auto") {
+    truth.analytic = make_analytic_scene(scenario.context, &truth.analytic_note);
+    if (truth.analytic) truth.analytic_name = analytic_reference_name(scenario.context);
+  } else {
+    truth.analytic_note = "analytic reference switched off by the scenario";
+  }
+  const std::string& oracle = scenario.reference.oracle;
+  if (oracle != "none") {
+    OracleEvaluationSettings settings;
+    settings.use_embree = oracle == "embree" || oracle == "both";
+    settings.use_cgal = oracle == "cgal" || oracle == "both";
+    settings.exact_every = scenario.reference.exact_every;
+    settings.sample_spacing_m = scenario.reference.sample_spacing_m;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      truth.oracle = std::make_unique<OracleEvaluator>(scenario.context, settings);
+    } catch (const InputError& error) {
+      // The oracle names the object; the scenario names where it comes from.
+      throw InputError(with_source(error, scenario.path), error.location(),
+                       error.message() + " (scenario " + scenario.path + ")");
+    }
+    truth.oracle_build_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return truth;
+}
+}  // namespace
+
+PreparedScenario prepare_scenario(const Scenario& scenario,
+                                  const std::optional<std::string>& only) {
+  PreparedScenario prepared;
+  prepared.scenario = &scenario;
+  prepared.context = std::make_unique<RenderContext>(context_with_reach(scenario));
+  prepared.algorithms = prepare_algorithms(scenario, *prepared.context, only);
+  prepared.truth = prepare_ground_truth(scenario);
+  return prepared;
+}
+
+void use_recorded_schedules(PreparedScenario& prepared, const std::string& path) {
+  namespace fs = std::filesystem;
+  const Scenario& scenario = *prepared.scenario;
+  std::error_code error;
+  if (fs::is_regular_file(path, error)) {
+    const std::string name = fs::path(path).filename().string();
+    const std::string prefix = "schedule_", suffix = ".csv";
+    const std::string label =
+        name.size() > prefix.size() + suffix.size() && name.rfind(prefix, 0) == 0 &&
+                name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0
+            ? name.substr(prefix.size(), name.size() - prefix.size() - suffix.size())
+            : "";
+    for (PreparedAlgorithm& algorithm : prepared.algorithms)
+      if (algorithm.spec->label == label && algorithm.has_slow_loop()) {
+        algorithm.replayed_schedule = std::make_unique<SlowLoopSchedule>(read_schedule_file(path));
+        algorithm.schedule_source = path;
+        return;
+      }
+    throw InputError(path, "--schedule",
+                     "expected schedule_<label>.csv for a multi-rate algorithm of " +
+                         scenario.path + "; no such label");
+  }
+  if (!fs::is_directory(path, error))
+    throw InputError(path, "--schedule", "expected a schedule file or a run folder holding one");
+  for (PreparedAlgorithm& algorithm : prepared.algorithms) {
+    if (!algorithm.has_slow_loop()) continue;
+    const std::string file = "schedule_" + algorithm.spec->label + ".csv";
+    fs::path found;
+    for (const fs::path& candidate : {fs::path(path) / file, fs::path(path) / scenario.name / file})
+      if (fs::is_regular_file(candidate, error)) {
+        found = candidate;
+        break;
+      }
+    if (found.empty())
+      throw InputError(path, "--schedule",
+                       "no " + file + " here or in " + scenario.name + "/ for " +
+                           algorithm.spec->label + " of " + scenario.path);
+    algorithm.replayed_schedule =
+        std::make_unique<SlowLoopSchedule>(read_schedule_file(found.string()));
+    algorithm.schedule_source = found.string();
+  }
+}
+
+}  // namespace hb

@@ -1,0 +1,265 @@
+#include "harness/sweep/sweep_runner.h"
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "harness/output/output_ownership.h"
+#include "harness/output/run_table.h"
+#include "harness/run/scenario_run_folder.h"
+#include "harness/run/scenario_runner.h"
+#include "harness/sweep/sweep_index.h"
+#include "harness/sweep/sweep_jobs.h"
+#include "harness/sweep/sweep_progress.h"
+#include "harness/sweep/sweep_spec.h"
+#include "harness/sweep/worker_pool.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Exit codes of a sweep and its workers (harness/cli/commands.h has the list).
+constexpr int kSweepOk = 0, kSweepBudgetFailed = 1, kSweepCrashed = 3;
+
+fs::path output_folder(const SweepRunSettings& args, const SweepSpec& spec) {
+  return args.out ? fs::path(*args.out) : fs::path("out") / "sweeps" / spec.name;
+}
+
+}  // namespace
+
+int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
+  const SweepSpec spec = load_sweep_spec(args.sweep_file);
+  const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
+  if (job_index >= jobs.size())
+    throw InputError(args.sweep_file, "--run-job",
+                     "no job " + std::to_string(job_index) + "; the sweep has " +
+                         std::to_string(jobs.size()) + " jobs (0 to " +
+                         std::to_string(jobs.size() - 1) + ")");
+  const SweepJob& job = jobs[job_index];
+  const Scenario scenario = load_sweep_job_scenario(spec, job);
+  PreparedScenario prepared;
+  try {
+    prepared = prepare_scenario(scenario, std::nullopt);
+  } catch (const InputError& error) {
+    throw sweep_job_error(spec, job, error);
+  }
+  const ScenarioOutcome outcome = run_prepared(prepared);
+  const fs::path folder = output_folder(args, spec) / job.name;
+  write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}});
+  std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
+  print_run_table(std::cout, outcome.report);
+  return outcome.report.all_budgets_pass() ? kSweepOk : kSweepBudgetFailed;
+}
+
+namespace {
+
+// Every job loads and builds (renderers, ground truth) before any runs, so
+// that a bad value in the last job stops the sweep before the first. The
+// oracles (the costly part: a second or so on real meshes) depend only on
+// the scene, the tool and the reference settings, so they are built once
+// per distinct combination; most grids vary algorithm parameters or the
+// coupling and share one.
+void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
+  std::set<std::string> checked_ground_truth;
+  for (const SweepJob& job : jobs) {
+    Scenario scenario = load_sweep_job_scenario(spec, job);
+    std::string ground_truth_key;
+    for (const char* key : {"scene", "tool", "reference"})
+      ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
+    if (!checked_ground_truth.insert(ground_truth_key).second) scenario.reference.oracle = "none";
+    try {
+      prepare_scenario(scenario, std::nullopt);
+    } catch (const InputError& error) {
+      throw sweep_job_error(spec, job, error);
+    }
+  }
+}
+
+// Staging folders an interrupted worker left beside a job's run folder
+// (<job>.partial-<pid>, <job>.old-<pid>); only this shard's jobs are
+// touched, since another shard may be writing its own right now, and only
+// folders that carry hapticbench's ownership marker.
+void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string>& job_names) {
+  std::error_code error;
+  if (!fs::is_directory(out_dir, error)) return;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(out_dir, error)) {
+    const std::string file = entry.path().filename().string();
+    for (const std::string& job : job_names)
+      for (const char* suffix : {".partial-", ".old-"}) {
+        const std::string prefix = job + suffix;
+        if (file.size() > prefix.size() && file.compare(0, prefix.size(), prefix) == 0 &&
+            file.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+          stale.push_back(entry.path());
+      }
+  }
+  for (const fs::path& path : stale)
+    if (is_owned_folder(path)) fs::remove_all(path, error);
+}
+
+// A scratch folder for the workers' captured output, removed on every path.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    std::string pattern = (fs::temp_directory_path() / "hapticbench-sweep-XXXXXX").string();
+    if (!::mkdtemp(pattern.data()))
+      throw std::runtime_error("cannot create a scratch folder in " +
+                               fs::temp_directory_path().string());
+    path_ = pattern;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+fs::path this_executable() {
+  std::error_code error;
+  const fs::path path = fs::read_symlink("/proc/self/exe", error);
+  return error ? fs::path("/proc/self/exe") : path;
+}
+
+std::size_t terminal_width() {
+  winsize size{};
+  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col >= 20) return size.ws_col;
+  return 100;
+}
+
+std::string last_lines(const std::string& text, std::size_t count) {
+  std::size_t start = text.size();
+  if (start > 0 && text[start - 1] == '\n') --start;
+  for (std::size_t lines = 0; start > 0; --start)
+    if (text[start - 1] == '\n' && ++lines == count) break;
+  return text.substr(start);
+}
+
+}  // namespace
+
+int run_sweep(const SweepRunSettings& args) {
+  const SweepSpec spec = load_sweep_spec(args.sweep_file);
+  const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
+  validate_jobs(spec, jobs);
+
+  const SweepShard shard = args.shard.value_or(SweepShard{});
+  const fs::path out_dir = output_folder(args, spec);
+  create_output_container(out_dir);
+  require_replaceable_file(out_dir / "sweep.json", "sweep index", is_sweep_index_file);
+
+  std::vector<SweepJobState> states(jobs.size());
+  std::vector<std::size_t> to_run;
+  std::size_t in_this_shard = 0, done_earlier = 0;
+  for (const SweepJob& job : jobs) {
+    states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
+    if (!in_shard(job.index, shard)) continue;
+    ++in_this_shard;
+    if (fs::exists(out_dir / job.name / "summary.json")) {
+      states[job.index].done_earlier = true;
+      ++done_earlier;
+    } else {
+      to_run.push_back(job.index);
+    }
+  }
+  // Nothing is written unless every job folder to write may be written.
+  for (std::size_t index : to_run)
+    require_replaceable_folder(out_dir / jobs[index].name, OutputFolderKind::kRun);
+  std::vector<bool> ran_here(jobs.size(), false);
+  // Jobs this invocation does not run (other shards') are read back from
+  // their run folders at the start and at the end, not after every job.
+  auto write_index = [&](bool reread_others) {
+    if (reread_others)
+      for (const SweepJob& job : jobs)
+        if (!ran_here[job.index] && !states[job.index].done_earlier)
+          states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
+    write_sweep_index(out_dir, sweep_index_json(spec, jobs, states, shard));
+  };
+  write_index(false);
+
+  std::cerr << "sweep " << spec.name << ": " << jobs.size() << " jobs";
+  if (shard.count > 1) std::cerr << ", shard " << shard_text(shard) << " has " << in_this_shard;
+  std::cerr << "; " << done_earlier << " done earlier, " << to_run.size() << " to run, "
+            << std::min(args.jobs, std::max<std::size_t>(to_run.size(), 1)) << " at a time -> "
+            << out_dir.string() << "/\n";
+
+  std::vector<std::string> names;
+  std::vector<WorkerLaunch> launches;
+  const std::string executable = this_executable().string();
+  const std::string sweep_file = fs::absolute(args.sweep_file).lexically_normal().string();
+  const std::string out_text = fs::absolute(out_dir).lexically_normal().string();
+  for (std::size_t index : to_run) {
+    names.push_back(jobs[index].name);
+    launches.push_back(
+        {{executable, "sweep", sweep_file, "--run-job", std::to_string(index), "--out", out_text}});
+  }
+  remove_stale_staging(out_dir, names);
+
+  const bool terminal = ::isatty(STDERR_FILENO) == 1;
+  SweepProgress progress(std::cerr, to_run.size(), terminal, terminal_width());
+  std::size_t ok = 0, budget_failed = 0, crashed = 0;
+  WorkerCallbacks callbacks;
+  callbacks.on_start = [&](std::size_t launch) { progress.started(names[launch]); };
+  callbacks.on_wait = [&] { progress.refresh(); };
+  callbacks.on_finish = [&](std::size_t launch, const WorkerResult& result) {
+    const SweepJob& job = jobs[to_run[launch]];
+    SweepJobState& state = states[job.index];
+    ran_here[job.index] = true;
+    const bool wrote_folder = fs::exists(out_dir / job.name / "summary.json");
+    if (result.end.exited && result.end.exit_code == kSweepOk && wrote_folder) {
+      state.status = SweepJobStatus::kOk;
+      ++ok;
+    } else if (result.end.exited && result.end.exit_code == kSweepBudgetFailed && wrote_folder) {
+      state.status = SweepJobStatus::kBudgetFailed;
+      ++budget_failed;
+    } else {
+      state.status = SweepJobStatus::kCrashed;
+      state.detail = result.end.description() + (wrote_folder ? "" : ", no run folder written");
+      ++crashed;
+    }
+    if (terminal) std::cerr << "\r\033[K" << std::flush;
+    std::cout << result.stdout_text << std::flush;
+    if (state.status == SweepJobStatus::kCrashed && !result.stderr_text.empty())
+      std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
+                << last_lines(result.stderr_text, 20) << "\n";
+    const char* verdict = state.status == SweepJobStatus::kOk             ? "ok"
+                          : state.status == SweepJobStatus::kBudgetFailed ? "budgets failed"
+                                                                          : "CRASHED";
+    progress.finished(job.name,
+                      state.status == SweepJobStatus::kCrashed
+                          ? std::string(verdict) + " (" + state.detail + ")"
+                          : std::string(verdict),
+                      result.seconds, state.status != SweepJobStatus::kCrashed);
+    write_index(false);
+  };
+  {
+    ScratchFolder scratch;
+    run_worker_processes(launches, args.jobs, scratch.path(), callbacks);
+  }
+  progress.close();
+  write_index(true);
+
+  std::size_t failed_budgets_in_shard = 0;
+  for (const SweepJob& job : jobs)
+    if (in_shard(job.index, shard) && states[job.index].status == SweepJobStatus::kBudgetFailed)
+      ++failed_budgets_in_shard;
+  std::cout << "sweep " << spec.name << " -> " << out_dir.string()
+            << "/sweep.json: " << to_run.size() << " ran (" << ok << " ok, " << budget_failed
+            << " budgets failed, " << crashed << " crashed), " << done_earlier << " done earlier\n";
+  if (crashed > 0) return kSweepCrashed;
+  return failed_budgets_in_shard > 0 ? kSweepBudgetFailed : kSweepOk;
+}
+
+}  // namespace hb
