@@ -36,7 +36,7 @@
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/god_object/gauss_least_constraint.h"
-#include "algorithms/god_object/mesh_ccd.h"
+#include "algorithms/ccd/mesh_ccd.h"
 
 namespace hb {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/ccd_primitives.h"
+#include "algorithms/ccd/ccd_primitives.h"
 #include "harness/cli/ccd_query_file.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/god_object/ccd_primitives.h"
+#include "algorithms/ccd/ccd_primitives.h"
 
 namespace hb {
 

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "algorithms/god_object/ccd_primitives.h"
+#include "algorithms/ccd/ccd_primitives.h"
 #include "harness/cli/ccd_query_file.h"
 
 namespace hb {

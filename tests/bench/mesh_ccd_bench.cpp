@@ -32,8 +32,8 @@
 #include <vector>
 
 #include "algorithms/core/mass_properties.h"
-#include "algorithms/god_object/mesh_ccd.h"
-#include "algorithms/god_object/screw_motion.h"
+#include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/ccd/screw_motion.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"

@@ -1,4 +1,4 @@
-#include "algorithms/god_object/ccd_settings.h"
+#include "algorithms/ccd/ccd_settings.h"
 
 #include <sstream>
 

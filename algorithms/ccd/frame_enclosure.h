@@ -20,9 +20,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/interval.h"
-#include "algorithms/god_object/screw_motion.h"
 
 namespace hb::ccd_detail {
 

@@ -23,11 +23,11 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/ccd/ccd_settings.h"
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/core/triangle_mesh.h"
-#include "algorithms/god_object/ccd_settings.h"
-#include "algorithms/god_object/screw_motion.h"
 
 namespace hb {
 

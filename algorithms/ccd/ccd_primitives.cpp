@@ -1,11 +1,11 @@
-#include "algorithms/god_object/ccd_primitives.h"
+#include "algorithms/ccd/ccd_primitives.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/god_object/ccd_bisection.h"
-#include "algorithms/god_object/interval.h"
-#include "algorithms/god_object/interval_cubic.h"
+#include "algorithms/ccd/ccd_bisection.h"
+#include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/interval_cubic.h"
 
 namespace hb {
 

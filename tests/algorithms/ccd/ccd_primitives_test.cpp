@@ -2,7 +2,7 @@
 // hand-built queries with closed-form times of contact, degenerate cases,
 // the budget fallback, and random queries against an independent dense
 // sampling of the motion.
-#include "algorithms/god_object/ccd_primitives.h"
+#include "algorithms/ccd/ccd_primitives.h"
 
 #include <array>
 #include <catch2/catch.hpp>
@@ -11,12 +11,12 @@
 #include <numbers>
 #include <random>
 
+#include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/interval_cubic.h"
+#include "algorithms/ccd/interval_trig.h"
+#include "algorithms/ccd/screw_ccd.h"
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/interval.h"
-#include "algorithms/god_object/interval_cubic.h"
-#include "algorithms/god_object/interval_trig.h"
-#include "algorithms/god_object/screw_ccd.h"
-#include "algorithms/god_object/screw_motion.h"
 
 namespace hb {
 namespace {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/ccd/sphere_tree.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/sphere_tree.h"
 
 namespace hb::ccd_detail {
 

@@ -1,13 +1,13 @@
-#include "algorithms/god_object/mesh_features.h"
+#include "algorithms/ccd/mesh_features.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
+#include "algorithms/ccd/ccd_settings.h"
+#include "algorithms/ccd/interval.h"
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/ccd_settings.h"
-#include "algorithms/god_object/interval.h"
 
 namespace hb::ccd_detail {
 

@@ -6,8 +6,8 @@
 
 #include <array>
 
+#include "algorithms/ccd/ccd_settings.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/ccd_settings.h"
 
 namespace hb {
 

@@ -1,13 +1,13 @@
-#include "algorithms/god_object/mesh_ccd.h"
+#include "algorithms/ccd/mesh_ccd.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/mesh_ccd_search.h"
+#include "algorithms/ccd/mesh_features.h"
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/interval.h"
-#include "algorithms/god_object/mesh_ccd_search.h"
-#include "algorithms/god_object/mesh_features.h"
 
 namespace hb {
 

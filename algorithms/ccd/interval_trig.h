@@ -2,7 +2,7 @@
 // rotation part of screw motions.
 #pragma once
 
-#include "algorithms/god_object/interval.h"
+#include "algorithms/ccd/interval.h"
 
 namespace hb {
 

@@ -1,9 +1,9 @@
-#include "algorithms/god_object/sphere_tree.h"
+#include "algorithms/ccd/sphere_tree.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/god_object/interval.h"
+#include "algorithms/ccd/interval.h"
 
 namespace hb {
 

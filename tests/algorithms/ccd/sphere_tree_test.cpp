@@ -1,7 +1,7 @@
 // Bounding-sphere trees: every node's sphere holds every vertex of its
 // triangles (checked in long double), leaves hold 1..4 triangles, every
 // triangle is in exactly one leaf, and degenerate input still builds.
-#include "algorithms/god_object/sphere_tree.h"
+#include "algorithms/ccd/sphere_tree.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

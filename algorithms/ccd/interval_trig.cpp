@@ -1,4 +1,4 @@
-#include "algorithms/god_object/interval_trig.h"
+#include "algorithms/ccd/interval_trig.h"
 
 #include <algorithm>
 #include <cmath>

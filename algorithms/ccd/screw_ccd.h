@@ -10,9 +10,9 @@
 
 #include <array>
 
+#include "algorithms/ccd/ccd_settings.h"
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/ccd_settings.h"
-#include "algorithms/god_object/screw_motion.h"
 
 namespace hb {
 

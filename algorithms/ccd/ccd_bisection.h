@@ -35,8 +35,8 @@
 
 #include <algorithm>
 
-#include "algorithms/god_object/ccd_settings.h"
-#include "algorithms/god_object/interval.h"
+#include "algorithms/ccd/ccd_settings.h"
+#include "algorithms/ccd/interval.h"
 
 namespace hb::ccd_detail {
 

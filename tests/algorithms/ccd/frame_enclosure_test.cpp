@@ -1,7 +1,7 @@
 // Frame enclosures of screw motions: positions, body coordinates and body
 // directions of random points over random intervals of t hold the values
 // the motion gives at sampled times inside.
-#include "algorithms/god_object/frame_enclosure.h"
+#include "algorithms/ccd/frame_enclosure.h"
 
 #include <catch2/catch.hpp>
 #include <random>

@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-#include "algorithms/god_object/interval.h"
+#include "algorithms/ccd/interval.h"
 
 namespace hb {
 

@@ -9,8 +9,8 @@
 // screw-motion CCD kernels bisect.
 #pragma once
 
+#include "algorithms/ccd/interval.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/interval.h"
 
 namespace hb {
 

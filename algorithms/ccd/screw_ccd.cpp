@@ -1,9 +1,9 @@
-#include "algorithms/god_object/screw_ccd.h"
+#include "algorithms/ccd/screw_ccd.h"
 
 #include <cmath>
 #include <initializer_list>
 
-#include "algorithms/god_object/ccd_bisection.h"
+#include "algorithms/ccd/ccd_bisection.h"
 
 namespace hb {
 

@@ -3,7 +3,7 @@
 // random screw motions, checked against CGAL's exact triangle intersection
 // at sampled poses; evaluate() against hand-computed geometry. Units m;
 // time is the unitless fraction of the step.
-#include "algorithms/god_object/mesh_ccd.h"
+#include "algorithms/ccd/mesh_ccd.h"
 
 #include <algorithm>
 #include <catch2/catch.hpp>

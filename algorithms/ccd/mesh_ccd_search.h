@@ -4,9 +4,9 @@
 
 #include <span>
 
-#include "algorithms/god_object/mesh_ccd.h"
-#include "algorithms/god_object/mesh_features.h"
-#include "algorithms/god_object/screw_motion.h"
+#include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/ccd/mesh_features.h"
+#include "algorithms/ccd/screw_motion.h"
 
 namespace hb::ccd_detail {
 

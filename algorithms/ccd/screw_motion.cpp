@@ -1,8 +1,8 @@
-#include "algorithms/god_object/screw_motion.h"
+#include "algorithms/ccd/screw_motion.h"
 
 #include <cmath>
 
-#include "algorithms/god_object/interval_trig.h"
+#include "algorithms/ccd/interval_trig.h"
 
 namespace hb {
 

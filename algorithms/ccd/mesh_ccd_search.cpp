@@ -34,7 +34,7 @@
 // excluded cover [0, limit] for every pair of leaves, so the leaf pair and
 // time node holding (t, the triangles) is reached unless t > limit, and
 // its primitive pair's kernel runs.
-#include "algorithms/god_object/mesh_ccd_search.h"
+#include "algorithms/ccd/mesh_ccd_search.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -43,10 +43,10 @@
 #include <unordered_set>
 #include <vector>
 
-#include "algorithms/god_object/ccd_bisection.h"
-#include "algorithms/god_object/frame_enclosure.h"
-#include "algorithms/god_object/interval.h"
-#include "algorithms/god_object/screw_ccd.h"
+#include "algorithms/ccd/ccd_bisection.h"
+#include "algorithms/ccd/frame_enclosure.h"
+#include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/screw_ccd.h"
 
 namespace hb::ccd_detail {
 
