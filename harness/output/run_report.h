@@ -13,7 +13,6 @@
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
 #include "harness/replay/noise_floor.h"
-#include "harness/scenario/scenario.h"
 
 namespace hb {
 
