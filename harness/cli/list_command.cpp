@@ -1,17 +1,57 @@
-// hapticbench list: algorithms, generators and the scenarios shipped in scenarios/.
+// hapticbench list [SCENARIO_DIR]: algorithms, generators and the scenarios
+// shipped in scenarios/. hapticbench list --metrics: the metric table as
+// Markdown (docs/metric-table.md is its output).
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
 
 #include "algorithms/registry.h"
 #include "harness/cli/commands.h"
+#include "harness/metrics/metric_table.h"
 #include "harness/trace/generators.h"
 
 namespace hb {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+const char* better_text(Better better) { return better == Better::kLower ? "lower" : "higher"; }
+
+const char* compare_text(CompareRule rule) {
+  switch (rule) {
+    case CompareRule::kTolerance:
+      return "tolerance";
+    case CompareRule::kCount:
+      return "any increase";
+    case CompareRule::kFlag:
+      return "false -> true";
+    case CompareRule::kNone:
+      break;
+  }
+  return "-";
+}
+
+void print_metric_table(std::ostream& out) {
+  out << "| metric (budget name) | summary.json, in a run | unit | better | budget | compare | "
+         "what it is |\n| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const MetricDefinition& m : metric_table()) {
+    std::string budget = "-";
+    if (m.budget)
+      budget = m.budget_scale == 1 ? "yes" : m.budget_scale == 1e-3 ? "yes (µs)" : "yes (scaled)";
+    out << "| `" << m.name << "` | `" << m.json_pointer << "` | " << m.unit << " | "
+        << better_text(m.better) << " | " << budget << " | " << compare_text(m.compare)
+        << (m.compare_when_present ? " (when present)" : "") << " | " << m.description << " |\n";
+  }
+}
+
+}  // namespace
+
 int list_command(const std::vector<std::string>& args) {
+  if (args.size() == 1 && args.front() == "--metrics") {
+    print_metric_table(std::cout);
+    return kExitOk;
+  }
   std::string scenario_root = "scenarios";
   if (!args.empty()) scenario_root = args.front();
 

@@ -7,14 +7,13 @@
 #include <string>
 
 #include "harness/compare/timing_checks.h"
+#include "harness/metrics/metric_table.h"
 
 namespace hb {
 
 namespace {
 
 using nlohmann::json;
-
-enum class Better { kLower, kHigher };
 
 std::string printf_text(const char* format, double value) {
   char text[48];
@@ -62,21 +61,6 @@ CheckRow tolerance_row(CheckRow row, std::optional<double> baseline,
   }
   return row;
 }
-
-struct AccuracyMetric {
-  const char* check;
-  std::optional<double> RunSummary::*value;
-  double abs_tol;
-  const char* unit;
-};
-
-constexpr AccuracyMetric kAccuracyMetrics[] = {
-    {"accuracy.force_err_rms_n", &RunSummary::force_err_rms_n, kForceAbsTolN, "N"},
-    {"accuracy.force_dir_err_max_deg", &RunSummary::force_dir_err_max_deg, kAngleAbsTolDeg, "deg"},
-    {"accuracy.torque_err_rms_nm", &RunSummary::torque_err_rms_nm, kTorqueAbsTolNm, "N·m"},
-    {"accuracy.penetration_max_m", &RunSummary::penetration_max_m, kLengthAbsTolM, "m"},
-    {"accuracy.penetration_rms_m", &RunSummary::penetration_rms_m, kLengthAbsTolM, "m"},
-};
 
 CheckRow nonfinite_row(CheckRow row, int64_t baseline, int64_t candidate) {
   row.baseline = baseline;
@@ -168,24 +152,28 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
     return r;
   };
   std::vector<CheckRow> rows;
-  for (const AccuracyMetric& metric : kAccuracyMetrics)
-    rows.push_back(tolerance_row(row(metric.check), baseline.*metric.value, candidate.*metric.value,
-                                 metric.abs_tol, options.rel_tol, metric.unit, Better::kLower));
-  if (baseline.oracle_embree_penetration_max_m || candidate.oracle_embree_penetration_max_m)
-    rows.push_back(tolerance_row(row("oracle.embree.penetration_max_m"),
-                                 baseline.oracle_embree_penetration_max_m,
-                                 candidate.oracle_embree_penetration_max_m, kLengthAbsTolM,
-                                 options.rel_tol, "m", Better::kLower));
-
-  rows.push_back(
-      nonfinite_row(row("stability.nonfinite"), baseline.nonfinite, candidate.nonfinite));
-  rows.push_back(diverged_row(row("stability.diverged"), baseline.diverged, candidate.diverged));
-  rows.push_back(tolerance_row(row("stability.passivity_energy_min_j"),
-                               baseline.passivity_energy_min_j, candidate.passivity_energy_min_j,
-                               kEnergyAbsTolJ, options.rel_tol, "J", Better::kHigher));
-  rows.push_back(tolerance_row(row("stability.force_jump_max_n"), baseline.force_jump_max_n,
-                               candidate.force_jump_max_n, kForceAbsTolN, options.rel_tol, "N",
-                               Better::kLower));
+  for (const MetricDefinition& metric : metric_table()) {
+    if (metric.compare == CompareRule::kNone) continue;
+    const std::string check = metric_check_name(metric);
+    const std::optional<double> b = baseline.metrics.at(std::string(metric.name));
+    const std::optional<double> c = candidate.metrics.at(std::string(metric.name));
+    switch (metric.compare) {
+      case CompareRule::kTolerance:
+        if (metric.compare_when_present && !b && !c) break;
+        rows.push_back(tolerance_row(row(check.c_str()), b, c, metric.abs_tol, options.rel_tol,
+                                     std::string(metric.unit), metric.better));
+        break;
+      case CompareRule::kCount:
+        rows.push_back(nonfinite_row(row(check.c_str()), static_cast<int64_t>(b.value_or(0)),
+                                     static_cast<int64_t>(c.value_or(0))));
+        break;
+      case CompareRule::kFlag:
+        rows.push_back(diverged_row(row(check.c_str()), b.value_or(0) != 0, c.value_or(0) != 0));
+        break;
+      case CompareRule::kNone:
+        break;
+    }
+  }
 
   rows.push_back(determinism_row(row("determinism.ticks_hash"), baseline_scenario, baseline,
                                  candidate_scenario, candidate));

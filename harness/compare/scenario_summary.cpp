@@ -1,12 +1,14 @@
 #include "harness/compare/scenario_summary.h"
 
 #include <cstdio>
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <set>
 
 #include "algorithms/core/input_error.h"
+#include "harness/metrics/metric_table.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {
@@ -33,14 +35,40 @@ std::string string_member(const JsonField& parent, const std::string& key) {
   return parent.member(key, "a string").string("expected a string");
 }
 
-// oracle.embree.penetration_max_m where the run has an Embree oracle; the
-// oracle block and its backends are null when they were not used.
-std::optional<double> embree_penetration(const JsonField& run) {
-  if (!run.has("oracle") || run.existing_member("oracle").json().is_null()) return std::nullopt;
-  const JsonField oracle = object_member(run, "oracle");
-  if (!oracle.has("embree") || oracle.existing_member("embree").json().is_null())
-    return std::nullopt;
-  return number_or_null(object_member(oracle, "embree"), "penetration_max_m");
+// A compared metric of the table, found by its JSON pointer in the run. A
+// metric compared only when present may be missing (or sit below a null
+// object); any other must be there, typed by its rule.
+std::optional<double> read_metric(const JsonField& run, const MetricDefinition& metric) {
+  std::vector<std::string> keys;
+  const std::string pointer(metric.json_pointer);
+  for (std::size_t start = 1; start <= pointer.size();) {
+    const std::size_t end = std::min(pointer.find('/', start), pointer.size());
+    keys.push_back(pointer.substr(start, end - start));
+    start = end + 1;
+  }
+  JsonField field = run;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const bool last = i + 1 == keys.size();
+    if (metric.compare_when_present &&
+        (!field.has(keys[i]) || field.existing_member(keys[i]).json().is_null()))
+      return std::nullopt;
+    if (!last) {
+      field = object_member(field, keys[i]);
+      continue;
+    }
+    switch (metric.compare) {
+      case CompareRule::kFlag:
+        return field.member(keys[i], "true or false").boolean("expected true or false") ? 1.0
+                                                                                         : 0.0;
+      case CompareRule::kCount:
+        return static_cast<double>(field.member(keys[i], "a count of ticks")
+                                       .integer(0, std::numeric_limits<int64_t>::max(),
+                                                "expected a non-negative whole number of ticks"));
+      default:
+        return number_or_null(field, keys[i]);
+    }
+  }
+  return std::nullopt;
 }
 
 bool present(const JsonField& parent, const std::string& key) {
@@ -89,21 +117,9 @@ RunSummary read_run(const JsonField& run) {
 
   read_noise_and_instructions(timing, r);
 
-  const JsonField accuracy = object_member(run, "accuracy");
-  r.force_err_rms_n = number_or_null(accuracy, "force_err_rms_n");
-  r.force_dir_err_max_deg = number_or_null(accuracy, "force_dir_err_max_deg");
-  r.torque_err_rms_nm = number_or_null(accuracy, "torque_err_rms_nm");
-  r.penetration_max_m = number_or_null(accuracy, "penetration_max_m");
-  r.penetration_rms_m = number_or_null(accuracy, "penetration_rms_m");
-  r.oracle_embree_penetration_max_m = embree_penetration(run);
-
-  const JsonField stability = object_member(run, "stability");
-  r.nonfinite = stability.member("nonfinite", "a count of ticks")
-                    .integer(0, std::numeric_limits<int64_t>::max(),
-                             "expected a non-negative whole number of ticks");
-  r.diverged = stability.member("diverged", "true or false").boolean("expected true or false");
-  r.passivity_energy_min_j = number_or_null(stability, "passivity_energy_min_j");
-  r.force_jump_max_n = number_or_null(stability, "force_jump_max_n");
+  for (const MetricDefinition& metric : metric_table())
+    if (metric.compare != CompareRule::kNone)
+      r.metrics[std::string(metric.name)] = read_metric(run, metric);
 
   r.ticks_hash = string_member(object_member(run, "determinism"), "ticks_hash");
   return r;

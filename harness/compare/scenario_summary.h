@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -46,20 +47,9 @@ struct RunSummary {
   std::optional<double> instructions_step_per_tick;
   std::optional<double> instructions_slow_update_per_call;
 
-  // Accuracy against ground truth.
-  std::optional<double> force_err_rms_n;
-  std::optional<double> force_dir_err_max_deg;
-  std::optional<double> torque_err_rms_nm;
-  std::optional<double> penetration_max_m;
-  std::optional<double> penetration_rms_m;
-  /// oracle.embree.penetration_max_m; empty when the run has no Embree oracle.
-  std::optional<double> oracle_embree_penetration_max_m;
-
-  // Stability.
-  int64_t nonfinite = 0;
-  bool diverged = false;
-  std::optional<double> passivity_energy_min_j;
-  std::optional<double> force_jump_max_n;
+  /// The metrics `compare` checks (metric_table() rows whose rule is not
+  /// kNone), by metric name: null where the run has none. Flags are 1 or 0.
+  std::map<std::string, std::optional<double>, std::less<>> metrics;
 
   /// determinism.ticks_hash: equal for runs that computed the same numbers.
   std::string ticks_hash;

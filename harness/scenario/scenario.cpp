@@ -19,6 +19,7 @@
 #include "algorithms/core/shapes.h"
 #include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
+#include "harness/metrics/metric_table.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
@@ -554,22 +555,12 @@ class ScenarioReader {
 }  // namespace
 
 const std::vector<std::string>& known_budget_names() {
-  static const std::vector<std::string> names = {"tick_p50_us",
-                                                 "tick_p99_us",
-                                                 "tick_p999_us",
-                                                 "tick_max_us",
-                                                 "cpu_per_tick_p99_us",
-                                                 "over_budget_ticks",
-                                                 "max_penetration_m",
-                                                 "penetration_rms_m",
-                                                 "force_err_rms_n",
-                                                 "force_dir_err_deg",
-                                                 "torque_err_rms_nm",
-                                                 "nonfinite",
-                                                 "force_jump_max_n",
-                                                 "free_space_force_max_n",
-                                                 "passivity_energy_min_j",
-                                                 "diverged"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> budgets;
+    for (const MetricDefinition& metric : metric_table())
+      if (metric.budget) budgets.emplace_back(metric.name);
+    return budgets;
+  }();
   return names;
 }
 

@@ -1,0 +1,113 @@
+#include "harness/metrics/metric_table.h"
+
+namespace hb {
+
+namespace {
+
+// Absolute tolerances per unit below which a change is never a regression
+// (compare's rel_tol can only widen them).
+constexpr double kForceAbsTolN = 1e-6;
+constexpr double kAngleAbsTolDeg = 0.01;
+constexpr double kTorqueAbsTolNm = 1e-9;
+constexpr double kLengthAbsTolM = 1e-7;
+constexpr double kEnergyAbsTolJ = 1e-9;
+
+std::optional<double> count(int64_t value) { return static_cast<double>(value); }
+
+std::optional<double> embree_penetration_max(const RunMetrics& m) {
+  if (!m.oracle || !m.oracle->embree) return std::nullopt;
+  return m.oracle->embree->penetration_max_m;
+}
+
+// Read it like the registry: one row per metric.
+constexpr MetricDefinition kMetrics[] = {
+    // Timing: budgets only (compare has its own wall-clock and instruction checks).
+    {"tick_p50_us", "/timing/step_ns/p50", "ns", Better::kLower, true, 1e-3, CompareRule::kNone, 0,
+     false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p50; },
+     "median wall time of Renderer::step"},
+    {"tick_p99_us", "/timing/step_ns/p99", "ns", Better::kLower, true, 1e-3, CompareRule::kNone, 0,
+     false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p99; },
+     "99th percentile of the wall time of Renderer::step"},
+    {"tick_p999_us", "/timing/step_ns/p999", "ns", Better::kLower, true, 1e-3, CompareRule::kNone,
+     0, false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p999; },
+     "99.9th percentile of the wall time of Renderer::step"},
+    {"tick_max_us", "/timing/step_ns/max", "ns", Better::kLower, true, 1e-3, CompareRule::kNone, 0,
+     false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.max; },
+     "longest Renderer::step"},
+    {"cpu_per_tick_p99_us", "/timing/cpu_per_tick_ns/p99", "ns", Better::kLower, true, 1e-3,
+     CompareRule::kNone, 0, false,
+     [](const RunMetrics& m) -> std::optional<double> {
+       return m.timing.cpu_per_tick_ns.percentiles.p99;
+     },
+     "99th percentile of the CPU time per tick of both loops (step + attributed slow work)"},
+    {"over_budget_ticks", "/timing/over_budget", "ticks", Better::kLower, true, 1,
+     CompareRule::kNone, 0, false,
+     [](const RunMetrics& m) { return count(m.timing.over_budget); },
+     "ticks whose step took longer than 1 ms"},
+    // Accuracy against ground truth.
+    {"force_err_rms_n", "/accuracy/force_err_rms_n", "N", Better::kLower, true, 1,
+     CompareRule::kTolerance, kForceAbsTolN, false,
+     [](const RunMetrics& m) { return m.accuracy.force_err_rms_n; },
+     "RMS over all ticks of ‖F − F_ideal‖ against the analytic reference"},
+    {"force_dir_err_deg", "/accuracy/force_dir_err_max_deg", "deg", Better::kLower, true, 1,
+     CompareRule::kTolerance, kAngleAbsTolDeg, false,
+     [](const RunMetrics& m) { return m.accuracy.force_dir_err_max_deg; },
+     "largest angle between F and F_ideal on ticks under load"},
+    {"torque_err_rms_nm", "/accuracy/torque_err_rms_nm", "N·m", Better::kLower, true, 1,
+     CompareRule::kTolerance, kTorqueAbsTolNm, false,
+     [](const RunMetrics& m) { return m.accuracy.torque_err_rms_nm; },
+     "RMS over all ticks of ‖τ − τ_ideal‖"},
+    {"max_penetration_m", "/accuracy/penetration_max_m", "m", Better::kLower, true, 1,
+     CompareRule::kTolerance, kLengthAbsTolM, false,
+     [](const RunMetrics& m) { return m.accuracy.penetration_max_m; },
+     "deepest penetration of the proxy's tool into the scene (analytic, else Embree)"},
+    {"penetration_rms_m", "/accuracy/penetration_rms_m", "m", Better::kLower, true, 1,
+     CompareRule::kTolerance, kLengthAbsTolM, false,
+     [](const RunMetrics& m) { return m.accuracy.penetration_rms_m; },
+     "RMS penetration over the ticks that penetrate"},
+    {"embree_penetration_max_m", "/oracle/embree/penetration_max_m", "m", Better::kLower, false, 1,
+     CompareRule::kTolerance, kLengthAbsTolM, true, &embree_penetration_max,
+     "deepest tool sample inside the scene by the Embree oracle"},
+    // Stability and passivity.
+    {"nonfinite", "/stability/nonfinite", "ticks", Better::kLower, true, 1, CompareRule::kCount, 0,
+     false, [](const RunMetrics& m) { return count(m.stability.nonfinite); },
+     "ticks whose wrench was non-finite (zeroed before display)"},
+    {"diverged", "/stability/diverged", "flag", Better::kLower, true, 1, CompareRule::kFlag, 0,
+     false,
+     [](const RunMetrics& m) -> std::optional<double> { return m.stability.diverged ? 1.0 : 0.0; },
+     "the proxy left the device by more than the divergence distance"},
+    {"passivity_energy_min_j", "/stability/passivity_energy_min_j", "J", Better::kHigher, true, 1,
+     CompareRule::kTolerance, kEnergyAbsTolJ, false,
+     [](const RunMetrics& m) -> std::optional<double> {
+       return m.stability.passivity_energy_min_j;
+     },
+     "minimum over time of the passivity observer's energy (below zero: energy given away)"},
+    {"force_jump_max_n", "/stability/force_jump_max_n", "N", Better::kLower, true, 1,
+     CompareRule::kTolerance, kForceAbsTolN, false,
+     [](const RunMetrics& m) -> std::optional<double> { return m.stability.force_jump_max_n; },
+     "largest change of the displayed force between two ticks"},
+    // Transparency.
+    {"free_space_force_max_n", "/transparency/free_space_force_max_n", "N", Better::kLower, true,
+     1, CompareRule::kNone, 0, false,
+     [](const RunMetrics& m) { return m.transparency.free_space_force_max_n; },
+     "largest displayed force on free-space ticks"},
+};
+
+}  // namespace
+
+std::span<const MetricDefinition> metric_table() { return kMetrics; }
+
+const MetricDefinition* find_metric(std::string_view name) {
+  for (const MetricDefinition& metric : kMetrics)
+    if (metric.name == name) return &metric;
+  return nullptr;
+}
+
+std::string metric_check_name(const MetricDefinition& metric) {
+  std::string name(metric.json_pointer.substr(1));
+  for (char& c : name)
+    if (c == '/') c = '.';
+  return name;
+}
+
+}  // namespace hb

@@ -1,0 +1,57 @@
+// The one table of scalar metrics: for each, its name (as a budget and in
+// messages), where summary.json keeps it within a run, its unit, which way
+// is better, whether it can be a budget, how `compare` checks it, and how to
+// read it from RunMetrics. Budgets, the scenario's budget names, the summary
+// writer, the summary reader of `compare`, its check rows, `hapticbench
+// list --metrics` and the report all read this table: adding a metric is
+// one row here plus its computation in MetricsAccumulator.
+//
+// Only headers are included, so that readers of summaries (compare) can use
+// the table without linking the metrics code.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "harness/metrics/run_metrics.h"
+
+namespace hb {
+
+enum class Better { kLower, kHigher };
+
+/// How `compare` checks a metric between a baseline and a candidate.
+enum class CompareRule {
+  kNone,       ///< not compared (timing has its own checks)
+  kTolerance,  ///< worse by more than max(abs_tol, rel_tol |baseline|) regresses
+  kCount,      ///< any increase regresses (ticks with a non-finite wrench)
+  kFlag,       ///< false -> true regresses (divergence)
+};
+
+struct MetricDefinition {
+  std::string_view name;          ///< e.g. "force_err_rms_n"; the budget name
+  std::string_view json_pointer;  ///< within a run of summary.json, e.g. "/accuracy/force_err_rms_n"
+  std::string_view unit;          ///< of the summary's value, e.g. "N", "ns", "ticks"
+  Better better;
+  bool budget;               ///< may appear in a scenario's "budgets"
+  double budget_scale;       ///< budget value = summary value × this (1e-3: ns → µs)
+  CompareRule compare;
+  double abs_tol;            ///< kTolerance: a change below this never regresses
+  bool compare_when_present; ///< compared only when a side has it (else always, n/a when null)
+  /// The summary's value from the run's metrics; nullopt where it does not apply.
+  std::optional<double> (*read)(const RunMetrics&);
+  std::string_view description;
+};
+
+/// Every metric, in the order summaries, tables and comparisons list them.
+std::span<const MetricDefinition> metric_table();
+
+/// The metric with this name, or nullptr.
+const MetricDefinition* find_metric(std::string_view name);
+
+/// The check name `compare` prints: the JSON pointer with dots
+/// ("/accuracy/force_err_rms_n" -> "accuracy.force_err_rms_n").
+std::string metric_check_name(const MetricDefinition& metric);
+
+}  // namespace hb
