@@ -1,7 +1,7 @@
 #include "harness/compare/scenario_summary.h"
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -58,8 +58,7 @@ std::optional<double> read_metric(const JsonField& run, const MetricDefinition& 
     }
     switch (metric.compare) {
       case CompareRule::kFlag:
-        return field.member(keys[i], "true or false").boolean("expected true or false") ? 1.0
-                                                                                         : 0.0;
+        return field.member(keys[i], "true or false").boolean("expected true or false") ? 1.0 : 0.0;
       case CompareRule::kCount:
         return static_cast<double>(field.member(keys[i], "a count of ticks")
                                        .integer(0, std::numeric_limits<int64_t>::max(),

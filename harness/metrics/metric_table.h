@@ -30,15 +30,16 @@ enum class CompareRule {
 };
 
 struct MetricDefinition {
-  std::string_view name;          ///< e.g. "force_err_rms_n"; the budget name
-  std::string_view json_pointer;  ///< within a run of summary.json, e.g. "/accuracy/force_err_rms_n"
-  std::string_view unit;          ///< of the summary's value, e.g. "N", "ns", "ticks"
+  std::string_view name;  ///< e.g. "force_err_rms_n"; the budget name
+  std::string_view
+      json_pointer;       ///< within a run of summary.json, e.g. "/accuracy/force_err_rms_n"
+  std::string_view unit;  ///< of the summary's value, e.g. "N", "ns", "ticks"
   Better better;
-  bool budget;               ///< may appear in a scenario's "budgets"
-  double budget_scale;       ///< budget value = summary value × this (1e-3: ns → µs)
+  bool budget;          ///< may appear in a scenario's "budgets"
+  double budget_scale;  ///< budget value = summary value × this (1e-3: ns → µs)
   CompareRule compare;
-  double abs_tol;            ///< kTolerance: a change below this never regresses
-  bool compare_when_present; ///< compared only when a side has it (else always, n/a when null)
+  double abs_tol;             ///< kTolerance: a change below this never regresses
+  bool compare_when_present;  ///< compared only when a side has it (else always, n/a when null)
   /// The summary's value from the run's metrics; nullopt where it does not apply.
   std::optional<double> (*read)(const RunMetrics&);
   std::string_view description;

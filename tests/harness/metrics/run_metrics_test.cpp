@@ -155,7 +155,12 @@ TEST_CASE("timing budgets read microseconds and deadline misses count ticks over
   CHECK(m.timing.over_budget == 2);
   CHECK(*budget_metric("tick_p50_us", m) == Approx(50));
   CHECK(*budget_metric("tick_max_us", m) == Approx(2000));
+  // No slow loop: the CPU time per tick is the step's; its mean is exact.
+  CHECK(*budget_metric("cpu_per_tick_mean_us", m) == Approx((98 * 50.0 + 2 * 2000.0) / 100));
+  CHECK(*budget_metric("cpu_per_tick_p99_us", m) == Approx(2000));
   CHECK_THROWS_AS(budget_metric("tick_p90_us_typo", m), std::invalid_argument);
+  // Not every metric of the table is a budget.
+  CHECK_THROWS_AS(budget_metric("embree_penetration_max_m", m), std::invalid_argument);
 }
 
 }  // namespace

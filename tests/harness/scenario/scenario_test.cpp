@@ -491,9 +491,10 @@ TEST_CASE("a missing scenario file is an InputError naming it") {
 
 TEST_CASE("budget names are the documented set") {
   const std::vector<std::string>& names = known_budget_names();
-  CHECK(names.size() == 16);
+  CHECK(names.size() == 17);
   for (const char* name :
        {"tick_p50_us", "tick_p99_us", "tick_p999_us", "tick_max_us", "cpu_per_tick_p99_us",
+        "cpu_per_tick_mean_us",
         "over_budget_ticks",
         "max_penetration_m", "penetration_rms_m", "force_err_rms_n", "force_dir_err_deg",
         "torque_err_rms_nm", "nonfinite", "force_jump_max_n", "free_space_force_max_n",
