@@ -885,8 +885,46 @@ def scenario_section(folder):
     else:
         parts.append(note("No step times in this run folder (no ticks CSV and no sample in the "
                           "summary)."))
+    parts.append(metric_table_html(folder))
     parts.append("</section>")
     return "".join(parts)
+
+
+def at_pointer(mapping, pointer):
+    """The value at a JSON pointer ("/timing/step_ns/p99"), or None."""
+    node = mapping
+    for key in pointer.strip("/").split("/"):
+        if not isinstance(node, dict) or key not in node:
+            return None
+        node = node[key]
+    return node
+
+
+def metric_table_html(folder):
+    """Every metric of the summary's metric_table (the code's one table of metrics), one row
+    per metric and one column per label; '' for summaries written before the table."""
+    table = folder.summary.get("metric_table")
+    if not isinstance(table, list) or not table:
+        return ""
+    head = "<tr><th class='text'>metric</th><th class='text'>unit</th>" + "".join(
+        "<th>%s</th>" % esc(run.label) for run in folder.runs) + "</tr>"
+    rows = []
+    for metric in table:
+        pointer = metric.get("pointer", "")
+        cells = []
+        for run in folder.runs:
+            value = at_pointer(run.summary, pointer)
+            if isinstance(value, bool):
+                cells.append('<td class="%s">%s</td>' % ("fail" if value else "pass",
+                                                          "yes" if value else "no"))
+            else:
+                cells.append(cell(value, "%.4g"))
+        rows.append("<tr><td class='text' title='%s'><code>%s</code></td><td class='text'>%s</td>"
+                    % (esc(metric.get("description", "")), esc(metric.get("name", "")),
+                       esc(metric.get("unit", ""))) + "".join(cells) + "</tr>")
+    return ("<details><summary>All metrics of the metric table</summary>"
+            '<div class="wide"><table class="summary" id="metrics-%s"><thead>%s</thead>'
+            "<tbody>%s</tbody></table></div></details>" % (folder.slug, head, "".join(rows)))
 
 
 def stability_html(folders, runs):
