@@ -1,9 +1,6 @@
-// The on-disk cache of convex hierarchies. One file per key:
-//   <cache folder>/convex_hierarchy-<hash of key>.hbcache
-// holding, in native byte order,
-//   magic "HBCVXHIE", u32 format version, u32 key length, key bytes,
-//   u64 payload length, u64 payload checksum (FNV-1a 64), payload,
-// where the payload lists the root, the pieces per level and every node.
+// The on-disk cache of convex hierarchies, in the shared disk cache
+// (algorithms/core/disk_cache.h, kind "convex_hierarchy"). The payload, in
+// native byte order, lists the root, the pieces per level and every node.
 // The key spells out the caller's content hash, a hash of the mesh's
 // coordinates and triangles as stored, and the exact settings. A file whose
 // header, key, length, checksum or structure does not match is rebuilt.
@@ -26,13 +23,13 @@
 
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/content_hash.h"
+#include "algorithms/core/disk_cache.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
 
 namespace hb {
 
 namespace {
 
-constexpr char kMagic[8] = {'H', 'B', 'C', 'V', 'X', 'H', 'I', 'E'};
 // Bump when the payload's layout or how the hierarchy is built changes.
 constexpr uint32_t kFormatVersion = 1;
 
@@ -172,76 +169,24 @@ std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size
   return hierarchy;
 }
 
-std::optional<ConvexHierarchy> read_cache(const std::filesystem::path& path, const std::string& key,
-                                          std::size_t triangle_count) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return std::nullopt;
-  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  Reader in(bytes);
-  std::string magic, stored_key;
-  uint32_t version = 0, key_length = 0;
-  uint64_t payload_length = 0, checksum = 0;
-  if (!in.get_text(magic, sizeof kMagic) || magic != std::string_view(kMagic, sizeof kMagic) ||
-      !in.get(version) || version != kFormatVersion || !in.get(key_length) ||
-      !in.get_text(stored_key, key_length) || stored_key != key || !in.get(payload_length) ||
-      !in.get(checksum) || payload_length != in.remaining() ||
-      ContentHash().add(in.rest()).value() != checksum)
-    return std::nullopt;
-  std::optional<ConvexHierarchy> hierarchy = parse_payload(in.rest(), triangle_count);
-  if (hierarchy) hierarchy->key = key;
-  return hierarchy;
-}
-
-// Writes to a fresh temporary name beside the target, then renames it into
-// place, so readers never see a partial file. Failures leave no file.
-void write_cache(const std::filesystem::path& path, const std::string& key,
-                 const ConvexHierarchy& hierarchy) {
-  static std::atomic<unsigned> counter{0};
-  const std::string payload = payload_of(hierarchy);
-  Writer header;
-  for (const char c : kMagic) header.put(c);
-  header.put(kFormatVersion);
-  header.put(static_cast<uint32_t>(key.size()));
-  header.bytes() += key;
-  header.put(static_cast<uint64_t>(payload.size()));
-  header.put(ContentHash().add(payload).value());
-  const std::filesystem::path temporary =
-      path.parent_path() / (path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                            std::to_string(counter++));
-  std::error_code error;
-  std::filesystem::create_directories(path.parent_path(), error);
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
-    file.write(payload.data(), static_cast<std::streamsize>(payload.size()));
-    file.close();
-    if (!file) {
-      std::filesystem::remove(temporary, error);
-      return;
-    }
-  }
-  std::filesystem::rename(temporary, path, error);
-  if (error) std::filesystem::remove(temporary, error);
-}
-
 }  // namespace
 
 ConvexHierarchy cached_convex_hierarchy(const TriangleMesh& mesh, const std::string& content_hash,
                                         const ConvexHierarchySettings& settings, bool* cache_hit) {
   if (cache_hit != nullptr) *cache_hit = false;
   const std::string key = hierarchy_key(mesh, content_hash, settings);
-  const std::optional<std::filesystem::path> folder = default_cache_directory();
-  std::filesystem::path path;
-  if (folder) {
-    path = *folder / ("convex_hierarchy-" + ContentHash().add(key).hex() + ".hbcache");
-    if (std::optional<ConvexHierarchy> cached = read_cache(path, key, mesh.triangles.size())) {
+  const DiskCache cache(default_cache_directory(), "convex_hierarchy");
+  if (const DiskCache::Lookup lookup = cache.read(key); lookup.payload) {
+    if (std::optional<ConvexHierarchy> cached =
+            parse_payload(*lookup.payload, mesh.triangles.size())) {
+      cached->key = key;
       if (cache_hit != nullptr) *cache_hit = true;
       return std::move(*cached);
     }
   }
   ConvexHierarchy hierarchy = build_convex_hierarchy(mesh, settings);
   hierarchy.key = key;
-  if (folder) write_cache(path, key, hierarchy);
+  cache.write(key, payload_of(hierarchy));
   return hierarchy;
 }
 

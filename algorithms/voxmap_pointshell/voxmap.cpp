@@ -18,7 +18,7 @@
 #include <system_error>
 
 #include "algorithms/core/content_hash.h"
-#include "algorithms/voxmap_pointshell/voxmap_cache.h"
+#include "algorithms/core/disk_cache.h"
 
 namespace hb {
 
@@ -105,42 +105,22 @@ std::string key_of_box(const openvdb::CoordBBox& box) {
   return text;
 }
 
-// A cache file: a text header, the key, then the grids as an OpenVDB
-// stream whose length and hash the header records, so that a truncated or
-// damaged file is recognised before OpenVDB parses it:
-//   hapticbench-cache 1\n<key bytes> <stream bytes> <stream hash>\n<key><stream>
-constexpr const char* kCacheMagic = "hapticbench-cache 1";
-constexpr std::size_t kMaxKeyBytes = 1 << 20;
+// A cache entry's payload is the grids as an OpenVDB stream
+// (algorithms/core/disk_cache.h keeps key, length and checksum).
 
-// Reads the named grids of a cache file whose key is `key`; an empty list
-// (and a reason in `problem`) when the file is absent, damaged or different.
-openvdb::GridPtrVec read_cache(const std::filesystem::path& path, const std::string& key,
+// Reads the named grids stored under `key`; an empty list (and a reason in
+// `problem`) when the entry is absent, damaged or lacks a grid.
+openvdb::GridPtrVec read_cache(const DiskCache& cache, const std::string& key,
                                const std::vector<std::string>& names, std::string& problem) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) return {};
+  DiskCache::Lookup lookup = cache.read(key);
+  problem = lookup.problem;
+  if (!lookup.payload) return {};
   const auto fail = [&](const std::string& why) {
-    problem = "cache file " + path.string() + " " + why + "; rebuilt";
+    problem = "cache file " + cache.path_of(key).string() + " " + why + "; rebuilt";
     return openvdb::GridPtrVec{};
   };
   try {
-    const std::uintmax_t file_bytes = std::filesystem::file_size(path);
-    std::ifstream in(path, std::ios::binary);
-    std::string magic;
-    std::getline(in, magic);
-    std::size_t key_bytes = 0, stream_bytes = 0;
-    std::string stream_hash;
-    in >> key_bytes >> stream_bytes >> stream_hash;
-    if (!in || magic != kCacheMagic || in.get() != '\n') return fail("has no valid header");
-    const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
-    if (key_bytes > kMaxKeyBytes || header_bytes + key_bytes + stream_bytes != file_bytes)
-      return fail("has the wrong length");
-    std::string stored_key(key_bytes, '\0');
-    in.read(stored_key.data(), static_cast<std::streamsize>(key_bytes));
-    if (!in || stored_key != key) return fail("holds another key");
-    std::string stream(stream_bytes, '\0');
-    in.read(stream.data(), static_cast<std::streamsize>(stream_bytes));
-    if (!in || ContentHash().add(stream).hex() != stream_hash) return fail("is damaged");
-    std::istringstream vdb(stream, std::ios::binary);
+    std::istringstream vdb(*lookup.payload, std::ios::binary);
     openvdb::io::Stream reader(vdb, false);
     const openvdb::GridPtrVecPtr all = reader.getGrids();
     openvdb::GridPtrVec grids;
@@ -157,29 +137,16 @@ openvdb::GridPtrVec read_cache(const std::filesystem::path& path, const std::str
   }
 }
 
-// Writes the key and grids to a temporary file and renames it into place;
-// reports instead of failing.
-void write_cache(const std::filesystem::path& path, const std::string& key,
-                 const openvdb::GridCPtrVec& grids, std::string& problem) {
-  const std::filesystem::path temporary = temporary_sibling(path);
+// Stores the grids under `key`; reports instead of failing.
+void write_cache(const DiskCache& cache, const std::string& key, const openvdb::GridCPtrVec& grids,
+                 std::string& problem) {
   try {
     std::ostringstream vdb(std::ios::binary);
     openvdb::io::Stream(vdb).write(grids);
-    const std::string stream = vdb.str();
-    std::filesystem::create_directories(path.parent_path());
-    {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      out << kCacheMagic << '\n'
-          << key.size() << ' ' << stream.size() << ' ' << ContentHash().add(stream).hex() << '\n'
-          << key << stream;
-      out.close();
-      if (!out) throw std::runtime_error("write failed");
-    }
-    std::filesystem::rename(temporary, path);
+    const std::string written = cache.write(key, vdb.str());
+    if (!written.empty()) problem = written;
   } catch (const std::exception& e) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    problem = "cache file " + path.string() + " not written (" + e.what() + ")";
+    problem = "cache file " + cache.path_of(key).string() + " not written (" + e.what() + ")";
   }
 }
 
@@ -366,11 +333,11 @@ SceneVoxmap build_scene_voxmap(const std::vector<SceneObject>& scene,
   if (settings.signed_distance) names.push_back(kDistanceGrid);
 
   openvdb::GridPtrVec grids;
-  std::filesystem::path file;
+  const DiskCache disk(cache.enabled ? std::optional(cache.directory) : std::nullopt, "voxmap");
+  const std::filesystem::path file = disk.path_of(key);
   if (cache.enabled) {
-    file = cache_file_path(cache.directory, "voxmap", key);
     result.stats.cache_file = file.string();
-    grids = read_cache(file, key, names, result.stats.cache_problem);
+    grids = read_cache(disk, key, names, result.stats.cache_problem);
     const bool complete =
         grids.size() == names.size() &&
         openvdb::gridPtrCast<openvdb::Int32Grid>(grids[0]) != nullptr &&
@@ -386,7 +353,7 @@ SceneVoxmap build_scene_voxmap(const std::vector<SceneObject>& scene,
     grids = voxmap_grids(*phi, index_region, settings);
     if (cache.enabled) {
       openvdb::GridCPtrVec to_write(grids.begin(), grids.end());
-      write_cache(file, key, to_write, result.stats.cache_problem);
+      write_cache(disk, key, to_write, result.stats.cache_problem);
     }
   }
   const auto states = openvdb::gridPtrCast<openvdb::Int32Grid>(grids[0]);
@@ -408,12 +375,11 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
                           exact_key_text(spacing_m) + "\ntool " + mesh_geometry_hash(tool_mesh);
 
   openvdb::Vec3SGrid::Ptr normals;
-  std::filesystem::path file;
+  const DiskCache disk(cache.enabled ? std::optional(cache.directory) : std::nullopt, "pointshell");
   if (cache.enabled) {
-    file = cache_file_path(cache.directory, "pointshell", key);
-    result.stats.cache_file = file.string();
+    result.stats.cache_file = disk.path_of(key).string();
     const openvdb::GridPtrVec grids =
-        read_cache(file, key, {kPointShellGrid}, result.stats.cache_problem);
+        read_cache(disk, key, {kPointShellGrid}, result.stats.cache_problem);
     if (!grids.empty()) normals = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grids[0]);
     result.stats.cache_hit = normals != nullptr;
   }
@@ -452,7 +418,7 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
                                      static_cast<float>(inward.z())));
     }
     if (cache.enabled) {
-      write_cache(file, key, openvdb::GridCPtrVec{normals}, result.stats.cache_problem);
+      write_cache(disk, key, openvdb::GridCPtrVec{normals}, result.stats.cache_problem);
     }
   }
   // The same values, whether built or loaded: points at voxel centres,

@@ -6,13 +6,13 @@
 #include <vector>
 
 #include "algorithms/core/cache_directory.h"
+#include "algorithms/core/disk_cache.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/dynamic_proxy.h"
 #include "algorithms/proxy/proxy_settings.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
-#include "algorithms/voxmap_pointshell/voxmap_cache.h"
 
 namespace hb {
 
@@ -132,6 +132,7 @@ class VoxmapPointShellRenderer : public Renderer {
         body_(proxy_body(context.tool, settings.proxy.proxy_mass_kg, context.gravity)),
         proxy_(body_, context.coupling, settings.proxy.integrator, context.dt_s) {
     CacheSettings cache;
+    cache.enabled = false;  // "cache": false, or no cache folder: nothing is read or written
     if (settings.cache) {
       const std::optional<std::filesystem::path> directory = default_cache_directory();
       cache.enabled = directory.has_value();

@@ -41,7 +41,7 @@
 #include "algorithms/proxy/rigid_body.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
-#include "algorithms/voxmap_pointshell/voxmap_cache.h"
+#include "algorithms/core/disk_cache.h"
 #include "harness/scenario/scenario.h"
 #include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"

@@ -1,0 +1,105 @@
+#include "algorithms/core/disk_cache.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include "algorithms/core/content_hash.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::string_view kMagic = "hapticbench-cache 2 ";
+constexpr std::size_t kMaxKeyBytes = 1 << 20;
+
+fs::path temporary_sibling(const fs::path& target) {
+  static std::atomic<unsigned> counter{0};
+  return target.parent_path() / (target.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                                 "-" + std::to_string(counter++));
+}
+
+}  // namespace
+
+DiskCache::DiskCache(std::optional<fs::path> folder, std::string kind)
+    : folder_(std::move(folder)), kind_(std::move(kind)) {}
+
+fs::path DiskCache::path_of(const std::string& key) const {
+  if (!folder_) return {};
+  return *folder_ / (kind_ + "-" + ContentHash().add(key).hex() + ".hbcache");
+}
+
+DiskCache::Lookup DiskCache::read(const std::string& key) const {
+  Lookup lookup;
+  if (!folder_) return lookup;
+  const fs::path path = path_of(key);
+  std::error_code error;
+  if (!fs::exists(path, error)) return lookup;
+  const auto fail = [&](const std::string& why) {
+    lookup.problem = "cache file " + path.string() + " " + why + "; rebuilt";
+    return lookup;
+  };
+  const std::uintmax_t file_bytes = fs::file_size(path, error);
+  if (error) return fail("is unreadable");
+  std::ifstream in(path, std::ios::binary);
+  std::string magic;
+  std::getline(in, magic);
+  std::size_t key_bytes = 0, payload_bytes = 0;
+  std::string payload_hash;
+  in >> key_bytes >> payload_bytes >> payload_hash;
+  if (!in || magic != std::string(kMagic) + kind_ || in.get() != '\n')
+    return fail("has no valid header");
+  const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
+  if (key_bytes > kMaxKeyBytes || header_bytes + key_bytes + payload_bytes != file_bytes)
+    return fail("has the wrong length");
+  std::string stored_key(key_bytes, '\0');
+  in.read(stored_key.data(), static_cast<std::streamsize>(key_bytes));
+  if (!in || stored_key != key) return fail("holds another key");
+  std::string payload(payload_bytes, '\0');
+  in.read(payload.data(), static_cast<std::streamsize>(payload_bytes));
+  if (!in || ContentHash().add(payload).hex() != payload_hash) return fail("is damaged");
+  lookup.payload = std::move(payload);
+  return lookup;
+}
+
+std::string DiskCache::write(const std::string& key, std::string_view payload) const {
+  if (!folder_) return "";
+  const fs::path path = path_of(key);
+  const fs::path temporary = temporary_sibling(path);
+  std::error_code error;
+  fs::create_directories(path.parent_path(), error);
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << kMagic << kind_ << '\n'
+        << key.size() << ' ' << payload.size() << ' ' << ContentHash().add(payload).hex() << '\n'
+        << key;
+    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    out.close();
+    if (!out) {
+      fs::remove(temporary, error);
+      return "cache file " + path.string() + " not written (write failed)";
+    }
+  }
+  fs::rename(temporary, path, error);
+  if (error) {
+    const std::string why = error.message();
+    fs::remove(temporary, error);
+    return "cache file " + path.string() + " not written (" + why + ")";
+  }
+  return "";
+}
+
+std::string exact_key_text(const Pose& pose) {
+  std::string text;
+  for (double v :
+       {pose.p.x(), pose.p.y(), pose.p.z(), pose.q.w(), pose.q.x(), pose.q.y(), pose.q.z()})
+    text += exact_key_text(v) + " ";
+  return text;
+}
+
+}  // namespace hb
