@@ -7,6 +7,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/slow_loop_mailbox.h"
 #include "algorithms/proxy/virtual_coupling.h"
 
 namespace hb {
@@ -14,7 +15,7 @@ namespace hb {
 namespace {
 
 // A finished update on its way to the haptic loop.
-struct GodObjectResult : SlowLoop::Result {
+struct GodObjectUpdate {
   Pose proxy;
   std::vector<Contact> contacts;
   GodObjectUpdateStats stats;
@@ -36,19 +37,15 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     target_ = start;
     proxy_ = state_at_rest(body_, start);
     contacts_.clear();
-    pending_stats_.reset();
+    mailbox_.clear();
     last_install_tick_.reset();
-    installed_ = false;
   }
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
     if (is_finite(device)) target_ = device.pose;
-    if (installed_) {
-      result.flags |= kFlagSlowResultInstalled;
-      install_pending(device.tick, result);
-      installed_ = false;
-    }
+    if (std::optional<GodObjectUpdate> update = mailbox_.take(result.flags))
+      install_update(device.tick, *update, result);
     Wrench raw = evaluate_coupling(gains_, body_, proxy_, device.pose, device.twist, false).display;
     if (point_tool_) raw.torque.setZero();
     result.display = device_output(raw, limits_, result.flags);
@@ -60,31 +57,26 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return this; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    auto result = std::make_unique<GodObjectResult>();
-    result->stats = solver_.update(target_);
-    result->proxy = solver_.proxy_pose();
+    GodObjectUpdate update;
+    update.stats = solver_.update(target_);
+    update.proxy = solver_.proxy_pose();
     for (const KeptContact& kept : solver_.contacts()) {
       const FeatureGeometry& g = kept.geometry;
-      result->contacts.push_back(Contact{g.point, g.normal, -g.gap});
+      update.contacts.push_back(Contact{g.point, g.normal, -g.gap});
     }
-    return result;
+    return mailbox_.wrap(std::move(update));
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {
-    auto* update = dynamic_cast<GodObjectResult*>(result.get());
-    if (!update) throw std::invalid_argument("god_object: foreign slow-loop result");
-    pending_proxy_ = update->proxy;
-    pending_contacts_ = std::move(update->contacts);
-    pending_stats_ = update->stats;
-    installed_ = true;
+    mailbox_.install(std::move(result), "god_object");
   }
 
  private:
   // Makes the installed update the displayed proxy. The proxy's velocity
   // (for the coupling's damping) is its displacement since the previous
   // installation over the time between them.
-  void install_pending(int64_t tick, TickResult& result) {
-    const RigidBodyState next = state_at_rest(body_, pending_proxy_);
+  void install_update(int64_t tick, GodObjectUpdate& update, TickResult& result) {
+    const RigidBodyState next = state_at_rest(body_, update.proxy);
     if (last_install_tick_ && tick > *last_install_tick_) {
       const double elapsed_s = static_cast<double>(tick - *last_install_tick_) * dt_s_;
       proxy_.v = (next.x - proxy_.x) / elapsed_s;
@@ -93,13 +85,11 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     proxy_.x = next.x;
     proxy_.q = next.q;
     last_install_tick_ = tick;
-    contacts_.swap(pending_contacts_);
-    if (pending_stats_) {
-      result.work.bv_tests = pending_stats_->bv_tests;
-      result.work.ccd_queries = pending_stats_->primitive_queries;
-      result.work.qp_iterations = pending_stats_->qp_iterations;
-      result.work.solver_iterations = pending_stats_->iterations;
-    }
+    contacts_.swap(update.contacts);
+    result.work.bv_tests = update.stats.bv_tests;
+    result.work.ccd_queries = update.stats.primitive_queries;
+    result.work.qp_iterations = update.stats.qp_iterations;
+    result.work.solver_iterations = update.stats.iterations;
   }
 
   bool point_tool_;
@@ -111,11 +101,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   Pose target_;             ///< the latest finite device pose, read by the slow loop
   RigidBodyState proxy_;    ///< the displayed proxy: pose installed, velocity estimated
   std::vector<Contact> contacts_;
-  Pose pending_proxy_;
-  std::vector<Contact> pending_contacts_;
-  std::optional<GodObjectUpdateStats> pending_stats_;
+  SlowLoopMailbox<GodObjectUpdate> mailbox_;
   std::optional<int64_t> last_install_tick_;
-  bool installed_ = false;
 };
 
 }  // namespace

@@ -11,15 +11,14 @@
 #include "algorithms/proxy/dynamic_proxy.h"
 #include "algorithms/proxy/proxy_settings.h"
 #include "algorithms/proxy/quasi_static.h"
+#include "algorithms/proxy/slow_loop_mailbox.h"
 
 namespace hb {
 
 namespace {
 
 // Planes found by the slow contact loop, on their way to the haptic step.
-struct PlaneSet : SlowLoop::Result {
-  std::vector<PrimitiveContact> planes;
-};
+using PlaneSet = std::vector<PrimitiveContact>;
 
 // A fixed set of linearised planes evaluated at whatever state is asked.
 class PlaneForces : public ForceModel {
@@ -112,13 +111,13 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
     if (quasi_static_proxy_) quasi_static_proxy_->reset(start);
     planes_.clear();
     contacts_.clear();
-    slow_result_installed_ = false;
+    mailbox_.clear();
   }
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
-    if (slow_result_installed_) result.flags |= kFlagSlowResultInstalled;
-    slow_result_installed_ = false;
+    if (std::optional<PlaneSet> installed = mailbox_.take(result.flags))
+      planes_ = std::move(*installed);
 
     Wrench raw;
     if (quasi_static_proxy_) {
@@ -135,17 +134,14 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return slow_contacts_ ? this : nullptr; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    auto result = std::make_unique<PlaneSet>();
+    PlaneSet planes;
     WorkCounters work;  // the slow loop's own cost is timed by the caller
-    finder_.find(state(), kSlowMarginPerToolRadius * finder_.tool_radius_m(), result->planes, work);
-    return result;
+    finder_.find(state(), kSlowMarginPerToolRadius * finder_.tool_radius_m(), planes, work);
+    return mailbox_.wrap(std::move(planes));
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {
-    auto* planes = dynamic_cast<PlaneSet*>(result.get());
-    if (!planes) throw std::invalid_argument("penalty_analytic: foreign slow-loop result");
-    planes_ = std::move(planes->planes);
-    slow_result_installed_ = true;
+    mailbox_.install(std::move(result), "penalty_analytic");
   }
 
  private:
@@ -215,7 +211,7 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
   /// found by the haptic step itself (then also its scratch storage).
   std::vector<PrimitiveContact> planes_;
   std::vector<Contact> contacts_;  ///< reported by the last step
-  bool slow_result_installed_ = false;
+  SlowLoopMailbox<PlaneSet> mailbox_;
 };
 
 }  // namespace

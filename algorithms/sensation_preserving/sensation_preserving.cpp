@@ -9,6 +9,7 @@
 #include "algorithms/proxy/dynamic_proxy.h"
 #include "algorithms/proxy/penalty_contact.h"
 #include "algorithms/proxy/proxy_settings.h"
+#include "algorithms/proxy/slow_loop_mailbox.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
 #include "algorithms/sensation_preserving/hierarchy_contacts.h"
 
@@ -40,7 +41,7 @@ SensationPreservingSettings read_settings(const RenderContext& context, const Pa
 }
 
 // Linearised contact planes from the latest query, on their way to the haptic step.
-struct ClusterPlanes : SlowLoop::Result {
+struct ClusterPlanes {
   std::vector<ContactPlane> planes;
   HierarchyContactStats stats;
   int raw_contacts = 0;
@@ -103,19 +104,15 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
     proxy_.reset(start);
     planes_.clear();
     contacts_.clear();
-    pending_stats_.reset();
-    installed_ = false;
+    mailbox_.clear();
   }
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
-    if (installed_) {
-      result.flags |= kFlagSlowResultInstalled;
-      if (pending_stats_) {
-        result.work.bv_tests = pending_stats_->node_pairs_tested + pending_stats_->piece_tests;
-        result.work.points_tested = pending_stats_->gjk_calls;
-      }
-      installed_ = false;
+    if (std::optional<ClusterPlanes> installed = mailbox_.take(result.flags)) {
+      planes_ = std::move(installed->planes);
+      result.work.bv_tests = installed->stats.node_pairs_tested + installed->stats.piece_tests;
+      result.work.points_tested = installed->stats.gjk_calls;
     }
     ClusterForces forces(planes_, settings_.gains);
     const Wrench raw = proxy_.advance(device, &forces, result.flags);
@@ -135,15 +132,15 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return this; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    auto result = std::make_unique<ClusterPlanes>();
+    ClusterPlanes update;
     const RigidBodyState& state = proxy_.state();
-    if (!is_finite(state)) return result;
+    if (!is_finite(state)) return mailbox_.wrap(std::move(update));
     const Pose tool_pose = proxy_.tool_pose();
     raw_.clear();
     for (std::size_t i = 0; i < scene_.size(); ++i)
       find_hierarchy_contacts(tool_, tool_pose, scene_[i], scene_poses_[i], settings_.query, raw_,
-                              result->stats);
-    result->raw_contacts = static_cast<int>(raw_.size());
+                              update.stats);
+    update.raw_contacts = static_cast<int>(raw_.size());
     const Mat3 rotation_t = state.q.conjugate().toRotationMatrix();
     auto add_plane = [&](const Vec3& point, const Vec3& normal, double depth) {
       // The tool's deepest point is half the depth below the contact point,
@@ -152,7 +149,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
       plane.normal = normal;
       plane.plane_point = point + 0.5 * depth * normal;
       plane.tool_point = rotation_t * (point - 0.5 * depth * normal - state.x);
-      result->planes.push_back(plane);
+      update.planes.push_back(plane);
     };
     if (settings_.clusters == 0) {
       for (const PieceContact& contact : raw_)
@@ -161,15 +158,11 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
       for (const ContactCluster& cluster : cluster_contacts(raw_, settings_.clusters))
         add_plane(cluster.point, cluster.normal, cluster.depth);
     }
-    return result;
+    return mailbox_.wrap(std::move(update));
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {
-    auto* planes = dynamic_cast<ClusterPlanes*>(result.get());
-    if (!planes) throw std::invalid_argument("sensation_preserving: foreign slow-loop result");
-    planes_ = std::move(planes->planes);
-    pending_stats_ = planes->stats;
-    installed_ = true;
+    mailbox_.install(std::move(result), "sensation_preserving");
   }
 
   BuildReport build_report() const override { return report_; }
@@ -185,8 +178,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
   std::vector<PieceContact> raw_;     ///< the slow loop's scratch
   std::vector<ContactPlane> planes_;  ///< installed, evaluated by every haptic step
   std::vector<Contact> contacts_;
-  std::optional<HierarchyContactStats> pending_stats_;
-  bool installed_ = false;
+  SlowLoopMailbox<ClusterPlanes> mailbox_;
 };
 
 }  // namespace
