@@ -6,7 +6,7 @@
 #include <string>
 
 #include "algorithms/core/input_error.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "algorithms/core/param_set.h"
 #include "algorithms/god_object/god_object.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

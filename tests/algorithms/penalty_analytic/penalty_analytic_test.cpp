@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

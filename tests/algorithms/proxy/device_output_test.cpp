@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

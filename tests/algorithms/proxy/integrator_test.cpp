@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "algorithms/proxy/virtual_coupling.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "algorithms/proxy/penalty_contact.h"
 #include "algorithms/proxy/virtual_coupling.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <numbers>
 
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

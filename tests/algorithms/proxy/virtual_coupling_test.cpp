@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

@@ -12,7 +12,8 @@
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/core/shapes.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
+#include "tests/support/render_fixtures.h"
 #include "tests/support/scratch_dir.h"
 
 namespace hb {
@@ -29,16 +30,7 @@ SceneObject box_with_mesh(const Vec3& size, const Vec3& centre, const std::strin
 }
 
 // A 2 cm icosphere over a slab whose top face is z = 0.
-RenderContext sphere_over_slab() {
-  RenderContext context;
-  context.scene = {box_with_mesh(Vec3(0.4, 0.4, 0.02), Vec3(0, 0, -0.01), "slab")};
-  context.tool = test::sphere_tool(kSphereRadius);
-  context.tool.shape->subdivisions = 3;
-  context.tool.mesh = shape_mesh(*context.tool.shape);
-  context.tool.content_hash = "sphere";
-  context.coupling = test::example_gains();
-  return context;
-}
+RenderContext sphere_over_slab() { return test::sphere_over_slab(3); }
 
 // A 3 cm box over a floor of 2 × 2 cm tiles (tops at z = 0) whose centre
 // lies on a corner shared by four tiles: its bottom face rests on exactly
@@ -55,10 +47,9 @@ RenderContext box_over_tiles() {
   return context;
 }
 
+// The test's defaults (no disk cache, kContactStiffness) under `values`.
 ParamSet params_of(std::initializer_list<std::pair<const char*, ParamValue>> values) {
-  ParamSet params("/algorithms/0/params");
-  params.set("cache", false);
-  params.set("contact_stiffness", kContactStiffness);
+  ParamSet params = test::params_of({{"cache", false}, {"contact_stiffness", kContactStiffness}});
   for (const auto& [key, value] : values) params.set(key, value);
   return params;
 }

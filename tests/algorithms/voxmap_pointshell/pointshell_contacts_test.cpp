@@ -10,7 +10,7 @@
 
 #include "algorithms/core/shapes.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
 
 namespace hb {
 namespace {

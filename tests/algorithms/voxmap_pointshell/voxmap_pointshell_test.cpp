@@ -13,7 +13,8 @@
 
 #include "algorithms/core/input_error.h"
 #include "algorithms/core/shapes.h"
-#include "tests/algorithms/proxy/proxy_test_fixtures.h"
+#include "tests/support/proxy_fixtures.h"
+#include "tests/support/render_fixtures.h"
 #include "tests/support/scratch_dir.h"
 
 namespace hb {
@@ -21,38 +22,15 @@ namespace {
 
 constexpr double kSphereRadius = 0.02;
 
-SceneObject slab(const Vec3& centre) {
-  SceneObject object;
-  object.name = "slab";
-  Shape shape;
-  shape.type = ShapeType::kBox;
-  shape.size = Vec3(0.4, 0.4, 0.02);
-  object.shape = shape;
-  object.mesh = shape_mesh(shape);
-  object.pose.p = centre;
-  object.content_hash = "slab";
-  return object;
-}
-
 // A 2 cm sphere over a slab whose top face is z = top_z; the reach box is
 // the region the presses below use.
 RenderContext sphere_over_slab(double top_z = 0) {
-  RenderContext context;
-  context.scene = {slab(Vec3(0, 0, top_z - 0.01))};
-  context.tool = test::sphere_tool(kSphereRadius);
-  context.tool.shape->subdivisions = 4;
-  context.tool.mesh = shape_mesh(*context.tool.shape);
-  context.tool.content_hash = "sphere";
-  context.coupling = test::example_gains();
+  RenderContext context = test::sphere_over_slab(4, top_z);
   context.reach = Eigen::AlignedBox3d(Vec3(-0.03, -0.03, -0.01), Vec3(0.03, 0.03, 0.06));
   return context;
 }
 
-ParamSet params_of(std::initializer_list<std::pair<const char*, ParamValue>> values) {
-  ParamSet params("/algorithms/0/params");
-  for (const auto& [key, value] : values) params.set(key, value);
-  return params;
-}
+using test::params_of;
 
 // The device lowered at 1 cm/s from 4 mm above contact with a surface at
 // z = top_z to `depth` below it, then held (sphere centre on the z axis),
@@ -223,7 +201,9 @@ TEST_CASE("the build report names the pointshell and voxmap sizes", "[voxmap_poi
 
 TEST_CASE("only scene objects within the reach box are voxelised", "[voxmap_pointshell]") {
   RenderContext context = sphere_over_slab();
-  context.scene.push_back(slab(Vec3(2, 0, -0.01)));
+  SceneObject far_slab = context.scene.front();  // the same slab, 2 m away
+  far_slab.pose.p.x() += 2;
+  context.scene.push_back(far_slab);
   auto renderer =
       create_voxmap_pointshell(context, params_of({{"voxel_size", 0.002}, {"cache", false}}));
   double objects = -1;

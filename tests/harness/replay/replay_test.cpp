@@ -36,6 +36,9 @@ class ProbeRenderer : public Renderer, public SlowLoop {
   }
   TickResult step(const DeviceSample& device) override {
     last_step_tick_ = device.tick;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::nanoseconds(busy_step_ns_);
+    while (std::chrono::steady_clock::now() < until) {
+    }
     TickResult r;
     r.display.force.x() = static_cast<double>(installed_tick_);
     r.proxy = device.pose;
@@ -61,6 +64,7 @@ class ProbeRenderer : public Renderer, public SlowLoop {
 
   bool with_slow_loop_ = true;
   bool busy_ = false;
+  int64_t busy_step_ns_ = 0;  ///< each step() takes at least this long
   int64_t last_step_tick_ = -1;
   int64_t installed_tick_ = -1;
   int resets_ = 0;
@@ -82,10 +86,19 @@ TEST_CASE("every sample is replayed once, in order, after one reset") {
   REQUIRE(recorder.records.size() == 50);
   for (std::size_t k = 0; k < 50; ++k) {
     CHECK(recorder.records[k].device->tick == static_cast<int64_t>(k));
-    CHECK(recorder.records[k].step_ns >= 0);
     CHECK_FALSE(recorder.records[k].slow_started);
     CHECK(recorder.records[k].slow_data_age_ticks == -1);
   }
+}
+
+TEST_CASE("the timed window holds step(): a step busy for 200 µs is timed at 200 µs or more") {
+  ProbeRenderer renderer;
+  renderer.with_slow_loop_ = false;
+  renderer.busy_step_ns_ = 200'000;
+  Recorder recorder;
+  const auto samples = ticks(20);
+  replay(renderer, samples, ReplaySettings{}, recorder);
+  for (const TickRecord& r : recorder.records) CHECK(r.step_ns >= 200'000);
 }
 
 TEST_CASE("a slow update started at tick k is installed before step k + L") {
