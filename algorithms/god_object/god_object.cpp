@@ -44,7 +44,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   TickResult step(const DeviceSample& device) override {
     TickResult result;
     if (is_finite(device)) target_ = device.pose;
-    if (std::optional<GodObjectUpdate> update = mailbox_.take(result.flags))
+    if (GodObjectUpdate* update = mailbox_.take(result.flags))
       install_update(device.tick, *update, result);
     Wrench raw = evaluate_coupling(gains_, body_, proxy_, device.pose, device.twist, false).display;
     if (point_tool_) raw.torque.setZero();
@@ -57,14 +57,15 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return this; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    GodObjectUpdate update;
+    auto box = mailbox_.box();
+    GodObjectUpdate& update = box->data;
     update.stats = solver_.update(target_);
     update.proxy = solver_.proxy_pose();
     for (const KeptContact& kept : solver_.contacts()) {
       const FeatureGeometry& g = kept.geometry;
       update.contacts.push_back(Contact{g.point, g.normal, -g.gap});
     }
-    return mailbox_.wrap(std::move(update));
+    return box;
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {

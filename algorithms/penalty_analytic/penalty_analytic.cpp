@@ -116,8 +116,7 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
-    if (std::optional<PlaneSet> installed = mailbox_.take(result.flags))
-      planes_ = std::move(*installed);
+    if (PlaneSet* installed = mailbox_.take(result.flags)) planes_.swap(*installed);
 
     Wrench raw;
     if (quasi_static_proxy_) {
@@ -134,10 +133,10 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return slow_contacts_ ? this : nullptr; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    PlaneSet planes;
+    auto box = mailbox_.box();
     WorkCounters work;  // the slow loop's own cost is timed by the caller
-    finder_.find(state(), kSlowMarginPerToolRadius * finder_.tool_radius_m(), planes, work);
-    return mailbox_.wrap(std::move(planes));
+    finder_.find(state(), kSlowMarginPerToolRadius * finder_.tool_radius_m(), box->data, work);
+    return box;
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {

@@ -109,8 +109,8 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
-    if (std::optional<ClusterPlanes> installed = mailbox_.take(result.flags)) {
-      planes_ = std::move(installed->planes);
+    if (ClusterPlanes* installed = mailbox_.take(result.flags)) {
+      planes_.swap(installed->planes);
       result.work.bv_tests = installed->stats.node_pairs_tested + installed->stats.piece_tests;
       result.work.points_tested = installed->stats.gjk_calls;
     }
@@ -132,9 +132,10 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
   SlowLoop* slow_loop() override { return this; }
 
   std::unique_ptr<Result> run_slow_update() override {
-    ClusterPlanes update;
+    auto box = mailbox_.box();
+    ClusterPlanes& update = box->data;
     const RigidBodyState& state = proxy_.state();
-    if (!is_finite(state)) return mailbox_.wrap(std::move(update));
+    if (!is_finite(state)) return box;
     const Pose tool_pose = proxy_.tool_pose();
     raw_.clear();
     for (std::size_t i = 0; i < scene_.size(); ++i)
@@ -158,7 +159,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
       for (const ContactCluster& cluster : cluster_contacts(raw_, settings_.clusters))
         add_plane(cluster.point, cluster.normal, cluster.depth);
     }
-    return mailbox_.wrap(std::move(update));
+    return box;
   }
 
   void install_slow_result(std::unique_ptr<Result> result) override {
