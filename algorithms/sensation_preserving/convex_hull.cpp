@@ -1,12 +1,13 @@
 #include "algorithms/sensation_preserving/convex_hull.h"
 
+#include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Projection_traits_xy_3.h>
 #include <CGAL/Projection_traits_xz_3.h>
 #include <CGAL/Projection_traits_yz_3.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_2.h>
-#include <CGAL/convex_hull_3.h>
+#include <CGAL/convex_hull_3_to_face_graph.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -85,10 +86,13 @@ ConvexPolytope convex_hull(std::span<const Vec3> points) {
   while (k < input.size() && CGAL::coplanar(a, b, c, input[k])) ++k;
   if (k == input.size()) return flat_polytope(coplanar_hull(input, a, b, c));
 
-  // (The indexed-triangle-set output of convex_hull_3 in CGAL 5.5 keeps
-  // points inside facets and misorients faces; the surface mesh does not.)
+  // The hull of a Delaunay triangulation, not CGAL 5.5's quickhull
+  // (convex_hull_3): on some of the nearly flat point sets a surface
+  // decomposition produces, quickhull reads a list node it has freed (found
+  // by valgrind's memcheck), so its hull depended on the heap's history.
+  const CGAL::Delaunay_triangulation_3<Kernel> triangulation(input.begin(), input.end());
   Surface hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  CGAL::convex_hull_3_to_face_graph(triangulation, hull);
   result.dimension = 3;
   std::vector<int> index(hull.num_vertices(), -1);
   for (const Surface::Vertex_index v : hull.vertices()) {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/ccd/ccd_primitives.h"
+#include "algorithms/core/input_error.h"
 #include "harness/cli/ccd_query_file.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
@@ -169,14 +169,11 @@ void print_table_row(const std::string& label, const std::string& kind, int quer
 }  // namespace
 
 int ccd_command(const std::vector<std::string>& args) {
-  CcdOptions options;
-  try {
-    options = parse_ccd_options(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kCcdUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kCcdUsage);
-  }
+  int exit_code = 0;
+  const auto parsed_options =
+      parse_command_line([&] { return parse_ccd_options(args); }, kCcdUsage, exit_code);
+  if (!parsed_options) return exit_code;
+  const CcdOptions& options = *parsed_options;
   // Every file is read before anything runs: bad input prints nothing else.
   std::vector<CcdQueryFile> files;
   try {

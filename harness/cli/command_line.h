@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,5 +30,21 @@ const std::string& option_value(const std::vector<std::string>& args, std::size_
 
 /// Throws HelpRequested when `arg` is -h or --help.
 void check_help(const std::string& arg);
+
+/// Runs `parse()` (which may throw UsageError or HelpRequested) and returns
+/// what it returns; on a usage error or a request for help prints it with
+/// `usage`, sets `exit_code` (2 or 0) and returns nullopt.
+template <class Parse>
+auto parse_command_line(Parse parse, std::string_view usage, int& exit_code)
+    -> std::optional<decltype(parse())> {
+  try {
+    return parse();
+  } catch (const UsageError& error) {
+    exit_code = print_usage_error(error, usage);
+  } catch (const HelpRequested&) {
+    exit_code = print_help(usage);
+  }
+  return std::nullopt;
+}
 
 }  // namespace hb

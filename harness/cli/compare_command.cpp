@@ -110,14 +110,11 @@ CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
 }  // namespace
 
 int compare_command(const std::vector<std::string>& args) {
-  CompareArguments arguments;
-  try {
-    arguments = parse_compare_arguments(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kCompareUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kCompareUsage);
-  }
+  int exit_code = 0;
+  const auto parsed_arguments =
+      parse_command_line([&] { return parse_compare_arguments(args); }, kCompareUsage, exit_code);
+  if (!parsed_arguments) return exit_code;
+  const CompareArguments& arguments = *parsed_arguments;
 
   // Everything that can reject the input happens before anything is written.
   Comparison comparison;

@@ -130,14 +130,11 @@ ExportArguments parse_export_arguments(const std::vector<std::string>& args) {
 }  // namespace
 
 int export_command(const std::vector<std::string>& args) {
-  ExportArguments parsed;
-  try {
-    parsed = parse_export_arguments(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kExportUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kExportUsage);
-  }
+  int exit_code = 0;
+  const auto parse_result =
+      parse_command_line([&] { return parse_export_arguments(args); }, kExportUsage, exit_code);
+  if (!parse_result) return exit_code;
+  const ExportArguments& parsed = *parse_result;
   const std::vector<fs::path>& inputs = parsed.inputs;
   const std::optional<fs::path>& out = parsed.out;
   // A file export wrote names itself in its context.

@@ -140,14 +140,11 @@ std::string environment_or(const char* name, const std::string& fallback) {
 }  // namespace
 
 int report_command(const std::vector<std::string>& args) {
-  ReportOptions options;
-  try {
-    options = parse_report_options(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kReportUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kReportUsage);
-  }
+  int exit_code = 0;
+  const auto parsed_options =
+      parse_command_line([&] { return parse_report_options(args); }, kReportUsage, exit_code);
+  if (!parsed_options) return exit_code;
+  const ReportOptions& options = *parsed_options;
 
   // Never replace what hapticbench did not write (checked before any work).
   require_replaceable_file(options.out, "report", is_report_page);

@@ -81,14 +81,10 @@ fs::path run_folder_for(const RunArguments& args, const Scenario& scenario) {
 }  // namespace
 
 int run_command(const std::vector<std::string>& args) {
-  std::optional<RunArguments> parsed;
-  try {
-    parsed = parse_run_arguments(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kRunUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kRunUsage);
-  }
+  int exit_code = 0;
+  const std::optional<RunArguments> parsed =
+      parse_command_line([&] { return parse_run_arguments(args); }, kRunUsage, exit_code);
+  if (!parsed) return exit_code;
 
   // Load and build everything first: bad input anywhere stops the command
   // before any run folder is written.

@@ -89,14 +89,11 @@ SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
 }  // namespace
 
 int sweep_command(const std::vector<std::string>& args) {
-  SweepArguments parsed;
-  try {
-    parsed = parse_sweep_arguments(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kSweepUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kSweepUsage);
-  }
+  int exit_code = 0;
+  const auto parse_result =
+      parse_command_line([&] { return parse_sweep_arguments(args); }, kSweepUsage, exit_code);
+  if (!parse_result) return exit_code;
+  const SweepArguments& parsed = *parse_result;
   try {
     return parsed.run_job ? run_sweep_job(parsed.settings, *parsed.run_job)
                           : run_sweep(parsed.settings);

@@ -153,14 +153,11 @@ std::vector<std::string> parse_validate_arguments(const std::vector<std::string>
 }  // namespace
 
 int validate_command(const std::vector<std::string>& args) {
-  std::vector<std::string> files;
-  try {
-    files = parse_validate_arguments(args);
-  } catch (const UsageError& error) {
-    return print_usage_error(error, kUsage);
-  } catch (const HelpRequested&) {
-    return print_help(kUsage);
-  }
+  int exit_code = 0;
+  const auto parsed_files =
+      parse_command_line([&] { return parse_validate_arguments(args); }, kUsage, exit_code);
+  if (!parsed_files) return exit_code;
+  const std::vector<std::string>& files = *parsed_files;
 
   int status = kExitOk;
   for (const std::string& file : files) {

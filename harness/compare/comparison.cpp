@@ -7,6 +7,15 @@
 
 namespace hb {
 
+CheckRow check_row(const std::string& scenario, const std::string& label,
+                   const std::string& check) {
+  CheckRow row;
+  row.scenario = scenario;
+  row.label = label;
+  row.check = check;
+  return row;
+}
+
 bool settle_null_values(CheckRow& row, std::optional<double> baseline,
                         std::optional<double> candidate) {
   row.baseline = baseline ? nlohmann::json(*baseline) : nlohmann::json(nullptr);

@@ -68,6 +68,10 @@ struct CheckRow {
   nlohmann::json detail = nlohmann::json::object();
 };
 
+/// A row of `check` for the run labelled `label` of `scenario`: values and
+/// verdict still to fill.
+CheckRow check_row(const std::string& scenario, const std::string& label, const std::string& check);
+
 /// Fills in the row's values and, when either side is null, its verdict:
 /// not applicable (both null), failure (the candidate lost the metric) or
 /// information (the candidate gained it). Returns true when it settled the

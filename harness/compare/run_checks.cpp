@@ -144,12 +144,8 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
                                    const RunSummary& baseline,
                                    const ScenarioSummary& candidate_scenario,
                                    const RunSummary& candidate, const CompareOptions& options) {
-  auto row = [&](const char* check) {
-    CheckRow r;
-    r.scenario = baseline_scenario.scenario_name;
-    r.label = baseline.label;
-    r.check = check;
-    return r;
+  auto row = [&](const std::string& check) {
+    return check_row(baseline_scenario.scenario_name, baseline.label, check);
   };
   std::vector<CheckRow> rows;
   for (const MetricDefinition& metric : metric_table()) {
@@ -160,15 +156,15 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
     switch (metric.compare) {
       case CompareRule::kTolerance:
         if (metric.compare_when_present && !b && !c) break;
-        rows.push_back(tolerance_row(row(check.c_str()), b, c, metric.abs_tol, options.rel_tol,
+        rows.push_back(tolerance_row(row(check), b, c, metric.abs_tol, options.rel_tol,
                                      std::string(metric.unit), metric.better));
         break;
       case CompareRule::kCount:
-        rows.push_back(nonfinite_row(row(check.c_str()), static_cast<int64_t>(b.value_or(0)),
+        rows.push_back(nonfinite_row(row(check), static_cast<int64_t>(b.value_or(0)),
                                      static_cast<int64_t>(c.value_or(0))));
         break;
       case CompareRule::kFlag:
-        rows.push_back(diverged_row(row(check.c_str()), b.value_or(0) != 0, c.value_or(0) != 0));
+        rows.push_back(diverged_row(row(check), b.value_or(0) != 0, c.value_or(0) != 0));
         break;
       case CompareRule::kNone:
         break;

@@ -176,12 +176,8 @@ std::vector<CheckRow> timing_checks(const ScenarioSummary& baseline_scenario,
                                     const RunSummary& baseline,
                                     const ScenarioSummary& candidate_scenario,
                                     const RunSummary& candidate, const CompareOptions& options) {
-  auto row = [&](const char* check) {
-    CheckRow r;
-    r.scenario = baseline_scenario.scenario_name;
-    r.label = baseline.label;
-    r.check = check;
-    return r;
+  auto row = [&](const std::string& check) {
+    return check_row(baseline_scenario.scenario_name, baseline.label, check);
   };
   const StepTimeSamples samples =
       step_time_samples(baseline_scenario, baseline, candidate_scenario, candidate);
@@ -220,12 +216,8 @@ std::vector<CheckRow> instruction_checks(const ScenarioSummary& baseline_scenari
                                          const ScenarioSummary& candidate_scenario,
                                          const RunSummary& candidate,
                                          const CompareOptions& options) {
-  auto row = [&](const char* check) {
-    CheckRow r;
-    r.scenario = baseline_scenario.scenario_name;
-    r.label = baseline.label;
-    r.check = check;
-    return r;
+  auto row = [&](const std::string& check) {
+    return check_row(baseline_scenario.scenario_name, baseline.label, check);
   };
   std::vector<CheckRow> rows;
   if (baseline.instructions_step_per_tick || candidate.instructions_step_per_tick)

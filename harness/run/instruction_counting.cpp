@@ -13,6 +13,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/process/child_process.h"
+#include "harness/process/scratch_folder.h"
 #include "harness/replay/instruction_count.h"
 #include "harness/scenario/scenario.h"
 
@@ -22,29 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A scratch folder for the child's schedules, dumps and counts.
-class CountingFolder {
- public:
-  CountingFolder() {
-    std::string pattern = (fs::temp_directory_path() / "hapticbench-instructions-XXXXXX").string();
-    if (!::mkdtemp(pattern.data()))
-      throw std::runtime_error("cannot create a scratch folder in " +
-                               fs::temp_directory_path().string());
-    path_ = pattern;
-    fs::create_directory(path_ / "dumps");
-  }
-  ~CountingFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  CountingFolder(const CountingFolder&) = delete;
-  CountingFolder& operator=(const CountingFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 fs::path find_on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
   std::stringstream folders(path ? path : "/usr/bin:/bin");
@@ -53,12 +31,6 @@ fs::path find_on_path(const std::string& program) {
     if (::access(candidate.c_str(), X_OK) == 0) return candidate;
   }
   return {};
-}
-
-fs::path this_executable() {
-  std::error_code error;
-  const fs::path path = fs::read_symlink("/proc/self/exe", error);
-  return error ? fs::path("/proc/self/exe") : path;
 }
 
 std::string tail_of(const fs::path& file) {
@@ -81,7 +53,8 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
   if (valgrind.empty())
     throw InputError("", "--instructions",
                      "needs valgrind on PATH (Debian package valgrind; scripts/setup installs it)");
-  const CountingFolder folder;
+  const ScratchFolder folder("hapticbench-instructions");
+  fs::create_directory(folder.path() / "dumps");
   for (std::size_t i = 0; i < outcome.report.runs.size(); ++i)
     if (!outcome.report.runs[i].schedule_file.empty())
       std::ofstream(folder.path() / outcome.report.runs[i].schedule_file)

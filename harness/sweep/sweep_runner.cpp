@@ -13,6 +13,7 @@
 #include "algorithms/core/input_error.h"
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_table.h"
+#include "harness/process/scratch_folder.h"
 #include "harness/run/scenario_run_folder.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/sweep/sweep_index.h"
@@ -104,34 +105,6 @@ void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string
   }
   for (const fs::path& path : stale)
     if (is_owned_folder(path)) fs::remove_all(path, error);
-}
-
-// A scratch folder for the workers' captured output, removed on every path.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    std::string pattern = (fs::temp_directory_path() / "hapticbench-sweep-XXXXXX").string();
-    if (!::mkdtemp(pattern.data()))
-      throw std::runtime_error("cannot create a scratch folder in " +
-                               fs::temp_directory_path().string());
-    path_ = pattern;
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-fs::path this_executable() {
-  std::error_code error;
-  const fs::path path = fs::read_symlink("/proc/self/exe", error);
-  return error ? fs::path("/proc/self/exe") : path;
 }
 
 std::size_t terminal_width() {
@@ -245,7 +218,7 @@ int run_sweep(const SweepRunSettings& args) {
     write_index(false);
   };
   {
-    ScratchFolder scratch;
+    const ScratchFolder scratch("hapticbench-sweep");
     run_worker_processes(launches, args.jobs, scratch.path(), callbacks);
   }
   progress.close();

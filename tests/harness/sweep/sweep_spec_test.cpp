@@ -7,14 +7,16 @@
 #include <string>
 
 #include "algorithms/core/input_error.h"
+#include "tests/support/scratch_dir.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per test process: ctest runs this file's cases side by side.
 fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / "hb_sweep_spec";
-  fs::remove_all(dir);
+  static const hb::test::ScratchDir folder("sweep_spec");
+  const fs::path& dir = folder.path();
   fs::create_directories(dir / "scenarios");
   std::ofstream(dir / "scenarios" / "a.json") << "{}";
   std::ofstream(dir / "scenarios" / "b.json") << "{}";

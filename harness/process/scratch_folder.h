@@ -1,0 +1,27 @@
+// A private temporary folder for one command's scratch files (worker
+// output, callgrind dumps), removed on every path out of its scope.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace hb {
+
+class ScratchFolder {
+ public:
+  /// Creates <temp>/<prefix>-XXXXXX. Throws std::runtime_error when it cannot.
+  explicit ScratchFolder(const std::string& prefix);
+  ~ScratchFolder();
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// The running hapticbench binary, to start more of itself (sweep workers,
+/// the instruction-counting run).
+std::filesystem::path this_executable();
+
+}  // namespace hb
