@@ -44,26 +44,6 @@ Json at(const Json& document, std::initializer_list<const char*> path) {
   return *node;
 }
 
-Json read_summary(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "", "cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const Json summary = parse_json_document(text.str(), file.string());
-  const JsonField root(summary, file.string(), "");
-  root.require_object("expected a summary object");
-  const JsonField runs = root.member("runs", "expected an array of runs");
-  const std::size_t count = runs.array_size("expected an array of runs");
-  for (std::size_t i = 0; i < count; ++i) {
-    const JsonField run = runs.element(i);
-    run.require_object("expected a run object");
-    run.member("label", "expected the run's label").string("expected the run's label");
-    run.member("timing", "expected the run's timing").require_object("expected an object");
-  }
-  root.member("scenario", "expected the scenario").require_object("expected an object");
-  return summary;
-}
-
 Json benchmark_entry(const Json& summary, const Json& run, std::size_t family) {
   const std::string name =
       at(summary, {"scenario", "name"}).get<std::string>() + "/" + run["label"].get<std::string>();
@@ -148,15 +128,11 @@ int export_command(const std::vector<std::string>& args) {
 
   Json benchmarks = Json::array();
   Json first_context = nullptr;
-  std::set<fs::path> seen;
-  for (const fs::path& input : inputs) {
-    for (const fs::path& folder : find_run_folders(input)) {
-      if (!seen.insert(fs::weakly_canonical(folder)).second) continue;
-      const Json summary = read_summary(folder / "summary.json");
-      if (first_context.is_null()) first_context = at(summary, {"context"});
-      for (const Json& run : summary["runs"])
-        benchmarks.push_back(benchmark_entry(summary, run, benchmarks.size()));
-    }
+  for (const fs::path& folder : find_run_folders(inputs)) {
+    const Json summary = read_run_summary(folder / "summary.json");
+    if (first_context.is_null()) first_context = at(summary, {"context"});
+    for (const Json& run : summary["runs"])
+      benchmarks.push_back(benchmark_entry(summary, run, benchmarks.size()));
   }
   const Json load = at(first_context, {"load_average_1m"});
   const Json build_type = at(first_context, {"build_type"});

@@ -73,31 +73,6 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
   return options;
 }
 
-/// Fails naming the file unless it is a readable summary.json of schema version 1
-/// with a list of labelled runs (what the renderer relies on).
-void check_summary(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "", "cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(file.string(), "", "cannot read the file");
-  const nlohmann::ordered_json summary = parse_json_document(text.str(), file.string());
-  const JsonField root(summary, file.string(), "");
-  root.require_object("expected a summary object");
-  if (!root.has("schema_version"))
-    throw InputError(file.string(), "/schema_version", "missing; expected 1");
-  const JsonField version = root.existing_member("schema_version");
-  if (!version.json().is_number_integer() || version.json().get<int64_t>() != 1)
-    version.fail("expected schema version 1 (the version this report reads)");
-  const JsonField runs = root.member("runs", "expected an array of runs");
-  const std::size_t count = runs.array_size("expected an array of runs");
-  for (std::size_t i = 0; i < count; ++i) {
-    const JsonField run = runs.element(i);
-    run.require_object("expected a run object");
-    run.member("label", "expected the run's label").string("expected the run's label");
-  }
-}
-
 /// Runs a program (looked up on PATH when the name has no slash) and waits for
 /// it. quiet: its output goes to /dev/null. Returns its exit code, or -1 when it
 /// could not be started or did not exit normally.
@@ -149,18 +124,10 @@ int report_command(const std::vector<std::string>& args) {
   // Never replace what hapticbench did not write (checked before any work).
   require_replaceable_file(options.out, "report", is_report_page);
 
-  // Every run folder once, in the order given, each input's folders sorted.
-  std::vector<fs::path> folders;
-  std::set<fs::path> seen;
-  for (const fs::path& input : options.inputs) {
-    for (const fs::path& folder : find_run_folders(input)) {
-      std::error_code error;
-      const fs::path key = fs::weakly_canonical(folder, error);
-      if (!seen.insert(error ? folder : key).second) continue;
-      check_summary(folder / "summary.json");
-      folders.push_back(folder);
-    }
-  }
+  // Every run folder once, in the order given, each input's folders sorted;
+  // each summary checked for what the renderer relies on.
+  const std::vector<fs::path> folders = find_run_folders(options.inputs);
+  for (const fs::path& folder : folders) read_run_summary(folder / "summary.json");
 
   const fs::path script =
       fs::path(environment_or("HAPTICBENCH_REPORTS_DIR", HAPTICBENCH_REPORTS_DIR)) /

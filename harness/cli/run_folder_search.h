@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace hb {
@@ -11,5 +12,16 @@ namespace hb {
 /// sorted. Throws InputError naming `input` when it is not a folder, cannot
 /// be listed, or holds no summary.json.
 std::vector<std::filesystem::path> find_run_folders(const std::filesystem::path& input);
+
+/// The run folders of every input, each folder once (by its canonical
+/// path), in the order of the inputs.
+std::vector<std::filesystem::path> find_run_folders(
+    const std::vector<std::filesystem::path>& inputs);
+
+/// A run folder's summary.json, read and checked for what readers of run
+/// folders rely on: schema_version 1, scenario.name a string, runs an array
+/// of objects with a string label and a timing object. Throws InputError
+/// naming the file and the JSON pointer otherwise.
+nlohmann::ordered_json read_run_summary(const std::filesystem::path& file);
 
 }  // namespace hb
