@@ -15,8 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <set>
-#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
