@@ -65,10 +65,10 @@ struct AlgorithmRun {
   std::string ticks_file;  ///< file name inside the run folder
   std::string ticks_hash;  ///< determinism fingerprint (TicksCsvWriter)
   /// "separate": step times from a replay with no ground truth between
-  /// ticks, metrics from a second replay; "combined": one replay (measured
-  /// slow-loop latency, whose result depends on timing).
+  /// ticks, metrics from a second replay that follows the first one's
+  /// slow-loop schedule (the only mode since schedules are recorded).
   std::string timing_pass;
-  /// With separate passes: both computed the same displays and proxies.
+  /// Both passes computed the same displays and proxies.
   std::optional<bool> passes_agree;
   std::string analytic_reference;  ///< e.g. "sphere on box"; empty when none applies
   std::string reference_note;      ///< why a reference is absent, if it is
