@@ -29,8 +29,9 @@ namespace hb {
 ///   integrator, proxy_mass_kg            the dynamic proxy (implicit Euler default)
 ///   max_piece_vertices        vertices a merged convex piece keeps (default 32)
 ///   cache                     false: build the hierarchies, bypassing the cache
-///   slow_loop_latency         (read by the harness) ticks until a query's
-///                             result is installed, or "measured"
+///   slow_loop_latency         (read by the harness) "measured" (default: the
+///                             query's own time, in whole ticks) or a fixed
+///                             number of ticks until its result is installed
 /// Hierarchies are cached on disk by content hash and settings
 /// ($HAPTICBENCH_CACHE_DIR, else $XDG_CACHE_HOME/hapticbench, else
 /// ~/.cache/hapticbench). Throws InputError naming the field.
