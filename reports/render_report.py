@@ -734,21 +734,42 @@ def budget_items(budgets):
     return '<td class="text"><ul class="budgets">%s</ul></td>' % "".join(items), verdict
 
 
-def summary_table(folders):
+# How the summary table shows a metric of a unit: (header unit, format, scale).
+UNIT_DISPLAY = {"ns": ("µs", "%.2f", 1e-3), "m": ("mm", "%.3f", 1e3), "N": ("N", "%.4g", 1.0),
+                "deg": ("°", "%.3g", 1.0), "J": ("J", "%.3g", 1.0), "N·m": ("N·m", "%.3g", 1.0),
+                "ticks": ("ticks", "%d", 1.0)}
+
+
+def metric_cell(metric, value):
+    """One cell of a metric: flags as yes/no, counts of bad ticks and energy given away marked."""
+    if metric["unit"] == "flag":
+        return ('<td class="%s">%s</td>' % ("fail" if value else "pass", "yes" if value else "no")
+                if isinstance(value, bool) else '<td class="na">—</td>')
+    _, pattern, scale = UNIT_DISPLAY.get(metric["unit"], ("", "%.4g", 1.0))
+    css = ""
+    if finite_number(value):
+        if metric["unit"] == "ticks" and value > 0:
+            css = "fail"
+        elif metric["better"] == "higher" and value < 0:
+            css = "warn"
+    return cell(value, pattern, scale, css=css)
+
+
+def summary_table(folders, metric_table):
+    """One row per scenario and label; the metric columns are the metric table's report
+    columns (harness/metrics/metric_table.cpp), so that a metric is added in one place."""
+    columns = [m for m in metric_table if m.get("report_column")]
     head = ("<tr><th class='text'>scenario</th><th class='text'>label (algorithm)</th>"
-            "<th>ticks</th><th>step p50 (µs)</th><th>step p99 (µs)</th><th>over 1 ms</th>"
-            "<th>force err RMS (N)</th><th>dir err max (°)</th><th>pen max (mm)</th>"
-            "<th class='text'>pen source</th><th>non-finite</th><th>diverged</th>"
-            "<th>E_min (J)</th><th class='text'>budgets</th></tr>")
+            "<th>ticks</th>"
+            + "".join("<th title='%s'>%s (%s)</th>" % (
+                esc(m.get("description", "")), esc(m["name"]),
+                esc(UNIT_DISPLAY.get(m["unit"], (m["unit"],))[0])) for m in columns)
+            + "<th class='text'>pen source</th><th class='text'>budgets</th></tr>")
     rows = []
     for folder in folders:
         for position, run in enumerate(folder.runs):
             s = run.summary
             budgets, verdict = budget_items(s.get("budgets") or [])
-            over = dig(s, "timing", "over_budget")
-            nonfinite = dig(s, "stability", "nonfinite")
-            diverged = dig(s, "stability", "diverged")
-            energy = dig(s, "stability", "passivity_energy_min_j")
             source = dig(s, "accuracy", "penetration_source")
             rows.append(
                 '<tr data-scenario="%s" data-label="%s" data-verdict="%s"%s>'
@@ -758,20 +779,9 @@ def summary_table(folders):
                 + '<td class="text">%s <span class="small">(%s)</span></td>'
                 % (esc(run.label), esc(s.get("algorithm", "?")))
                 + cell(dig(s, "timing", "ticks"), "%d")
-                + cell(microseconds(dig(s, "timing", "step_ns", "p50")), "%.2f")
-                + cell(microseconds(dig(s, "timing", "step_ns", "p99")), "%.2f")
-                + cell(over, "%d", css="fail" if finite_number(over) and over > 0 else "")
-                + cell(dig(s, "accuracy", "force_err_rms_n"), "%.4g")
-                + cell(dig(s, "accuracy", "force_dir_err_max_deg"), "%.3g")
-                + cell(dig(s, "accuracy", "penetration_max_m"), "%.3f", 1e3)
+                + "".join(metric_cell(m, at_pointer(s, m["pointer"])) for m in columns)
                 + ('<td class="text">%s</td>' % esc(source) if source
                    else '<td class="na">—</td>')
-                + cell(nonfinite, "%d", css="fail" if finite_number(nonfinite) and nonfinite
-                       else "")
-                + ('<td class="%s">%s</td>' % ("fail" if diverged else "pass",
-                                                "yes" if diverged else "no")
-                   if isinstance(diverged, bool) else '<td class="na">—</td>')
-                + cell(energy, "%.3g", css="warn" if finite_number(energy) and energy < 0 else "")
                 + budgets + "</tr>")
     return ('<div class="wide"><table class="summary" id="summary-table"><thead>%s</thead>'
             "<tbody>%s</tbody></table></div>" % (head, "".join(rows)))
@@ -979,7 +989,7 @@ def stability_html(folders, runs):
     return "".join(parts)
 
 
-def render(folders, template):
+def render(folders, template, metric_table):
     slugs = set()
     for folder in folders:
         slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
@@ -1010,11 +1020,13 @@ def render(folders, template):
         "%d of %d runs failed a budget: %s." % (len(failed), len(runs),
                                                 ", ".join(esc(r.name) for r in failed))
         if failed else "All %d runs are within their budgets." % len(runs)))
-    body.append(summary_table(folders))
-    body.append('<p class="small">Step times are of <code>Renderer::step</code> only. Force and '
-                "direction errors are against the analytic reference (ideal rigid contact); "
-                "penetration comes from the analytic reference, else the Embree oracle; "
-                "E_min is the passivity observer's minimum (below zero: energy given away). "
+    body.append(summary_table(folders, metric_table))
+    body.append('<p class="small">Columns come from the metric table '
+                "(<code>hapticbench list --metrics</code>; hover a header for its definition). "
+                "Step times are of <code>Renderer::step</code> only; CPU per tick adds the "
+                "slow-loop work attributed to the tick. Force and direction errors are against "
+                "the analytic reference (ideal rigid contact); penetration comes from the "
+                "analytic reference, else the Embree oracle. "
                 "— : the metric does not apply to the run.</p></section>")
     body.append('<section id="pareto"><h2>Error against CPU time per tick</h2>')
     uri, fronts, left_out, failed = pareto_figure(runs)
@@ -1050,13 +1062,22 @@ def main():
     parser.add_argument("--out", required=True, help="HTML file to write")
     parser.add_argument("--template", default=os.path.join(os.path.dirname(
         os.path.abspath(__file__)), "report_template.html"))
+    parser.add_argument("--metric-table", help="the metric table as JSON (hapticbench report "
+                        "passes it); else the one the first summary carries")
     parser.add_argument("folders", nargs="+", help="run folders (each with a summary.json)")
     args = parser.parse_args()
     try:
         folders = [RunFolder(path, read_summary(path)) for path in args.folders]
+        metric_table = []
+        if args.metric_table:
+            with open(args.metric_table, encoding="utf-8") as f:
+                metric_table = json.load(f)
+        else:
+            metric_table = next((f.summary["metric_table"] for f in folders
+                                 if isinstance(f.summary.get("metric_table"), list)), [])
         with open(args.template, encoding="utf-8") as f:
             template = f.read()
-        page = render(folders, template)
+        page = render(folders, template, metric_table)
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2

@@ -23,7 +23,9 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
+#include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
+#include "harness/process/scratch_folder.h"
 #include "harness/scenario/json_fields.h"
 
 extern char** environ;
@@ -158,7 +160,13 @@ int report_command(const std::vector<std::string>& args) {
   fs::path temporary = out;
   temporary.replace_filename(temporary_name);
 
-  std::vector<std::string> command = {python, "-B", script.string(), "--out", temporary.string()};
+  // The metric table the summary table's columns come from (metric_table.h).
+  const ScratchFolder scratch("hapticbench-report");
+  const fs::path table = scratch.path() / "metric_table.json";
+  std::ofstream(table) << metric_table_json().dump() << "\n";
+
+  std::vector<std::string> command = {
+      python, "-B", script.string(), "--out", temporary.string(), "--metric-table", table.string()};
   for (const fs::path& folder : folders) command.push_back(folder.string());
   const int status = run_program(command, false);
   if (status != 0 || !fs::is_regular_file(temporary)) {

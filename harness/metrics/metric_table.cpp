@@ -24,10 +24,10 @@ constexpr MetricDefinition kMetrics[] = {
     // Timing: budgets only (compare has its own wall-clock and instruction checks).
     {"tick_p50_us", "/timing/step_ns/p50", "ns", Better::kLower, true, 1e-3, CompareRule::kNone, 0,
      false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p50; },
-     "median wall time of Renderer::step"},
+     "median wall time of Renderer::step", true},
     {"tick_p99_us", "/timing/step_ns/p99", "ns", Better::kLower, true, 1e-3, CompareRule::kNone, 0,
      false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p99; },
-     "99th percentile of the wall time of Renderer::step"},
+     "99th percentile of the wall time of Renderer::step", true},
     {"tick_p999_us", "/timing/step_ns/p999", "ns", Better::kLower, true, 1e-3, CompareRule::kNone,
      0, false, [](const RunMetrics& m) -> std::optional<double> { return m.timing.step_ns.p999; },
      "99.9th percentile of the wall time of Renderer::step"},
@@ -39,23 +39,23 @@ constexpr MetricDefinition kMetrics[] = {
      [](const RunMetrics& m) -> std::optional<double> {
        return m.timing.cpu_per_tick_ns.percentiles.p99;
      },
-     "99th percentile of the CPU time per tick of both loops (step + attributed slow work)"},
+     "99th percentile of the CPU time per tick of both loops (step + attributed slow work)", true},
     {"cpu_per_tick_mean_us", "/timing/cpu_per_tick_ns/mean", "ns", Better::kLower, true, 1e-3,
      CompareRule::kNone, 0, false,
      [](const RunMetrics& m) -> std::optional<double> { return m.timing.cpu_per_tick_ns.mean; },
      "mean CPU time per tick of both loops: what the algorithm costs the machine on average"},
     {"over_budget_ticks", "/timing/over_budget", "ticks", Better::kLower, true, 1,
      CompareRule::kNone, 0, false, [](const RunMetrics& m) { return count(m.timing.over_budget); },
-     "ticks whose step took longer than 1 ms"},
+     "ticks whose step took longer than 1 ms", true},
     // Accuracy against ground truth.
     {"force_err_rms_n", "/accuracy/force_err_rms_n", "N", Better::kLower, true, 1,
      CompareRule::kTolerance, kForceAbsTolN, false,
      [](const RunMetrics& m) { return m.accuracy.force_err_rms_n; },
-     "RMS over all ticks of ‖F − F_ideal‖ against the analytic reference"},
+     "RMS over all ticks of ‖F − F_ideal‖ against the analytic reference", true},
     {"force_dir_err_deg", "/accuracy/force_dir_err_max_deg", "deg", Better::kLower, true, 1,
      CompareRule::kTolerance, kAngleAbsTolDeg, false,
      [](const RunMetrics& m) { return m.accuracy.force_dir_err_max_deg; },
-     "largest angle between F and F_ideal on ticks under load"},
+     "largest angle between F and F_ideal on ticks under load", true},
     {"torque_err_rms_nm", "/accuracy/torque_err_rms_nm", "N·m", Better::kLower, true, 1,
      CompareRule::kTolerance, kTorqueAbsTolNm, false,
      [](const RunMetrics& m) { return m.accuracy.torque_err_rms_nm; },
@@ -63,7 +63,7 @@ constexpr MetricDefinition kMetrics[] = {
     {"max_penetration_m", "/accuracy/penetration_max_m", "m", Better::kLower, true, 1,
      CompareRule::kTolerance, kLengthAbsTolM, false,
      [](const RunMetrics& m) { return m.accuracy.penetration_max_m; },
-     "deepest penetration of the proxy's tool into the scene (analytic, else Embree)"},
+     "deepest penetration of the proxy's tool into the scene (analytic, else Embree)", true},
     {"penetration_rms_m", "/accuracy/penetration_rms_m", "m", Better::kLower, true, 1,
      CompareRule::kTolerance, kLengthAbsTolM, false,
      [](const RunMetrics& m) { return m.accuracy.penetration_rms_m; },
@@ -74,17 +74,17 @@ constexpr MetricDefinition kMetrics[] = {
     // Stability and passivity.
     {"nonfinite", "/stability/nonfinite", "ticks", Better::kLower, true, 1, CompareRule::kCount, 0,
      false, [](const RunMetrics& m) { return count(m.stability.nonfinite); },
-     "ticks whose wrench was non-finite (zeroed before display)"},
+     "ticks whose wrench was non-finite (zeroed before display)", true},
     {"diverged", "/stability/diverged", "flag", Better::kLower, true, 1, CompareRule::kFlag, 0,
      false,
      [](const RunMetrics& m) -> std::optional<double> { return m.stability.diverged ? 1.0 : 0.0; },
-     "the proxy left the device by more than the divergence distance"},
+     "the proxy left the device by more than the divergence distance", true},
     {"passivity_energy_min_j", "/stability/passivity_energy_min_j", "J", Better::kHigher, true, 1,
      CompareRule::kTolerance, kEnergyAbsTolJ, false,
      [](const RunMetrics& m) -> std::optional<double> {
        return m.stability.passivity_energy_min_j;
      },
-     "minimum over time of the passivity observer's energy (below zero: energy given away)"},
+     "minimum over time of the passivity observer's energy (below zero: energy given away)", true},
     {"force_jump_max_n", "/stability/force_jump_max_n", "N", Better::kLower, true, 1,
      CompareRule::kTolerance, kForceAbsTolN, false,
      [](const RunMetrics& m) -> std::optional<double> { return m.stability.force_jump_max_n; },
@@ -104,6 +104,19 @@ const MetricDefinition* find_metric(std::string_view name) {
   for (const MetricDefinition& metric : kMetrics)
     if (metric.name == name) return &metric;
   return nullptr;
+}
+
+nlohmann::json metric_table_json() {
+  nlohmann::json table = nlohmann::json::array();
+  for (const MetricDefinition& metric : kMetrics)
+    table.push_back({{"name", metric.name},
+                     {"pointer", metric.json_pointer},
+                     {"unit", metric.unit},
+                     {"better", metric.better == Better::kLower ? "lower" : "higher"},
+                     {"budget", metric.budget},
+                     {"report_column", metric.report_column},
+                     {"description", metric.description}});
+  return table;
 }
 
 std::string metric_check_name(const MetricDefinition& metric) {

@@ -10,6 +10,7 @@
 // the table without linking the metrics code.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
@@ -43,6 +44,7 @@ struct MetricDefinition {
   /// The summary's value from the run's metrics; nullopt where it does not apply.
   std::optional<double> (*read)(const RunMetrics&);
   std::string_view description;
+  bool report_column = false;  ///< a column of the report's summary table
 };
 
 /// Every metric, in the order summaries, tables and comparisons list them.
@@ -50,6 +52,10 @@ std::span<const MetricDefinition> metric_table();
 
 /// The metric with this name, or nullptr.
 const MetricDefinition* find_metric(std::string_view name);
+
+/// The table as data, for readers outside C++ (the report): name,
+/// pointer, unit, better, budget, report_column, description per metric.
+nlohmann::json metric_table_json();
 
 /// The check name `compare` prints: the JSON pointer with dots
 /// ("/accuracy/force_err_rms_n" -> "accuracy.force_err_rms_n").

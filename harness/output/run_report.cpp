@@ -81,19 +81,6 @@ void write_table_metrics(json& out, const RunMetrics& m) {
   }
 }
 
-// The metric table as the report reads it: which metrics, where, in which unit.
-json metric_table_json() {
-  json table = json::array();
-  for (const MetricDefinition& metric : metric_table())
-    table.push_back({{"name", metric.name},
-                     {"pointer", metric.json_pointer},
-                     {"unit", metric.unit},
-                     {"better", metric.better == Better::kLower ? "lower" : "higher"},
-                     {"budget", metric.budget},
-                     {"description", metric.description}});
-  return table;
-}
-
 json run_json(const AlgorithmRun& run) {
   const RunMetrics& m = run.metrics;
   json params = json::parse(run.params_json.empty() ? "{}" : run.params_json);
