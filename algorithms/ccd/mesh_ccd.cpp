@@ -7,6 +7,7 @@
 #include "algorithms/ccd/interval.h"
 #include "algorithms/ccd/mesh_ccd_search.h"
 #include "algorithms/ccd/mesh_features.h"
+#include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 
 namespace hb {
@@ -19,80 +20,6 @@ std::string number_text(double value) {
   std::ostringstream text;
   text << value;
   return text.str();
-}
-
-// ---------------------------------------------------------------------------
-// Closest points, for evaluate()
-
-/// Closest points of segments [p0, p1] and [q0, q1]: on_p and on_q.
-void closest_points_of_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
-                                Vec3& on_p, Vec3& on_q) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (a == 0 && e == 0) {
-    s = t = 0;
-  } else if (a == 0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e == 0) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      // Minimise over s with t following, then clamp t and re-minimise s.
-      const double b = d1.dot(d2), denominator = a * e - b * b;
-      s = denominator > 1e-14 * a * e ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0) {
-        t = 0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1) {
-        t = 1;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  on_p = p0 + s * d1;
-  on_q = q0 + t * d2;
-}
-
-/// Closest point of the closed triangle (a, b, c) to p, by the region of
-/// the triangle's plane p projects into; a degenerate triangle is treated
-/// as its three edges.
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double n2 = ab.cross(ac).squaredNorm();
-  if (!(n2 > 1e-24 * ab.squaredNorm() * ac.squaredNorm())) {
-    Vec3 best = a, on_edge, unused;
-    double best_d2 = (p - a).squaredNorm();
-    const Vec3* corners[3] = {&a, &b, &c};
-    for (int k = 0; k < 3; ++k) {
-      closest_points_of_segments(p, p, *corners[k], *corners[(k + 1) % 3], unused, on_edge);
-      if ((p - on_edge).squaredNorm() < best_d2) {
-        best = on_edge;
-        best_d2 = (p - on_edge).squaredNorm();
-      }
-    }
-    return best;
-  }
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  // Barycentric areas (scaled) opposite each vertex.
-  const double area_c = d1 * d4 - d3 * d2;
-  if (area_c <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const double area_b = d5 * d2 - d1 * d6;
-  if (area_b <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double area_a = d3 * d6 - d5 * d4;
-  if (area_a <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double scale = 1 / (area_a + area_b + area_c);
-  return a + (area_b * scale) * ab + (area_c * scale) * ac;
 }
 
 /// A unit vector perpendicular to v (the x axis when v is zero).
@@ -123,8 +50,7 @@ FeatureGeometry vertex_face_geometry(const Vec3& vertex, const Vec3& a, const Ve
 FeatureGeometry edge_edge_geometry(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
                                    const Vec3& scene_normal_sum, const Vec3& tool_normal_sum) {
   FeatureGeometry g;
-  Vec3 on_tool, on_scene;
-  closest_points_of_segments(p0, p1, q0, q1, on_tool, on_scene);
+  const auto [on_tool, on_scene] = closest_points_of_segments(p0, p1, q0, q1);
   g.point = on_scene;
   g.distance = (on_tool - on_scene).norm();
   const Vec3 outward = scene_normal_sum.norm() > kNormalSumFloor  ? scene_normal_sum

@@ -87,10 +87,11 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     proxy_.q = next.q;
     last_install_tick_ = tick;
     contacts_.swap(update.contacts);
-    result.work.bv_tests = update.stats.bv_tests;
-    result.work.ccd_queries = update.stats.primitive_queries;
-    result.work.qp_iterations = update.stats.qp_iterations;
-    result.work.solver_iterations = update.stats.iterations;
+    static constexpr WorkCounters::Names kWorkNames = {"ccd_bound_tests", "ccd_primitive_queries",
+                                                       "qp_iterations", "ccd_moves"};
+    result.work.names = &kWorkNames;
+    result.work.counts = {update.stats.bv_tests, update.stats.primitive_queries,
+                          update.stats.qp_iterations, update.stats.iterations, 0};
   }
 
   bool point_tool_;

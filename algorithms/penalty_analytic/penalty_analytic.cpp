@@ -116,6 +116,7 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
+    result.work.names = &PrimitiveWork::kNames;
     if (PlaneSet* installed = mailbox_.take(result.flags)) planes_.swap(*installed);
 
     Wrench raw;
@@ -163,7 +164,7 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
       planes_.clear();
       if (is_finite(now)) finder_.find(now, std::isfinite(reach) ? reach : 0, planes_, result.work);
     } else {
-      result.work.points_tested += static_cast<int64_t>(planes_.size());
+      result.work.add(PrimitiveWork::kPlanesEvaluated, static_cast<int64_t>(planes_.size()));
     }
     PlaneForces contacts(planes_, gains_);
     const Wrench raw = dynamic_proxy_->advance(device, &contacts, result.flags);
@@ -173,14 +174,16 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
 
   Wrench step_quasi_static(const DeviceSample& device, TickResult& result) {
     if (slow_contacts_) {
-      result.work.points_tested += static_cast<int64_t>(planes_.size());
+      result.work.add(PrimitiveWork::kPlanesEvaluated, static_cast<int64_t>(planes_.size()));
       PlaneForces contacts(planes_, gains_);
-      const Wrench raw = quasi_static_proxy_->advance(device, &contacts, result.flags, result.work);
+      const Wrench raw = quasi_static_proxy_->advance(
+          device, &contacts, result.flags, result.work.counts[PrimitiveWork::kNewtonSteps]);
       report_active(planes_);
       return raw;
     }
     FreshContactForces contacts(finder_, gains_, planes_, result.work);
-    const Wrench raw = quasi_static_proxy_->advance(device, &contacts, result.flags, result.work);
+    const Wrench raw = quasi_static_proxy_->advance(
+        device, &contacts, result.flags, result.work.counts[PrimitiveWork::kNewtonSteps]);
     // The solver's last evaluation may have been a rejected trial: find the
     // contacts again at the pose it settled on.
     planes_.clear();

@@ -34,15 +34,16 @@ PrimitiveContactFinder::PrimitiveContactFinder(const std::vector<SceneObject>& s
 
 void PrimitiveContactFinder::find(const RigidBodyState& state, double margin_m,
                                   std::vector<PrimitiveContact>& out, WorkCounters& work) const {
+  work.names = &PrimitiveWork::kNames;
   for (const Obstacle& obstacle : obstacles_) {
     // Broad phase: no tool point can come within the margin when the centre
     // of mass is farther than the tool's radius from the shape.
-    ++work.bv_tests;
+    work.add(PrimitiveWork::kObstacleBoundTests);
     const Vec3 com_local = obstacle.pose.inverse_transform_point(state.x);
     if (shape_signed_distance(obstacle.shape, com_local) > tool_radius_m_ + margin_m) continue;
 
     for (const Vec3& point : tool_points_) {
-      ++work.points_tested;
+      work.add(PrimitiveWork::kToolPointsTested);
       const Vec3 local = obstacle.pose.inverse_transform_point(state.x + state.q * point);
       if (shape_signed_distance(obstacle.shape, local) - sphere_radius_m_ >= margin_m) continue;
       const SurfacePoint surface = shape_closest_surface_point(obstacle.shape, local);

@@ -23,6 +23,16 @@ struct PrimitiveContact {
   double surface_offset_m = 0;
 };
 
+/// Work counters of penalty rendering on primitives (WorkCounters slots).
+struct PrimitiveWork {
+  static constexpr std::size_t kObstacleBoundTests = 0;  ///< broad phase, per scene shape
+  static constexpr std::size_t kToolPointsTested = 1;    ///< tool points against a shape
+  static constexpr std::size_t kPlanesEvaluated = 2;     ///< slow-loop planes a tick used
+  static constexpr std::size_t kNewtonSteps = 3;         ///< quasi-static solver steps
+  static constexpr WorkCounters::Names kNames = {"obstacle_bound_tests", "tool_points_tested",
+                                                 "planes_evaluated", "newton_steps"};
+};
+
 class PrimitiveContactFinder {
  public:
   /// Throws InputError at "/scene/<i>" for a scene object without a primitive shape.
@@ -32,7 +42,7 @@ class PrimitiveContactFinder {
 
   /// Appends to `out` the planes of every tool point whose distance to a
   /// scene shape is below margin_m (m; 0: penetrating points only) with the
-  /// proxy at `state`. Counts points and bounding tests in `work`.
+  /// proxy at `state`. Counts points and bounding tests in `work` (PrimitiveWork).
   void find(const RigidBodyState& state, double margin_m, std::vector<PrimitiveContact>& out,
             WorkCounters& work) const;
 

@@ -74,7 +74,7 @@ void QuasiStaticProxy::reset(const Pose& pose) {
 }
 
 Wrench QuasiStaticProxy::advance(const DeviceSample& device, ForceModel* contact_springs,
-                                 uint32_t& flags, WorkCounters& work) {
+                                 uint32_t& flags, int64_t& newton_steps) {
   if (!is_finite(device)) {
     flags |= kFlagNonFiniteZeroed;
     return Wrench{};
@@ -84,7 +84,7 @@ Wrench QuasiStaticProxy::advance(const DeviceSample& device, ForceModel* contact
       CouplingForce(CouplingGains{gains_.k_t, 0, gains_.k_r, 0}, frame_, device.pose, Twist{}),
       contact_springs);
   const QuasiStaticSolution solution = solve_quasi_static(springs, state_, options_);
-  work.solver_iterations += solution.iterations;
+  newton_steps += solution.iterations;
   converged_ = solution.converged;
 
   RigidBodyState next = solution.state;

@@ -51,10 +51,10 @@ class QuasiStaticProxy {
   /// springs `contact_springs` (nullptr: none), warm-started from the last
   /// pose; returns the raw displayed wrench: the coupling's reaction, its
   /// dampers driven by the proxy's velocity over the tick (N, N·m about the
-  /// tool-frame origin, world). Adds Newton steps to work.solver_iterations.
+  /// tool-frame origin, world). Adds its Newton steps to newton_steps.
   /// Non-finite input or state is handled as in DynamicProxy::advance.
   Wrench advance(const DeviceSample& device, ForceModel* contact_springs, uint32_t& flags,
-                 WorkCounters& work);
+                 int64_t& newton_steps);
 
   const RigidBodyState& state() const { return state_; }
   Pose tool_pose() const { return hb::tool_pose(frame_, state_); }

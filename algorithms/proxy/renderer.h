@@ -2,10 +2,12 @@
 // loop calls step() once per 1 ms tick; only step() is timed.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -28,13 +30,27 @@ struct Contact {
   double depth;  ///< m, penetration along the normal (>= 0 when penetrating)
 };
 
-/// What a tick did, so run time can be explained.
+/// What a tick did, so run time can be explained: up to kSlots counts that
+/// the algorithm names for what it does ("points_looked_up", "gjk_calls",
+/// ...). The algorithm points `names` at a static table of its counter
+/// names, in slot order; summary.json reports each run's totals under
+/// contacts.work by those names. Plain integers, so that counting inside
+/// step() costs an increment.
 struct WorkCounters {
-  int64_t points_tested = 0;
-  int64_t bv_tests = 0;
-  int64_t ccd_queries = 0;
-  int64_t qp_iterations = 0;
-  int64_t solver_iterations = 0;
+  static constexpr std::size_t kSlots = 5;
+  using Names = std::array<std::string_view, kSlots>;  ///< "" marks an unused slot
+
+  const Names* names = nullptr;  ///< null: nothing counted
+  std::array<int64_t, kSlots> counts{};
+
+  void add(std::size_t slot, int64_t count = 1) { counts[slot] += count; }
+  /// The count named `name`; 0 when no slot has that name.
+  int64_t get(std::string_view name) const {
+    if (!names || name.empty()) return 0;
+    for (std::size_t i = 0; i < kSlots; ++i)
+      if ((*names)[i] == name) return counts[i];
+    return 0;
+  }
 };
 
 /// Bits of TickResult::flags.

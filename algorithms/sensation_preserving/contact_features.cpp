@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "algorithms/core/closest_points.h"
+
 namespace hb::convex_detail {
 
 namespace {
@@ -128,11 +130,11 @@ bool clip_segment(const Vec2& from, const Vec2& to, const std::vector<Vec2>& cli
   return true;
 }
 
-/// Midpoint of the closest points of two segments (points when degenerate);
+/// Midpoint of the closest points of two segments (closest_points.h rules);
 /// the middle of their overlap when they are parallel and overlap.
 Vec2 segments_middle(const Vec2& p1, const Vec2& q1, const Vec2& p2, const Vec2& q2,
                      double tolerance) {
-  const Vec2 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const Vec2 d1 = q1 - p1, d2 = q2 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm();
   if (a > tolerance * tolerance && e > tolerance * tolerance &&
       std::abs(cross2(d1, d2)) <= 1e-9 * std::sqrt(a * e)) {
@@ -147,32 +149,8 @@ Vec2 segments_middle(const Vec2& p1, const Vec2& q1, const Vec2& p2, const Vec2&
       return 0.5 * (on1 + on2);
     }
   }
-  // Closest points of two segments (clamped least squares).
-  double s = 0, t = 0;
-  const double f = d2.dot(r);
-  if (a <= tolerance * tolerance && e <= tolerance * tolerance) {
-    s = t = 0;
-  } else if (a <= tolerance * tolerance) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= tolerance * tolerance) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2);
-      const double denominator = a * e - b * b;
-      s = denominator > 0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0) {
-        t = 0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1) {
-        t = 1;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return 0.5 * ((p1 + s * d1) + (p2 + t * d2));
+  const SegmentParameters st = closest_segment_parameters(p1, q1, p2, q2);
+  return 0.5 * ((p1 + st.s * d1) + (p2 + st.t * d2));
 }
 
 /// Centre (2-D) of the overlap of two features seen along the normal, with

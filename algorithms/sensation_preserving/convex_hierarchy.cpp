@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/convex_decomposition.h"
 #include "algorithms/sensation_preserving/convex_hull.h"
@@ -50,14 +51,6 @@ std::vector<Plane> face_planes(const ConvexPolytope& piece) {
     planes.push_back({n, n.dot(a)});
   }
   return planes;
-}
-
-// Distance (m) from p to the segment [a, b].
-double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double length2 = d.squaredNorm();
-  const double s = length2 > 0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * d)).norm();
 }
 
 // A piece with what it stands for: its deviation and bounding sphere.
@@ -157,9 +150,10 @@ double deviation_bound(const ConvexPolytope& piece, const std::vector<Plane>& pl
       for (const int t : faces)
         for (const int v : mesh.triangles[at(t)]) {
           const Vec3& p = mesh.vertices[at(v)];
-          const double d = piece.vertices.size() >= 2
-                               ? segment_distance(p, piece.vertices[0], piece.vertices[1])
-                               : (p - piece.vertices[0]).norm();
+          const double d =
+              piece.vertices.size() >= 2
+                  ? (p - closest_point_on_segment(p, piece.vertices[0], piece.vertices[1])).norm()
+                  : (p - piece.vertices[0]).norm();
           worst = std::max(worst, d);
         }
     return worst;

@@ -111,8 +111,11 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
     TickResult result;
     if (ClusterPlanes* installed = mailbox_.take(result.flags)) {
       planes_.swap(installed->planes);
-      result.work.bv_tests = installed->stats.node_pairs_tested + installed->stats.piece_tests;
-      result.work.points_tested = installed->stats.gjk_calls;
+      static constexpr WorkCounters::Names kWorkNames = {"node_pairs_tested", "piece_tests",
+                                                         "gjk_calls"};
+      result.work.names = &kWorkNames;
+      result.work.counts = {installed->stats.node_pairs_tested, installed->stats.piece_tests,
+                            installed->stats.gjk_calls, 0, 0};
     }
     ClusterForces forces(planes_, settings_.gains);
     const Wrench raw = proxy_.advance(device, &forces, result.flags);

@@ -58,15 +58,16 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           const PointShellGains& gains, const RigidBodyState& state,
                           PointShellHits& hits, WorkCounters& work) {
   hits.clear();
+  work.names = &PointShellWork::kNames;
   const Vec3& x = state.x;
   // Bounding test: the whole tool clear of every non-free voxel.
-  ++work.bv_tests;
+  work.add(PointShellWork::kSphereTests);
   if (!(voxmap.clearance(x) <= shell.radius)) return;
   const Mat3 rotation = state.q.toRotationMatrix();
   for (const PointShell::Cluster& cluster : shell.clusters) {
-    ++work.bv_tests;
+    work.add(PointShellWork::kSphereTests);
     if (voxmap.clearance(x + rotation * cluster.centre) > cluster.radius) continue;
-    work.points_tested += cluster.count;
+    work.add(PointShellWork::kPointsLookedUp, cluster.count);
     const int32_t end = cluster.first + cluster.count;
     for (int32_t i = cluster.first; i < end; ++i) {
       const Vec3 point = x + rotation * shell.points[i];

@@ -82,10 +82,18 @@ struct PointShellGains {
 /// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
 double averaging_divisor(std::size_t n);
 
+/// The Voxmap PointShell's work counters (WorkCounters slots and names).
+struct PointShellWork {
+  static constexpr std::size_t kSphereTests = 0;     ///< tool and cluster bounding spheres
+  static constexpr std::size_t kPointsLookedUp = 1;  ///< points whose voxel was read
+  static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up"};
+};
+
 /// Looks up every point of the shell at the proxy pose (x, q of `state`).
 /// Skips everything when the shell's bounding sphere is clear of every
 /// non-free voxel, and each cluster whose sphere is. Counts points looked
-/// up in work.points_tested and cluster tests in work.bv_tests.
+/// up in work (PointShellWork::kPointsLookedUp) and bounding-sphere tests of
+/// the tool and its clusters (kSphereTests).
 void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           const PointShellGains& gains, const RigidBodyState& state,
                           PointShellHits& hits, WorkCounters& work);

@@ -15,8 +15,9 @@ constexpr double kEnergyAbsTolJ = 1e-9;
 std::optional<double> count(int64_t value) { return static_cast<double>(value); }
 
 std::optional<double> embree_penetration_max(const RunMetrics& m) {
-  if (!m.oracle || !m.oracle->embree) return std::nullopt;
-  return m.oracle->embree->penetration_max_m;
+  const OracleBackendMetrics* embree = m.oracle ? m.oracle->backend("embree") : nullptr;
+  if (!embree) return std::nullopt;
+  return embree->penetration_max_m;
 }
 
 // Read it like the registry: one row per metric.

@@ -18,13 +18,6 @@ double angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(c) * 180.0 / std::numbers::pi;
 }
 
-void add_work(WorkCounters& total, const WorkCounters& w) {
-  total.points_tested += w.points_tested;
-  total.bv_tests += w.bv_tests;
-  total.ccd_queries += w.ccd_queries;
-  total.qp_iterations += w.qp_iterations;
-  total.solver_iterations += w.solver_iterations;
-}
 }  // namespace
 
 Percentiles percentiles_of(std::vector<int64_t> values) {
@@ -141,14 +134,25 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     contacts_sum_ += n;
     partial_.contacts.max_contacts = std::max(partial_.contacts.max_contacts, n);
   }
-  add_work(partial_.contacts.total_work, result.work);
+  if (result.work.names) {
+    for (std::size_t i = 0; i < WorkCounters::kSlots; ++i) {
+      const std::string_view name = (*result.work.names)[i];
+      if (name.empty()) continue;
+      auto& totals = partial_.contacts.total_work;
+      auto it = std::find_if(totals.begin(), totals.end(),
+                             [&](const auto& entry) { return entry.first == name; });
+      if (it == totals.end()) it = totals.emplace(totals.end(), std::string(name), 0);
+      it->second += result.work.counts[i];
+    }
+  }
   if (evaluation.oracle) add_oracle(*evaluation.oracle);
 }
 
 namespace {
-void add_backend(std::optional<OracleBackendMetrics>& metrics, const PenetrationResult& result,
-                 int64_t ns, std::vector<int64_t>& all_ns, double& depth_sq) {
-  if (!metrics) metrics.emplace();
+void add_backend(std::optional<OracleBackendMetrics>& metrics, std::string_view name,
+                 const PenetrationResult& result, int64_t ns, std::vector<int64_t>& all_ns,
+                 double& depth_sq) {
+  if (!metrics) metrics.emplace().name = name;
   ++metrics->ticks_evaluated;
   all_ns.push_back(ns);
   metrics->inside_samples_max = std::max(metrics->inside_samples_max, result.inside);
@@ -164,10 +168,14 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
   if (!partial_.oracle) partial_.oracle.emplace();
   OracleMetrics& m = *partial_.oracle;
   if (oracle.broad_phase_skipped) ++m.broad_phase_skipped_ticks;
-  if (oracle.embree)
-    add_backend(m.embree, *oracle.embree, oracle.embree_ns, embree_sums_.ns, embree_sums_.depth_sq);
-  if (oracle.cgal)
-    add_backend(m.cgal, *oracle.cgal, oracle.cgal_ns, cgal_sums_.ns, cgal_sums_.depth_sq);
+  const auto entries = oracle_backends();
+  backend_metrics_.resize(entries.size());
+  backend_sums_.resize(entries.size());
+  for (std::size_t i = 0; i < oracle.backends.size(); ++i) {
+    if (!oracle.backends[i]) continue;
+    add_backend(backend_metrics_[i], entries[i].name, oracle.backends[i]->result,
+                oracle.backends[i]->ns, backend_sums_[i].ns, backend_sums_[i].depth_sq);
+  }
   m.inside_disagreements += oracle.inside_disagreements;
   if (oracle.intersection_volume_m3) {
     ++m.volume_evaluations;
@@ -264,16 +272,15 @@ RunMetrics MetricsAccumulator::finish() const {
         static_cast<double>(contacts_sum_) / static_cast<double>(m.contacts.contact_ticks);
   }
   if (m.oracle) {
-    auto finish_backend = [](std::optional<OracleBackendMetrics>& backend,
-                             const BackendSums& sums) {
-      if (!backend) return;
-      backend->evaluation_ns = percentiles_of(sums.ns);
-      if (backend->penetrating_ticks > 0)
-        backend->penetration_rms_m =
-            std::sqrt(sums.depth_sq / static_cast<double>(backend->penetrating_ticks));
-    };
-    finish_backend(m.oracle->embree, embree_sums_);
-    finish_backend(m.oracle->cgal, cgal_sums_);
+    for (std::size_t i = 0; i < backend_metrics_.size(); ++i) {
+      if (!backend_metrics_[i]) continue;
+      OracleBackendMetrics backend = *backend_metrics_[i];
+      backend.evaluation_ns = percentiles_of(backend_sums_[i].ns);
+      if (backend.penetrating_ticks > 0)
+        backend.penetration_rms_m =
+            std::sqrt(backend_sums_[i].depth_sq / static_cast<double>(backend.penetrating_ticks));
+      m.oracle->backends.push_back(std::move(backend));
+    }
     if (!volume_ns_.empty()) m.oracle->volume_ns = percentiles_of(volume_ns_);
     if (m.oracle->contacts_checked > 0) {
       const auto n = static_cast<double>(m.oracle->contacts_checked);

@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -95,11 +97,14 @@ struct ContactMetrics {
   int64_t contact_ticks = 0;  ///< ticks with at least one reported contact
   int64_t max_contacts = 0;
   double mean_contacts = 0;  ///< over contact ticks
-  WorkCounters total_work;
+  /// The algorithm's work counters summed over the run, by name, in the
+  /// order first seen.
+  std::vector<std::pair<std::string, int64_t>> total_work;
 };
 
 /// One oracle backend over a run.
 struct OracleBackendMetrics {
+  std::string name;  ///< as in oracle_backends()
   int64_t ticks_evaluated = 0;
   double penetration_max_m = 0;  ///< deepest tool sample over the run
   double penetration_rms_m = 0;  ///< RMS over penetrating ticks of each tick's deepest sample
@@ -109,8 +114,8 @@ struct OracleBackendMetrics {
 };
 
 struct OracleMetrics {
-  std::optional<OracleBackendMetrics> embree;
-  std::optional<OracleBackendMetrics> cgal;
+  /// Backends evaluated at least once, in oracle_backends() order.
+  std::vector<OracleBackendMetrics> backends;
   int64_t broad_phase_skipped_ticks = 0;  ///< ticks with the tool's bounds clear of the scene
   int64_t inside_disagreements = 0;       ///< samples Embree and CGAL classified differently
   std::optional<double> intersection_volume_max_m3;
@@ -121,6 +126,13 @@ struct OracleMetrics {
   std::optional<double> contact_normal_err_max_deg;
   std::optional<double> contact_depth_err_rms_m;
   std::optional<double> contact_depth_err_max_m;  ///< largest |reported - oracle| depth
+
+  /// The backend named `name`, or null when it was not evaluated.
+  const OracleBackendMetrics* backend(std::string_view name) const {
+    for (const OracleBackendMetrics& b : backends)
+      if (b.name == name) return &b;
+    return nullptr;
+  }
 };
 
 struct RunMetrics {
@@ -151,7 +163,9 @@ class MetricsAccumulator {
     std::vector<int64_t> ns;
     double depth_sq = 0;
   };
-  BackendSums embree_sums_, cgal_sums_;
+  /// Indexed like oracle_backends(); empty until the backend is evaluated.
+  std::vector<std::optional<OracleBackendMetrics>> backend_metrics_;
+  std::vector<BackendSums> backend_sums_;
   std::vector<int64_t> volume_ns_;
   double contact_normal_sq_ = 0, contact_depth_sq_ = 0;
   std::vector<int64_t> step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;

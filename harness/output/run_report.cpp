@@ -25,15 +25,13 @@ json percentiles_json(const std::optional<Percentiles>& p) {
   return p ? percentiles_json(*p) : json(nullptr);
 }
 
-json work_json(const WorkCounters& w) {
-  return {{"points_tested", w.points_tested},
-          {"bv_tests", w.bv_tests},
-          {"ccd_queries", w.ccd_queries},
-          {"qp_iterations", w.qp_iterations},
-          {"solver_iterations", w.solver_iterations}};
+json work_json(const std::vector<std::pair<std::string, int64_t>>& totals) {
+  json out = json::object();
+  for (const auto& [name, count] : totals) out[name] = count;
+  return out;
 }
 
-json backend_json(const std::optional<OracleBackendMetrics>& b) {
+json backend_json(const OracleBackendMetrics* b) {
   if (!b) return nullptr;
   return {{"ticks_evaluated", b->ticks_evaluated},
           {"penetration_max_m", b->penetration_max_m},
@@ -45,18 +43,20 @@ json backend_json(const std::optional<OracleBackendMetrics>& b) {
 
 json oracle_json(const std::optional<OracleMetrics>& o) {
   if (!o) return nullptr;
-  return {{"embree", backend_json(o->embree)},
-          {"cgal", backend_json(o->cgal)},
-          {"broad_phase_skipped_ticks", o->broad_phase_skipped_ticks},
-          {"inside_disagreements", o->inside_disagreements},
-          {"intersection_volume_max_m3", or_null(o->intersection_volume_max_m3)},
-          {"volume_evaluations", o->volume_evaluations},
-          {"volume_ns", percentiles_json(o->volume_ns)},
-          {"contacts_checked", o->contacts_checked},
-          {"contact_normal_err_rms_deg", or_null(o->contact_normal_err_rms_deg)},
-          {"contact_normal_err_max_deg", or_null(o->contact_normal_err_max_deg)},
-          {"contact_depth_err_rms_m", or_null(o->contact_depth_err_rms_m)},
-          {"contact_depth_err_max_m", or_null(o->contact_depth_err_max_m)}};
+  json out = {{"broad_phase_skipped_ticks", o->broad_phase_skipped_ticks},
+              {"inside_disagreements", o->inside_disagreements},
+              {"intersection_volume_max_m3", or_null(o->intersection_volume_max_m3)},
+              {"volume_evaluations", o->volume_evaluations},
+              {"volume_ns", percentiles_json(o->volume_ns)},
+              {"contacts_checked", o->contacts_checked},
+              {"contact_normal_err_rms_deg", or_null(o->contact_normal_err_rms_deg)},
+              {"contact_normal_err_max_deg", or_null(o->contact_normal_err_max_deg)},
+              {"contact_depth_err_rms_m", or_null(o->contact_depth_err_rms_m)},
+              {"contact_depth_err_max_m", or_null(o->contact_depth_err_max_m)}};
+  // Every known backend by name: null where the scenario did not ask for it.
+  for (const OracleBackendEntry& entry : oracle_backends())
+    out[std::string(entry.name)] = backend_json(o->backend(entry.name));
+  return out;
 }
 
 // Every metric of the table at its place, typed as its unit says: a flag as

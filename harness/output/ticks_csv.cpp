@@ -5,12 +5,26 @@
 namespace hb {
 
 const std::string& ticks_csv_header() {
-  static const std::string header =
-      "tick,t_ns,dev_px,dev_py,dev_pz,dev_qw,dev_qx,dev_qy,dev_qz,"
-      "proxy_px,proxy_py,proxy_pz,proxy_qw,proxy_qx,proxy_qy,proxy_qz,"
-      "fx,fy,fz,tx,ty,tz,contacts,penetration_m,step_ns,flags,"
-      "ref_fx,ref_fy,ref_fz,ref_tx,ref_ty,ref_tz,slow_update_ns,slow_data_age_ticks,"
-      "embree_pen_m,embree_inside,cgal_pen_m,cgal_inside,cgal_volume_m3,oracle_ns";
+  static const std::string header = [] {
+    std::string text =
+        "tick,t_ns,dev_px,dev_py,dev_pz,dev_qw,dev_qx,dev_qy,dev_qz,"
+        "proxy_px,proxy_py,proxy_pz,proxy_qw,proxy_qx,proxy_qy,proxy_qz,"
+        "fx,fy,fz,tx,ty,tz,contacts,penetration_m,step_ns,flags,"
+        "ref_fx,ref_fy,ref_fz,ref_tx,ref_ty,ref_tz,slow_update_ns,slow_data_age_ticks";
+    // Per oracle backend: deepest sample and samples inside; then the
+    // intersection volume of the backend that computes it.
+    auto column = [&text](std::string_view backend, std::string_view quantity) {
+      text.append(",").append(backend).append(quantity);
+    };
+    for (const OracleBackendEntry& entry : oracle_backends()) {
+      column(entry.name, "_pen_m");
+      column(entry.name, "_inside");
+    }
+    for (const OracleBackendEntry& entry : oracle_backends())
+      if (entry.intersection_volume) column(entry.name, "_volume_m3");
+    text.append(",oracle_ns");
+    return text;
+  }();
   return header;
 }
 
@@ -81,22 +95,25 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
   // Oracle columns: empty when not evaluated at this tick.
   std::string oracle;
   std::string oracle_ns = ",";
-  if (const auto& o = evaluation.oracle) {
-    auto backend = [&](const std::optional<PenetrationResult>& r) {
-      oracle += ',';
-      if (r) append_number(oracle, r->max_depth_m);
-      oracle += ',';
-      if (r) append_integer(oracle, r->inside);
-    };
-    backend(o->embree);
-    backend(o->cgal);
+  const auto entries = oracle_backends();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const BackendPenetration* backend = nullptr;
+    if (evaluation.oracle && i < evaluation.oracle->backends.size() &&
+        evaluation.oracle->backends[i])
+      backend = &*evaluation.oracle->backends[i];
     oracle += ',';
-    if (o->intersection_volume_m3) append_number(oracle, *o->intersection_volume_m3);
-    if (!o->broad_phase_skipped)
-      append_integer(oracle_ns, o->embree_ns + o->cgal_ns + o->volume_ns);
-  } else {
-    oracle = ",,,,,";
+    if (backend) append_number(oracle, backend->result.max_depth_m);
+    oracle += ',';
+    if (backend) append_integer(oracle, backend->result.inside);
   }
+  for (const OracleBackendEntry& entry : entries) {
+    if (!entry.intersection_volume) continue;
+    oracle += ',';
+    if (evaluation.oracle && evaluation.oracle->intersection_volume_m3)
+      append_number(oracle, *evaluation.oracle->intersection_volume_m3);
+  }
+  if (evaluation.oracle && !evaluation.oracle->broad_phase_skipped)
+    append_integer(oracle_ns, evaluation.oracle->total_ns());
 
   hash_.add(head).add(tail).add(slow_age).add(oracle).add("\n");
 

@@ -41,4 +41,19 @@ PenetrationResult Oracle::penetration(std::span<const Vec3> points) const {
   return penetration_of_inside_points(*this, points, inside.inside);
 }
 
+std::span<const OracleBackendEntry> oracle_backends() {
+  static const OracleBackendEntry backends[] = {
+      {"embree", &make_embree_oracle, false, false},
+      {"cgal", &make_cgal_oracle, true, true},
+  };
+  return backends;
+}
+
+std::optional<std::size_t> oracle_backend_index(std::string_view name) {
+  const auto backends = oracle_backends();
+  for (std::size_t i = 0; i < backends.size(); ++i)
+    if (backends[i].name == name) return i;
+  return std::nullopt;
+}
+
 }  // namespace hb

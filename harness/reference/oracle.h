@@ -84,4 +84,26 @@ std::unique_ptr<Oracle> make_cgal_oracle(const std::vector<SceneObject>& scene);
 /// by both backends so they refuse the same objects.
 std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh);
 
+/// One oracle backend the harness can evaluate. A new backend is one row in
+/// oracle_backends() plus its make function; the ticks CSV, summary.json,
+/// the metrics and the scenario's `reference.oracle` choices follow the list.
+struct OracleBackendEntry {
+  std::string_view name;  ///< as a scenario names it and as summary.json keys it
+  std::unique_ptr<Oracle> (*make)(const std::vector<SceneObject>& scene);
+  /// Evaluated only on ticks k with k % exact_every == 0 (an expensive,
+  /// exact backend) rather than on every tick.
+  bool exact_ticks_only;
+  /// Computes the exact tool–scene intersection volume on its ticks.
+  bool intersection_volume;
+};
+
+/// The backends in evaluation order, every-tick ones first. Of those a
+/// scenario asks for, the first is the primary: it gives the penetration
+/// on ticks it evaluates and checks the reported contacts; the others are
+/// cross-checked against it sample by sample.
+std::span<const OracleBackendEntry> oracle_backends();
+
+/// Index of the backend named `name` in oracle_backends(), or nullopt.
+std::optional<std::size_t> oracle_backend_index(std::string_view name);
+
 }  // namespace hb

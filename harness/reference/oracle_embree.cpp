@@ -19,64 +19,12 @@
 #include <type_traits>
 #include <utility>
 
+#include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {
 namespace {
-
-// Closest point to p on triangle (a, b, c), double precision, by the Voronoi
-// region of the triangle that contains p (Ericson, Real-Time Collision
-// Detection, 5.1.5). The result is continuous across region boundaries, so
-// rounding near a boundary moves it by rounding error only.
-Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double length_sq = ab.squaredNorm();
-  if (!(length_sq > 0)) return a;
-  return a + std::clamp((p - a).dot(ab) / length_sq, 0.0, 1.0) * ab;
-}
-
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 ap = p - a;
-  const double d1 = ab.dot(ap);
-  const double d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp);
-  const double d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp);
-  const double d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-
-  const double denominator = va + vb + vc;
-  if (!(denominator > 0)) {
-    // A (near-)degenerate triangle is its longest edge: the nearest of the
-    // three edges is the answer.
-    Vec3 best = closest_point_on_segment(p, a, b);
-    for (const Vec3& candidate :
-         {closest_point_on_segment(p, b, c), closest_point_on_segment(p, c, a)}) {
-      if ((candidate - p).squaredNorm() < (best - p).squaredNorm()) best = candidate;
-    }
-    return best;
-  }
-  return a + (vb / denominator) * ab + (vc / denominator) * ac;
-}
 
 // Parity rays: fixed, deterministic and deliberately not aligned with any
 // axis or diagonal, so axis-aligned meshes and grid-sampled points do not

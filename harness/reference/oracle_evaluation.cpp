@@ -1,8 +1,10 @@
 #include "harness/reference/oracle_evaluation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "harness/reference/surface_samples.h"
 
@@ -31,19 +33,40 @@ double angle_deg(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
+const PenetrationResult* OracleTickEvaluation::first_penetration() const {
+  for (const auto& backend : backends)
+    if (backend) return &backend->result;
+  return nullptr;
+}
+
+int64_t OracleTickEvaluation::total_ns() const {
+  int64_t ns = volume_ns;
+  for (const auto& backend : backends)
+    if (backend) ns += backend->ns;
+  return ns;
+}
+
 OracleEvaluator::OracleEvaluator(const RenderContext& context,
                                  const OracleEvaluationSettings& settings)
     : settings_(settings), tool_mesh_(context.tool.mesh), tool_bounds_(context.tool.mesh.bounds()) {
+  for (const std::string& name : settings.backends)
+    if (!oracle_backend_index(name))
+      throw std::invalid_argument("unknown oracle backend \"" + name + "\"");
   spacing_m_ = settings.sample_spacing_m > 0 ? settings.sample_spacing_m
                                              : tool_bounds_.diagonal().norm() / 40.0;
   tool_samples_ = sample_surface(tool_mesh_, spacing_m_);
   world_samples_.resize(tool_samples_.size());
-  if (settings.use_embree) embree_ = make_embree_oracle(context.scene);
-  if (settings.use_cgal) cgal_ = make_cgal_oracle(context.scene);
-  const Oracle* any = embree_ ? embree_.get() : cgal_.get();
-  if (any) {
-    scene_bounds_ = any->bounds();
-    measures_penetration_ = any->distance_only_objects().size() < context.scene.size();
+  const auto entries = oracle_backends();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (std::find(settings.backends.begin(), settings.backends.end(), entries[i].name) ==
+        settings.backends.end())
+      continue;
+    backends_.push_back({i, &entries[i], entries[i].make(context.scene)});
+  }
+  if (!backends_.empty()) {
+    const Oracle& primary = *backends_.front().oracle;
+    scene_bounds_ = primary.bounds();
+    measures_penetration_ = primary.distance_only_objects().size() < context.scene.size();
   }
 }
 
@@ -51,15 +74,17 @@ OracleEvaluator::~OracleEvaluator() = default;
 
 const std::vector<std::string>& OracleEvaluator::distance_only_objects() const {
   static const std::vector<std::string> none;
-  if (embree_) return embree_->distance_only_objects();
-  if (cgal_) return cgal_->distance_only_objects();
-  return none;
+  return backends_.empty() ? none : backends_.front().oracle->distance_only_objects();
+}
+
+std::string_view OracleEvaluator::primary_name() const {
+  return backends_.empty() ? std::string_view() : backends_.front().entry->name;
 }
 
 OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_pose,
                                                std::span<const Contact> contacts) {
   OracleTickEvaluation out;
-  if (!embree_ && !cgal_) return out;
+  if (backends_.empty()) return out;
   if (!is_finite(tool_pose) || !world_bounds(tool_bounds_, tool_pose).intersects(scene_bounds_)) {
     out.broad_phase_skipped = true;
     return out;
@@ -71,35 +96,36 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
   inside_request.points = world_samples_;
   inside_request.want_inside = true;
 
-  PointQueryResult embree_inside;
-  if (embree_ && measures_penetration_) {
-    const auto start = std::chrono::steady_clock::now();
-    embree_->query_points(inside_request, embree_inside);
-    out.embree = penetration_of_inside_points(*embree_, world_samples_, embree_inside.inside);
-    out.embree_ns = ns_since(start);
-  }
-
+  out.backends.resize(oracle_backends().size());
   const bool exact_tick = settings_.exact_every > 0 && tick % settings_.exact_every == 0;
-  if (cgal_ && exact_tick && measures_penetration_) {
+  bool primary_evaluated = false;
+  for (std::size_t b = 0; b < backends_.size() && measures_penetration_; ++b) {
+    Backend& backend = backends_[b];
+    if (backend.entry->exact_ticks_only && !exact_tick) continue;
     const auto start = std::chrono::steady_clock::now();
-    PointQueryResult cgal_inside;
-    cgal_->query_points(inside_request, cgal_inside);
-    out.cgal = penetration_of_inside_points(*cgal_, world_samples_, cgal_inside.inside);
-    out.cgal_ns = ns_since(start);
-    if (out.embree) {
+    PointQueryResult& inside = b == 0 ? primary_inside_ : inside_;
+    backend.oracle->query_points(inside_request, inside);
+    BackendPenetration& penetration = out.backends[backend.index].emplace();
+    penetration.result =
+        penetration_of_inside_points(*backend.oracle, world_samples_, inside.inside);
+    penetration.ns = ns_since(start);
+    if (b == 0) {
+      primary_evaluated = true;
+    } else if (primary_evaluated) {
       for (std::size_t i = 0; i < world_samples_.size(); ++i)
-        if (embree_inside.inside[i] != cgal_inside.inside[i]) ++out.inside_disagreements;
+        if (primary_inside_.inside[i] != inside.inside[i]) ++out.inside_disagreements;
     }
-    const bool touching = out.cgal->inside > 0 || !contacts.empty();
-    if (touching) {
+    const bool touching = penetration.result.inside > 0 || !contacts.empty();
+    if (backend.entry->intersection_volume && touching && !out.intersection_volume_m3) {
       const auto volume_start = std::chrono::steady_clock::now();
-      out.intersection_volume_m3 = cgal_->intersection_volume(transformed(tool_mesh_, tool_pose));
+      out.intersection_volume_m3 =
+          backend.oracle->intersection_volume(transformed(tool_mesh_, tool_pose));
       out.volume_ns = ns_since(volume_start);
     }
   }
 
   if (!contacts.empty()) {
-    const Oracle& oracle = embree_ ? *embree_ : *cgal_;
+    const Oracle& oracle = *backends_.front().oracle;
     std::vector<Vec3> points;
     points.reserve(contacts.size());
     for (const Contact& c : contacts) points.push_back(c.point);

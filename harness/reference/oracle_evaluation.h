@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/core/scene.h"
@@ -20,9 +21,10 @@
 namespace hb {
 
 struct OracleEvaluationSettings {
-  bool use_embree = false;
-  bool use_cgal = false;
-  int64_t exact_every = 10;     ///< CGAL on ticks k with k % exact_every == 0
+  /// Backends to build, by name (oracle_backends()); evaluated in that
+  /// list's order whatever order they are given in.
+  std::vector<std::string> backends;
+  int64_t exact_every = 10;     ///< exact backends on ticks k with k % exact_every == 0
   double sample_spacing_m = 0;  ///< tool surface sample spacing; 0 = automatic
 };
 
@@ -32,16 +34,27 @@ struct ContactCheck {
   double depth_error_m = 0;     ///< reported depth - oracle depth (signed distance inside)
 };
 
+/// One backend's penetration of the tool samples at one tick.
+struct BackendPenetration {
+  PenetrationResult result;
+  int64_t ns = 0;  ///< wall time of the evaluation
+};
+
 struct OracleTickEvaluation {
   bool broad_phase_skipped = false;  ///< tool bounds clear of the scene: nothing evaluated
-  std::optional<PenetrationResult> embree;
-  int64_t embree_ns = 0;  ///< wall time of the Embree evaluation
-  std::optional<PenetrationResult> cgal;
-  int64_t cgal_ns = 0;                           ///< wall time of the CGAL penetration evaluation
-  std::optional<double> intersection_volume_m3;  ///< CGAL, when the tool touches the scene
+  /// Indexed like oracle_backends(); empty where the backend was not asked
+  /// for or not evaluated at this tick.
+  std::vector<std::optional<BackendPenetration>> backends;
+  std::optional<double> intersection_volume_m3;  ///< when the tool touches the scene
   int64_t volume_ns = 0;
-  int64_t inside_disagreements = 0;  ///< samples Embree and CGAL classify differently
+  int64_t inside_disagreements = 0;  ///< samples a backend classifies unlike the primary
   std::vector<ContactCheck> contact_checks;
+
+  /// The penetration of the first backend evaluated at this tick (the
+  /// primary when it was), or null.
+  const PenetrationResult* first_penetration() const;
+  /// Wall time of all evaluations at this tick.
+  int64_t total_ns() const;
 };
 
 class OracleEvaluator {
@@ -58,8 +71,8 @@ class OracleEvaluator {
   std::size_t sample_count() const { return tool_samples_.size(); }
   double sample_spacing_m() const { return spacing_m_; }
   const std::vector<std::string>& distance_only_objects() const;
-  bool has_embree() const { return embree_ != nullptr; }
-  bool has_cgal() const { return cgal_ != nullptr; }
+  /// Name of the primary backend (the first built).
+  std::string_view primary_name() const;
   /// False when every scene object is distance_only: no inside/outside, so
   /// no penetration (contacts are still checked by distance).
   bool measures_penetration() const { return measures_penetration_; }
@@ -71,8 +84,14 @@ class OracleEvaluator {
   double spacing_m_ = 0;
   std::vector<Vec3> tool_samples_;   ///< tool frame
   std::vector<Vec3> world_samples_;  ///< scratch, world frame
-  std::unique_ptr<Oracle> embree_;
-  std::unique_ptr<Oracle> cgal_;
+  struct Backend {
+    std::size_t index;  ///< in oracle_backends()
+    const OracleBackendEntry* entry;
+    std::unique_ptr<Oracle> oracle;
+  };
+  std::vector<Backend> backends_;    ///< in oracle_backends() order; [0] is the primary
+  PointQueryResult primary_inside_;  ///< scratch
+  PointQueryResult inside_;          ///< scratch
   Eigen::AlignedBox3d scene_bounds_;
   bool measures_penetration_ = true;
 };

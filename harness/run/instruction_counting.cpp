@@ -112,7 +112,7 @@ void count_instructions_here(const std::string& scenario_path,
                              const std::optional<std::string>& only,
                              const std::string& schedule_dir, const std::string& out) {
   Scenario scenario = load_scenario(scenario_path);
-  scenario.reference.oracle = "none";  // no ground truth is counted, so none is built
+  scenario.reference.switch_off_oracle();  // no ground truth is counted, so none is built
   PreparedScenario prepared = prepare_scenario(scenario, only);
   use_recorded_schedules(prepared, schedule_dir);
 

@@ -105,11 +105,9 @@ GroundTruth prepare_ground_truth(const Scenario& scenario) {
   } else {
     truth.analytic_note = "analytic reference switched off by the scenario";
   }
-  const std::string& oracle = scenario.reference.oracle;
-  if (oracle != "none") {
+  if (!scenario.reference.oracle_backends.empty()) {
     OracleEvaluationSettings settings;
-    settings.use_embree = oracle == "embree" || oracle == "both";
-    settings.use_cgal = oracle == "cgal" || oracle == "both";
+    settings.backends = scenario.reference.oracle_backends;
     settings.exact_every = scenario.reference.exact_every;
     settings.sample_spacing_m = scenario.reference.sample_spacing_m;
     const auto t0 = std::chrono::steady_clock::now();

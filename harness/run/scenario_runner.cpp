@@ -76,13 +76,11 @@ class EvaluatingObserver : public TickObserver {
     if (truth_.oracle) {
       evaluation.oracle =
           truth_.oracle->evaluate(record.device->tick, record.result.proxy, record.result.contacts);
-      // Without a closed form, the penetration is the oracle's: Embree on
-      // every tick, else CGAL on its ticks.
+      // Without a closed form, the penetration is the oracle's: the
+      // primary backend's, on the ticks it evaluates.
       if (!evaluation.penetration_m && !evaluation.oracle->broad_phase_skipped) {
-        if (evaluation.oracle->embree)
-          evaluation.penetration_m = evaluation.oracle->embree->max_depth_m;
-        else if (evaluation.oracle->cgal)
-          evaluation.penetration_m = evaluation.oracle->cgal->max_depth_m;
+        if (const PenetrationResult* first = evaluation.oracle->first_penetration())
+          evaluation.penetration_m = first->max_depth_m;
       } else if (!evaluation.penetration_m && proxy_finite &&
                  truth_.oracle->measures_penetration()) {
         evaluation.penetration_m = 0.0;  // bounds clear of the scene: no penetration
@@ -108,9 +106,7 @@ class EvaluatingObserver : public TickObserver {
 std::string penetration_source(const GroundTruth& truth) {
   if (truth.analytic) return "analytic";
   if (!truth.oracle || !truth.oracle->measures_penetration()) return "";
-  if (truth.oracle->has_embree()) return "embree";
-  if (truth.oracle->has_cgal()) return "cgal";
-  return "";
+  return std::string(truth.oracle->primary_name());
 }
 
 }  // namespace

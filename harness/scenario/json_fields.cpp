@@ -245,9 +245,13 @@ bool JsonField::boolean(const std::string& expected) const {
 }
 
 std::string JsonField::choice(std::initializer_list<std::string_view> allowed) const {
+  return choice(std::vector<std::string_view>(allowed));
+}
+
+std::string JsonField::choice(const std::vector<std::string_view>& allowed) const {
   std::string expected = "expected one of";
-  for (std::string_view option : allowed)
-    expected += (option == *allowed.begin() ? " \"" : ", \"") + std::string(option) + "\"";
+  for (std::size_t i = 0; i < allowed.size(); ++i)
+    expected += (i == 0 ? " \"" : ", \"") + std::string(allowed[i]) + "\"";
   const std::string value = string(expected);
   if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) fail(expected);
   return value;

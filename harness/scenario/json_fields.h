@@ -64,6 +64,7 @@ class JsonField {
   bool boolean(const std::string& expected) const;
   /// A string equal to one of `allowed`.
   std::string choice(std::initializer_list<std::string_view> allowed) const;
+  std::string choice(const std::vector<std::string_view>& allowed) const;
   /// An array of exactly n finite numbers.
   std::vector<double> numbers(std::size_t n, const std::string& expected) const;
   Vec3 vec3(const std::string& expected) const;

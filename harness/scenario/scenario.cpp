@@ -19,8 +19,9 @@
 #include "algorithms/core/shapes.h"
 #include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
-#include "harness/metrics/metric_table.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "harness/metrics/metric_table.h"
+#include "harness/reference/oracle.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
 #include "harness/scenario/json_params.h"
@@ -520,8 +521,16 @@ class ScenarioReader {
         "expected {\"oracle\", \"exact_every\", \"analytic\", \"sample_spacing_m\"}");
     field.reject_unknown_keys({"oracle", "exact_every", "analytic", "sample_spacing_m"});
     ReferenceSpec reference;
-    if (field.has("oracle"))
-      reference.oracle = field.existing_member("oracle").choice({"none", "embree", "cgal", "both"});
+    if (field.has("oracle")) {
+      std::vector<std::string_view> choices = {"none"};
+      for (const OracleBackendEntry& backend : hb::oracle_backends())
+        choices.push_back(backend.name);
+      choices.push_back("both");
+      reference.oracle = field.existing_member("oracle").choice(choices);
+      for (const OracleBackendEntry& backend : hb::oracle_backends())
+        if (reference.oracle == "both" || reference.oracle == backend.name)
+          reference.oracle_backends.emplace_back(backend.name);
+    }
     if (field.has("exact_every"))
       reference.exact_every = field.existing_member("exact_every")
                                   .integer(1, std::numeric_limits<int64_t>::max(),

@@ -22,12 +22,18 @@ struct AlgorithmSpec {
 };
 
 struct ReferenceSpec {
-  std::string oracle = "none";    ///< none, embree, cgal, both
-  int64_t exact_every = 10;       ///< CGAL evaluation period in ticks
-  std::string analytic = "auto";  ///< auto or none
+  std::string oracle = "none";  ///< none, a backend's name (oracle_backends()), or both (all)
+  std::vector<std::string> oracle_backends;  ///< what `oracle` names, in oracle_backends() order
+  int64_t exact_every = 10;                  ///< evaluation period of exact backends (CGAL), ticks
+  std::string analytic = "auto";             ///< auto or none
   /// Spacing (m) of the tool surface samples whose penetration the oracles
   /// measure; 0 = automatic (a fortieth of the tool's bounding diameter).
   double sample_spacing_m = 0;
+
+  void switch_off_oracle() {
+    oracle = "none";
+    oracle_backends.clear();
+  }
 };
 
 /// A budget a run must meet, e.g. {"tick_p99_us", 1000}.

@@ -76,7 +76,8 @@ void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
     std::string ground_truth_key;
     for (const char* key : {"scene", "tool", "reference"})
       ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
-    if (!checked_ground_truth.insert(ground_truth_key).second) scenario.reference.oracle = "none";
+    if (!checked_ground_truth.insert(ground_truth_key).second)
+      scenario.reference.switch_off_oracle();
     try {
       prepare_scenario(scenario, std::nullopt);
     } catch (const InputError& error) {

@@ -38,10 +38,10 @@
 #include <vector>
 
 #include "algorithms/core/cache_directory.h"
+#include "algorithms/core/disk_cache.h"
 #include "algorithms/proxy/rigid_body.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
-#include "algorithms/core/disk_cache.h"
 #include "harness/scenario/scenario.h"
 #include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"
@@ -229,9 +229,9 @@ void measure_poses() {
   for (std::size_t i = 0; i < s.poses.size(); ++i) {
     const DeviceSample& sample = s.poses[i];
     PoseResult& r = s.results[i];
-    const int64_t tested_before = s.work.points_tested;
+    const int64_t tested_before = s.work.get("points_looked_up");
     r.vps_seconds = median_of_runs(kVpsRuns, [&] { force_sink += s.vps_query(sample); });
-    r.vps_points_tested = (s.work.points_tested - tested_before) / kVpsRuns;
+    r.vps_points_tested = (s.work.get("points_looked_up") - tested_before) / kVpsRuns;
     r.vps_contacts = s.hits.contacts.size();
     r.vps_braking = s.hits.braking.size();
     r.vps_contact = !s.hits.contacts.empty();

@@ -70,6 +70,12 @@ TEST_CASE("god-object: a tilted cube held 4 mm deep shows the ideal rigid contac
   // The update runs on the slow loop; its time is reported.
   const json& slow = run.at("timing").at("slow_loop");
   CHECK(slow.at("update_ns").at("count").get<int>() > 1000);
+  // Its work, by the names the god-object gives it.
+  const json& work_done = run.at("contacts").at("work");
+  CHECK(work_done.at("ccd_primitive_queries").get<int64_t>() > 0);
+  CHECK(work_done.at("ccd_moves").get<int64_t>() > 0);
+  CHECK(work_done.at("qp_iterations").get<int64_t>() > 0);
+  CHECK_FALSE(work_done.contains("points_tested"));
   // Installed as many ticks after it started as it took (the default), and
   // its cost shows in the CPU time per tick that comparisons use.
   CHECK(slow.at("latency_ticks") == "measured");

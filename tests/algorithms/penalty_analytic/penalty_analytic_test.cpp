@@ -80,7 +80,7 @@ TEST_CASE("sphere pressed into a box face displays the series spring force", "[p
     CHECK(contact.depth == Approx(kToolRadius - proxy_z).epsilon(1e-3));
     // The reported point is the sphere's lowest point.
     CHECK((contact.point - (result.proxy.p - kToolRadius * Vec3::UnitZ())).norm() < 1e-9);
-    CHECK(result.work.points_tested >= 1);
+    CHECK(result.work.get("tool_points_tested") >= 1);
     CHECK(result.flags == 0);
   }
 }
@@ -106,7 +106,7 @@ TEST_CASE("box tool pressed flat: four corner springs in series with the couplin
       CHECK(contact.point.z() == Approx(result.proxy.p.z() - half).epsilon(1e-9));
       CHECK(contact.depth == Approx(half - result.proxy.p.z()).epsilon(1e-6));
     }
-    CHECK(result.work.points_tested >= 8);
+    CHECK(result.work.get("tool_points_tested") >= 8);
   }
 }
 
@@ -226,8 +226,8 @@ TEST_CASE("in free space the broad phase skips every tool vertex", "[penalty_ana
   DeviceSample sample;
   sample.pose = above;
   const TickResult result = renderer->step(sample);
-  CHECK(result.work.bv_tests == 1);
-  CHECK(result.work.points_tested == 0);
+  CHECK(result.work.get("obstacle_bound_tests") == 1);
+  CHECK(result.work.get("tool_points_tested") == 0);
   CHECK(result.contacts.empty());
   CHECK(result.display.force.norm() < 1e-12);
 }

@@ -222,7 +222,7 @@ TEST_CASE("a free-space tick looks up no points", "[voxmap_pointshell]") {
   for (int k = 0; k < 10; ++k) {
     s.tick = k;
     const TickResult result = renderer->step(s);
-    CHECK(result.work.points_tested == 0);
+    CHECK(result.work.get("points_looked_up") == 0);
     CHECK(result.contacts.empty());
     CHECK(result.display.force.norm() < 1e-9);
   }
