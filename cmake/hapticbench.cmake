@@ -42,3 +42,22 @@ function(hb_test source)
     catch_discover_tests(${target} TEST_PREFIX "${rel}: ")
   endif()
 endfunction()
+
+# hb_builder_sources_hash(SOURCE FILES f...): compiles SOURCE with
+# HB_BUILDER_SOURCES_HASH, a hash of the files that build a structure kept in
+# a disk cache, which the cache key includes: when the code that builds it
+# changes, old cache files stop matching instead of serving stale results.
+# CMake re-runs when one of the files changes.
+function(hb_builder_sources_hash source)
+  cmake_parse_arguments(ARG "" "" "FILES" ${ARGN})
+  set(text "")
+  foreach(file ${ARG_FILES})
+    file(SHA256 ${file} file_hash)
+    string(APPEND text "${file_hash}")
+  endforeach()
+  string(SHA256 all "${text}")
+  string(SUBSTRING "${all}" 0 16 all)
+  set_property(SOURCE ${source} APPEND PROPERTY COMPILE_DEFINITIONS
+    "HB_BUILDER_SOURCES_HASH=\"${all}\"")
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${ARG_FILES})
+endfunction()

@@ -2,8 +2,8 @@
 // algorithm that preprocesses (voxmaps, pointshells, convex hierarchies,
 // bounding-sphere trees). One file per key:
 //   <folder>/<kind>-<hash of key>.hbcache
-// holding a text header "hapticbench-cache 2 <kind>\n<key bytes> <payload
-// bytes> <payload hash>\n", the key, then the payload. The key spells out
+// holding a text header "hapticbench-cache 3 <kind>\n<key bytes> <payload
+// bytes> <payload checksum>\n", the key, then the payload. The key spells out
 // everything the structure depends on (content hashes, poses, settings,
 // format versions) and is compared on read; a missing, truncated, damaged
 // or different file is a miss, with the reason. Files are written under a

@@ -30,13 +30,16 @@ namespace hb {
 
 namespace {
 
-// Bump when the payload's layout or how the hierarchy is built changes.
+// Bump when the payload's layout changes; how the hierarchy is built is in
+// the key through HB_BUILDER_SOURCES_HASH (a hash of this folder's sources,
+// set by CMake).
 constexpr uint32_t kFormatVersion = 1;
 
 std::string hierarchy_key(const TriangleMesh& mesh, const std::string& content_hash,
                           const ConvexHierarchySettings& settings) {
-  return "convex hierarchy format " + std::to_string(kFormatVersion) + "\ncontent " + content_hash +
-         "\nmesh " + mesh_geometry_hash(mesh) + " " + std::to_string(mesh.vertices.size()) + " " +
+  return "convex hierarchy format " + std::to_string(kFormatVersion) +
+         "\nbuilder " HB_BUILDER_SOURCES_HASH "\ncontent " + content_hash + "\nmesh " +
+         mesh_geometry_hash(mesh) + " " + std::to_string(mesh.vertices.size()) + " " +
          std::to_string(mesh.triangles.size()) + "\nconvexity_tolerance_rad " +
          exact_key_text(settings.convexity_tolerance_rad) + "\nmax_piece_vertices " +
          std::to_string(settings.max_piece_vertices) + "\n";
@@ -83,7 +86,8 @@ class Reader {
     uint64_t count = 0;
     if (!get(count) || count > (bytes_.size() - position_) / sizeof(T)) return false;
     values.resize(static_cast<std::size_t>(count));
-    std::memcpy(values.data(), bytes_.data() + position_, values.size() * sizeof(T));
+    if (!values.empty())
+      std::memcpy(values.data(), bytes_.data() + position_, values.size() * sizeof(T));
     position_ += values.size() * sizeof(T);
     return true;
   }

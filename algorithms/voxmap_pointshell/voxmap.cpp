@@ -25,7 +25,10 @@ namespace hb {
 namespace {
 
 // Bump when what a cache file holds, or how it is computed, changes.
-constexpr const char* kFormat = "hapticbench voxmap_pointshell cache v1";
+// Layout version and a hash of this file and its header (set by CMake):
+// caches built by other code do not match.
+constexpr const char* kFormat =
+    "hapticbench voxmap_pointshell cache v1 builder " HB_BUILDER_SOURCES_HASH;
 constexpr const char* kStatesGrid = "voxmap_states";
 constexpr const char* kDistanceGrid = "signed_distance";
 constexpr const char* kPointShellGrid = "pointshell_normals";
