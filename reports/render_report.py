@@ -1067,7 +1067,7 @@ def main():
     parser.add_argument("folders", nargs="+", help="run folders (each with a summary.json)")
     args = parser.parse_args()
     try:
-        folders = [RunFolder(path, read_summary(path)) for path in args.folders]
+        folders = [load_run_folder(path) for path in args.folders]
         metric_table = []
         if args.metric_table:
             with open(args.metric_table, encoding="utf-8") as f:
@@ -1081,9 +1081,32 @@ def main():
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write(page)
+    except Exception as error:  # a bug, not bad input: one line, no traceback
+        if os.environ.get("HAPTICBENCH_DEBUG"):
+            raise
+        print("internal error: rendering failed: %s: %s (HAPTICBENCH_DEBUG=1 shows where)"
+              % (type(error).__name__, error), file=sys.stderr)
+        return 3
+    try:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(page)
+    except OSError as error:
+        print("error: %s: cannot write the report: %s" % (args.out, error.strerror or error),
+              file=sys.stderr)
+        return 2
     return 0
+
+
+def load_run_folder(path):
+    """A run folder's summary and ticks; a file that is not as hapticbench
+    writes it (unreadable, not UTF-8, wrong shape) is bad input naming it."""
+    try:
+        return RunFolder(path, read_summary(path))
+    except ReportInputError:
+        raise
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError) as error:
+        raise ReportInputError(path, "", "not a run folder as hapticbench writes it (%s: %s)"
+                               % (type(error).__name__, error))
 
 
 if __name__ == "__main__":

@@ -128,11 +128,8 @@ int generate_command(const std::vector<std::string>& args) {
   } catch (const HelpRequested&) {
     return print_help(kGenerateUsage);
   } catch (const InputError& error) {
-    std::cerr << "hapticbench generate: " << error.what() << "\n";
+    std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "hapticbench generate: internal error: " << error.what() << "\n";
-    return kExitInternal;
   }
 }
 

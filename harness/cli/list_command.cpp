@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
 #include "harness/cli/commands.h"
 #include "harness/metrics/metric_table.h"
@@ -53,7 +54,13 @@ int list_command(const std::vector<std::string>& args) {
     return kExitOk;
   }
   std::string scenario_root = "scenarios";
-  if (!args.empty()) scenario_root = args.front();
+  if (!args.empty()) {
+    scenario_root = args.front();
+    std::error_code error;
+    // A folder the user names must exist; the default may be absent.
+    if (!fs::is_directory(scenario_root, error))
+      throw InputError(scenario_root, "", "not a folder; expected a folder of scenario files");
+  }
 
   std::cout << "algorithms:\n";
   for (const AlgorithmEntry& entry : algorithm_table())

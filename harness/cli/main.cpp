@@ -1,5 +1,6 @@
 // hapticbench: benchmarks and validates 6-DOF haptic rendering algorithms.
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -49,6 +50,12 @@ int main(int argc, char** argv) {
     return hb::kExitBadInput;
   } catch (const hb::InputError& error) {
     std::cerr << "error: " << error.what() << "\n";
+    return hb::kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& error) {
+    // A path that cannot be created, read or written (read-only, under
+    // /proc, a file where a folder is needed): the user's to fix.
+    std::cerr << "error: " << error.path1().string() << ": " << error.code().message() << " ("
+              << error.what() << ")\n";
     return hb::kExitBadInput;
   } catch (const std::exception& error) {
     std::cerr << "internal error: " << error.what() << "\n";

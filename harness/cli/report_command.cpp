@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -159,6 +160,13 @@ int report_command(const std::vector<std::string>& args) {
   temporary_name.append(out.filename().string()).append(".tmp-").append(std::to_string(getpid()));
   fs::path temporary = out;
   temporary.replace_filename(temporary_name);
+
+  // Refuse an unwritable destination before rendering, naming the user's path.
+  if (!std::ofstream(temporary)) {
+    std::cerr << "error: " << out.string() << ": cannot write the report there ("
+              << std::strerror(errno) << ")\n";
+    return kExitBadInput;
+  }
 
   // The metric table the summary table's columns come from (metric_table.h).
   const ScratchFolder scratch("hapticbench-report");

@@ -114,6 +114,12 @@ void validate_trace(const std::string& path, TraceFileFormat format) {
     std::cout << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities";
   }
   std::cout << "\n";
+  // What run does with it: resample onto the 1 kHz clock (spans checked).
+  try {
+    (void)resample_to_ticks(trace);
+  } catch (const InputError& error) {
+    throw InputError(path, error.location(), error.message());
+  }
 }
 
 void validate_file(const std::string& path) {

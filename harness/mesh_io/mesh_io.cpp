@@ -10,7 +10,11 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 #include <vector>
 
@@ -64,6 +68,61 @@ struct ExactPointHash {
   }
 };
 
+// Element counts a mesh header declares are checked against the file's size
+// before the reader allocates for them: every vertex and face takes at
+// least two bytes in any encoding (a number and a separator), so a header
+// claiming more than that is refused (a 20-byte OFF file claiming 2^31
+// vertices once ended in std::bad_alloc). kMaxMeshElements bounds the
+// memory a mesh may take (about 100 bytes per element on reading).
+constexpr std::uintmax_t kMaxMeshElements = 20'000'000;
+
+void check_declared_count(const std::string& path, const std::string& what, long double count,
+                          std::uintmax_t file_bytes) {
+  if (count < 0 || count > static_cast<long double>(file_bytes) / 2 ||
+      count > static_cast<long double>(kMaxMeshElements)) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(0) << "the header declares " << count << " " << what
+         << ", but the file has only " << file_bytes << " bytes";
+    if (count > static_cast<long double>(kMaxMeshElements))
+      text << " (and hapticbench reads at most " << kMaxMeshElements << " per mesh)";
+    throw InputError(path, "header", text.str());
+  }
+}
+
+// The counts in an OFF header ("[C][N][4]OFF" then "vertices faces edges",
+// '#' comments allowed) or a PLY header ("element vertex N" ...).
+void check_header_counts(const std::string& path, const MeshFormat& format,
+                         std::uintmax_t file_bytes) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string name = format.name;
+  if (name == "OFF") {
+    std::vector<std::string> tokens;
+    std::string line;
+    while (tokens.size() < 4 && std::getline(in, line)) {
+      line = line.substr(0, line.find('#'));
+      std::istringstream words(line);
+      for (std::string word; tokens.size() < 4 && words >> word;) tokens.push_back(word);
+    }
+    if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
+    const char* names[] = {"vertices", "faces"};
+    for (std::size_t k = 1; k < 3 && k < tokens.size(); ++k) {
+      long double count = 0;
+      std::istringstream number(tokens[k]);
+      if (number >> count) check_declared_count(path, names[k - 1], count, file_bytes);
+    }
+  } else if (name == "PLY") {
+    std::string line;
+    for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
+      if (line.rfind("end_header", 0) == 0) break;
+      std::istringstream words(line);
+      std::string keyword, element;
+      long double count = 0;
+      if (words >> keyword >> element >> count && keyword == "element")
+        check_declared_count(path, "elements of \"" + element + "\"", count, file_bytes);
+    }
+  }
+}
+
 }  // namespace
 
 TriangleMesh read_mesh_file(const std::string& path, double scale) {
@@ -86,9 +145,22 @@ TriangleMesh read_mesh_file(const std::string& path, double scale) {
                          accepted_extensions());
   }
 
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
+  if (error) throw InputError(path, "", "cannot read the file's size: " + error.message());
+  check_header_counts(path, *format, file_bytes);
+
   std::vector<FilePoint> points;
   std::vector<FilePolygon> polygons;
-  if (!CGAL::IO::read_polygon_soup(path, points, polygons) || polygons.empty()) {
+  bool parsed = false;
+  try {
+    parsed = CGAL::IO::read_polygon_soup(path, points, polygons);
+  } catch (const std::bad_alloc&) {
+    // e.g. a face whose declared number of corners is absurd
+    throw InputError(path, "", "declares more data than fits in memory (a corrupt count?)");
+  } catch (const std::length_error&) {
+    throw InputError(path, "", "declares more data than fits in memory (a corrupt count?)");
+  }
+  if (!parsed || polygons.empty()) {
     throw InputError(path, "",
                      std::string("could not parse as ") + format->name +
                          (polygons.empty() ? " (no faces read)" : ""));

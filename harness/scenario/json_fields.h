@@ -75,6 +75,9 @@ class JsonField {
   std::string pointer_;
 };
 
+/// Deepest nesting of arrays and objects a JSON input may have.
+inline constexpr std::size_t kMaxJsonDepth = 64;
+
 /// Escapes one JSON pointer reference token ("~" -> "~0", "/" -> "~1").
 std::string json_pointer_token(std::string_view key);
 
@@ -85,7 +88,8 @@ std::string json_value_preview(const nlohmann::ordered_json& value);
 /// Parses a JSON document. Malformed text throws InputError(source,
 /// "line L, column C", parser message); an object with a repeated key throws
 /// InputError(source, pointer of the key, ...), since the parser would keep
-/// only one of the values silently.
+/// only one of the values silently. Nesting deeper than kMaxJsonDepth and
+/// numbers beyond a double's range throw InputError with their position.
 nlohmann::ordered_json parse_json_document(const std::string& text, const std::string& source);
 
 }  // namespace hb

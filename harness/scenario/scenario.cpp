@@ -12,6 +12,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <sstream>
 
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/input_error.h"
@@ -36,7 +37,8 @@ using Json = nlohmann::ordered_json;
 
 constexpr double kDefaultToolDensity = 1000;  // kg/m³, water
 constexpr double kUnitQuaternionTolerance = 1e-6;
-constexpr double kMaxTraceDurationS = 3600;
+constexpr double kMaxTraceDurationS = kMaxRunDurationS;
+constexpr double kMaxOracleSamples = 1e6;  ///< tool surface samples the oracles may test per tick
 constexpr double kTicksPerSecond = 1000;
 constexpr int64_t kMaxSubdivisions = 6;
 
@@ -141,6 +143,7 @@ class ScenarioReader {
     scenario.context.tool =
         read_tool(root.member("tool", "the tool: {\"shape\": ...} or {\"mesh\": ...}"));
     read_trace(root.member("trace", "{\"generator\": ...} or {\"file\": ...}"), scenario);
+    check_oracle_sample_count(scenario);
 
     scenario.content_hash = scenario_hash_.hex();
     return scenario;
@@ -435,7 +438,11 @@ class ScenarioReader {
         scenario.device_samples = resample_to_ticks(trace, ticks);
         scenario_hash_.add(file_content_hash(path));
       } catch (const InputError& error) {
-        throw with_reference_note(error, path_, file_field.pointer());
+        // An error about the trace's samples is the trace file's.
+        const InputError located = error.source().empty()
+                                       ? InputError(path, error.location(), error.message())
+                                       : error;
+        throw with_reference_note(located, path_, file_field.pointer());
       }
       scenario.trace_description = "file " + path + " (" + format + ")";
     } else {
@@ -514,6 +521,31 @@ class ScenarioReader {
       specs.push_back(std::move(spec));
     }
     return specs;
+  }
+
+  // The oracles test about area / spacing² tool surface samples every tick;
+  // a spacing far below the tool's size would take hours and gigabytes
+  // (1e-5 m on a 2 cm sphere ran past 120 s at 6.4 GB), so it is refused.
+  void check_oracle_sample_count(const Scenario& scenario) const {
+    if (scenario.reference.oracle_backends.empty()) return;
+    const TriangleMesh& tool = scenario.context.tool.mesh;
+    const double spacing = scenario.reference.sample_spacing_m > 0
+                               ? scenario.reference.sample_spacing_m
+                               : tool.bounds().diagonal().norm() / 40.0;
+    double area = 0;
+    for (const auto& [a, b, c] : tool.triangles)
+      area += 0.5 * (tool.vertices[b] - tool.vertices[a])
+                        .cross(tool.vertices[c] - tool.vertices[a])
+                        .norm();
+    const double estimate = area / (spacing * spacing);
+    if (estimate > kMaxOracleSamples) {
+      std::ostringstream text;
+      text << "a spacing of " << spacing << " m gives about " << std::llround(estimate)
+           << " tool surface samples (tool area " << area << " m²); at most "
+           << static_cast<int64_t>(kMaxOracleSamples) << " are allowed: use a spacing of at least "
+           << std::sqrt(area / kMaxOracleSamples) << " m";
+      throw InputError(path_, "/reference/sample_spacing_m", text.str());
+    }
   }
 
   ReferenceSpec read_reference(const JsonField& field) const {

@@ -21,7 +21,7 @@ namespace {
 
 constexpr int64_t kSampleNs = 1'000'000;  // generators sample at 1 kHz
 constexpr double kSamplesPerSecond = 1000.0;
-constexpr double kMaxDurationS = 86'400.0;
+constexpr double kMaxDurationS = kMaxRunDurationS;  // a longer trace could not be replayed
 
 struct MotionState {
   Pose pose;
@@ -154,7 +154,7 @@ Vec3 perpendicular_unit(const Vec3& axis) {
 int64_t sample_intervals(double duration_s, const std::string& field) {
   if (!std::isfinite(duration_s) || duration_s <= 0 || duration_s > kMaxDurationS)
     throw InputError("", field,
-                     "expected a duration in (0, 86400] s, got " + number_text(duration_s));
+                     "expected a duration in (0, " + number_text(kMaxDurationS) + "] s, got " + number_text(duration_s));
   const int64_t intervals = std::llround(duration_s * kSamplesPerSecond);
   if (intervals < 1)
     throw InputError("", field,

@@ -65,6 +65,14 @@ std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration
   // Ticks the trace covers: 0 .. floor(last / 1 ms).
   const int64_t covered_ticks = last_ns < 0 ? 0 : last_ns / kTickNs + 1;
   const int64_t ticks = duration_ticks > 0 ? duration_ticks : covered_ticks;
+  const auto max_ticks = static_cast<int64_t>(kMaxRunDurationS * 1e9) / kTickNs;
+  if (ticks > max_ticks) {
+    throw InputError("", "samples",
+                     "the trace spans " + std::to_string(last_ns / 1'000'000'000) +
+                         " s of ticks (from t = 0 to its last sample); a run is at most " +
+                         std::to_string(static_cast<int64_t>(kMaxRunDurationS)) +
+                         " s. Give \"duration_s\" or a shorter trace");
+  }
 
   std::vector<DeviceSample> out(static_cast<std::size_t>(ticks));
   // Ticks [begin, end) lie inside the trace's time span; before it the first

@@ -63,6 +63,11 @@ std::string sidecar_path(const std::string& trace_path);
 /// overwritten by `generate`.
 bool is_generated_trace(const std::string& trace_path);
 
+/// The longest run hapticbench replays (s): a run keeps every tick in
+/// memory (about 1 GB per hour of ticks with one algorithm), so longer
+/// traces are refused rather than allowed to exhaust memory.
+inline constexpr double kMaxRunDurationS = 3600;
+
 /// Resamples onto the 1 kHz clock from t = 0 to the last sample: linear in
 /// position, slerp in orientation (shorter arc). Tick k is at t_ns =
 /// k * 1'000'000 exactly. Twists are interpolated when every sample has
@@ -70,7 +75,9 @@ bool is_generated_trace(const std::string& trace_path);
 /// (one-sided at the ends; angular velocity in the world frame).
 /// duration_ticks: number of ticks wanted (0 = as many as the trace covers,
 /// floor(t_last / 1 ms) + 1). Ticks before the first or after the last
-/// sample hold that sample's pose with zero twist.
+/// sample hold that sample's pose with zero twist. A trace that would give
+/// more than kMaxRunDurationS of ticks throws InputError("", "samples", ...)
+/// before anything is allocated.
 std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration_ticks = 0);
 
 }  // namespace hb

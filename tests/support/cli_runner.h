@@ -32,4 +32,22 @@ inline CommandResult run_hapticbench(const std::string& args, const std::filesys
   return result;
 }
 
+/// As run_hapticbench, with the address space limited to `memory_kib`
+/// (ulimit -v): an input that makes the process grab more than that ends
+/// in a crash or bad_alloc instead of passing.
+inline CommandResult run_hapticbench_limited(const std::string& args,
+                                             const std::filesystem::path& work, long memory_kib) {
+  const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
+  const std::string command = "cd '" + work.string() + "' && (ulimit -v " +
+                              std::to_string(memory_kib) + " && exec '" +
+                              std::string(HAPTICBENCH_BIN) + "' " + args + ") > '" + out.string() +
+                              "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.stdout_text = read_text_file(out);
+  result.stderr_text = read_text_file(err);
+  return result;
+}
+
 }  // namespace hb::test

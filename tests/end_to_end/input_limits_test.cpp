@@ -1,0 +1,155 @@
+// End-to-end: small hostile inputs are refused quickly with exit 2 and a
+// message naming the file and the field or line, within the stated memory
+// budget (2 GiB of address space), and output paths that cannot be written
+// are the user's error (exit 2), not an internal one.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hb::test::CommandResult;
+using hb::test::read_text_file;
+using hb::test::run_hapticbench;
+using hb::test::run_hapticbench_limited;
+using hb::test::ScratchDir;
+
+const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
+const std::string kPress = (kSource / "scenarios/smoke/sphere_press_box.json").string();
+constexpr long kBudgetKib = 2L * 1024 * 1024;  // the stated memory budget, 2 GiB
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+void check_refused(const CommandResult& result, std::initializer_list<const char*> parts) {
+  INFO(result.stdout_text << result.stderr_text);
+  CHECK(result.exit_code == 2);
+  CHECK(contains(result.stderr_text, "error: "));
+  CHECK_FALSE(contains(result.stderr_text, "internal error"));
+  for (const char* part : parts) CHECK(contains(result.stderr_text, part));
+}
+
+// The smoke press scenario with one replacement in its text.
+std::string press_with(const std::string& from, const std::string& to) {
+  std::string text = read_text_file(kPress);
+  const std::size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+TEST_CASE("JSON nested 200,000 deep is refused at its 65th level") {
+  const ScratchDir work("limits_deep_json");
+  write_text(work.path() / "deep.json", std::string(200000, '[') + std::string(200000, ']'));
+  check_refused(run_hapticbench_limited("validate deep.json", work.path(), kBudgetKib),
+                {"deep.json", "line 1, column 65", "nested deeper than 64"});
+  write_text(work.path() / "deep_sweep.json", std::string(100, '{') + std::string(100, '}'));
+  check_refused(run_hapticbench_limited("sweep deep_sweep.json", work.path(), kBudgetKib),
+                {"deep_sweep.json", "nested deeper"});
+}
+
+TEST_CASE("a number beyond a double's range names its line") {
+  const ScratchDir work("limits_number");
+  write_text(work.path() / "big.json", press_with("\"duration_s\": 2.0", "\"duration_s\": 1e999"));
+  check_refused(run_hapticbench_limited("validate big.json", work.path(), kBudgetKib),
+                {"big.json", "line ", "too large for a double"});
+}
+
+TEST_CASE("mesh headers that claim more elements than the file holds are refused") {
+  const ScratchDir work("limits_mesh_header");
+  write_text(work.path() / "huge.off", "OFF\n2147483647 1 0\n0 0 0\n");
+  check_refused(run_hapticbench_limited("validate huge.off", work.path(), kBudgetKib),
+                {"huge.off", "header", "2147483647 vertices", "bytes"});
+  write_text(work.path() / "faces.off", "OFF\n3 900000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  check_refused(run_hapticbench_limited("validate faces.off", work.path(), kBudgetKib),
+                {"faces.off", "900000000 faces"});
+  write_text(work.path() / "huge.ply",
+             "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+             "property float y\nproperty float z\nend_header\n");
+  check_refused(run_hapticbench_limited("validate huge.ply", work.path(), kBudgetKib),
+                {"huge.ply", "4000000000", "\"vertex\""});
+  write_text(work.path() / "valence.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
+  check_refused(run_hapticbench_limited("validate valence.off", work.path(), kBudgetKib),
+                {"valence.off"});
+}
+
+TEST_CASE("a trace whose rows are a day apart is refused before resampling") {
+  const ScratchDir work("limits_trace_span");
+  write_text(work.path() / "gap.csv",
+             "t_ns,px,py,pz,qw,qx,qy,qz\n0,0,0,0.1,1,0,0,0\n100000000000000,0,0,0.1,1,0,0,0\n");
+  check_refused(run_hapticbench_limited("validate gap.csv", work.path(), kBudgetKib),
+                {"gap.csv", "100000 s", "at most 3600 s"});
+  nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
+  scenario["trace"] = {{"file", "gap.csv"}};
+  write_text(work.path() / "gap_scenario.json", scenario.dump());
+  const CommandResult run =
+      run_hapticbench_limited("run gap_scenario.json --out out", work.path(), kBudgetKib);
+  check_refused(run, {"gap.csv", "at most 3600 s"});
+  CHECK_FALSE(fs::exists(work.path() / "out"));
+  check_refused(run_hapticbench_limited("generate human_like --duration 86400 --out t.csv",
+                                        work.path(), kBudgetKib),
+                {"duration_s", "3600"});
+  CHECK_FALSE(fs::exists(work.path() / "t.csv"));
+}
+
+TEST_CASE("an oracle sample spacing far below the tool's size is refused with the field") {
+  const ScratchDir work("limits_oracle_spacing");
+  std::string text = read_text_file(kSource / "scenarios/meshes/knot_press_knot.json");
+  const std::string key = "\"reference\": {";
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  text.insert(at + key.size(), "\"sample_spacing_m\": 1e-5, ");
+  // Mesh paths in the scenario are relative to its folder.
+  const fs::path scenario = kSource / "scenarios/meshes" / ".limits_spacing_test.json";
+  write_text(scenario, text);
+  const CommandResult result =
+      run_hapticbench_limited("validate '" + scenario.string() + "'", work.path(), kBudgetKib);
+  fs::remove(scenario);
+  check_refused(result, {"/reference/sample_spacing_m", "at most 1000000"});
+}
+
+TEST_CASE("output paths that cannot be written are exit 2 with the path") {
+  const ScratchDir work("limits_output_paths");
+  if (fs::is_directory("/proc/self")) {
+    check_refused(run_hapticbench("run " + kPress + " --out /proc/hb_run", work.path()),
+                  {"/proc/hb_run"});
+    check_refused(
+        run_hapticbench("generate press --duration 1 --out /proc/hb_trace.csv", work.path()),
+        {"/proc/"});
+  }
+  check_refused(run_hapticbench("run " + kPress + " --out ''", work.path()), {"empty"});
+  write_text(work.path() / "a_file", "x");
+  check_refused(run_hapticbench("run " + kPress + " --out a_file/run", work.path()),
+                {"a_file/run"});
+  check_refused(run_hapticbench("list /nonexistent_scenarios", work.path()),
+                {"/nonexistent_scenarios", "not a folder"});
+}
+
+TEST_CASE("report: an unwritable page or a damaged run folder is exit 2 without a traceback") {
+  const ScratchDir work("limits_report");
+  REQUIRE(run_hapticbench("run " + kPress + " --out run", work.path()).exit_code == 0);
+  if (fs::is_directory("/proc/self")) {
+    const CommandResult result = run_hapticbench("report run --out /proc/r.html", work.path());
+    check_refused(result, {"/proc/r.html"});
+    CHECK_FALSE(contains(result.stderr_text, "Traceback"));
+  }
+  // Bytes that are not UTF-8 in a ticks file.
+  const fs::path ticks = work.path() / "run/ticks_coupling_only.csv";
+  REQUIRE(fs::exists(ticks));
+  std::ofstream(ticks, std::ios::app | std::ios::binary) << "\xff\xfe\x80 broken\n";
+  const CommandResult damaged = run_hapticbench("report run --out r.html", work.path());
+  check_refused(damaged, {"run"});
+  CHECK_FALSE(contains(damaged.stderr_text, "Traceback"));
+  CHECK_FALSE(fs::exists(work.path() / "r.html"));
+}
+
+}  // namespace
