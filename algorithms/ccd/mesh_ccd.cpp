@@ -88,6 +88,7 @@ struct MeshCcd::Data {
   MeshFeatures tool;                // tool frame
   std::vector<MeshFeatures> scene;  // world frame
   double tool_radius = 0;
+  bool all_cached = true;  // every mesh's features came from the disk cache
 };
 
 void validate_mesh_ccd_settings(const MeshCcdSettings& settings, const std::string& field_prefix) {
@@ -102,7 +103,10 @@ MeshCcd::MeshCcd(const TriangleMesh& tool_mesh, std::span<const SceneObject> sce
     : data_(std::make_unique<Data>()) {
   if (tool_mesh.triangles.empty())
     throw InputError("", "tool", "expected a tool mesh with at least one triangle");
-  data_->tool = ccd_detail::build_mesh_features(tool_mesh.vertices, tool_mesh.triangles, "tool");
+  bool hit = false;
+  data_->tool =
+      ccd_detail::cached_mesh_features(tool_mesh.vertices, tool_mesh.triangles, "tool", &hit);
+  data_->all_cached = hit;
   double largest = 0;
   for (const Vec3& v : data_->tool.vertices) largest = std::max(largest, v.norm());
   data_->tool_radius = next_up(largest * (1 + 1e-12));
@@ -114,9 +118,12 @@ MeshCcd::MeshCcd(const TriangleMesh& tool_mesh, std::span<const SceneObject> sce
       world[v] = object.pose.transform_point(object.mesh.vertices[v]);
     const std::string name = object.name.empty() ? "scene[" + std::to_string(o) + "]" : object.name;
     data_->scene.push_back(
-        ccd_detail::build_mesh_features(std::move(world), object.mesh.triangles, name));
+        ccd_detail::cached_mesh_features(std::move(world), object.mesh.triangles, name, &hit));
+    data_->all_cached = data_->all_cached && hit;
   }
 }
+
+bool MeshCcd::cache_hit() const { return data_->all_cached; }
 
 MeshCcd::~MeshCcd() = default;
 MeshCcd::MeshCcd(MeshCcd&&) noexcept = default;

@@ -114,6 +114,9 @@ class MeshCcd {
   MeshCcd(MeshCcd&&) noexcept;
   MeshCcd& operator=(MeshCcd&&) noexcept;
 
+  /// Whether every mesh's trees came from the disk cache (cached_mesh_features).
+  bool cache_hit() const;
+
   /// The first contact of the tool moving along `motion` (its frame's pose
   /// at t = 0 to t = 1) with any scene object. Only times up to
   /// settings.primitive.time_limit are searched. A motion with a number

@@ -187,6 +187,12 @@ std::size_t MeshFeatures::memory_bytes() const {
          leaf_slot.capacity() * sizeof(int) + leaves.capacity() * sizeof(LeafFeatures);
 }
 
+void check_mesh_features_input(const std::vector<Vec3>& vertices,
+                               const std::vector<std::array<int, 3>>& triangles,
+                               const std::string& name) {
+  check_input(vertices, triangles, name);
+}
+
 MeshFeatures build_mesh_features(std::vector<Vec3> vertices,
                                  std::vector<std::array<int, 3>> triangles,
                                  const std::string& name) {

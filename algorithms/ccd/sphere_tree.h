@@ -38,6 +38,10 @@ class SphereTree {
   /// vertices: m, any frame; triangles: indices into vertices (checked by
   /// the caller). An empty triangle list gives an empty tree.
   SphereTree(std::span<const Vec3> vertices, std::span<const std::array<int, 3>> triangles);
+  /// A tree as built earlier (from a cache): nodes and triangle order as
+  /// nodes() and triangle_order() gave them.
+  SphereTree(std::vector<SphereTreeNode> nodes, std::vector<int> triangle_order)
+      : nodes_(std::move(nodes)), triangle_order_(std::move(triangle_order)) {}
 
   bool empty() const { return nodes_.empty(); }
   /// Every node; the root is node 0.

@@ -1,5 +1,8 @@
 #include "algorithms/core/disk_cache.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -72,28 +75,45 @@ DiskCache::Lookup DiskCache::read(const std::string& key) const {
   if (!fs::exists(path, error)) return lookup;
   const auto fail = [&](const std::string& why) {
     lookup.problem = "cache file " + path.string() + " " + why + "; rebuilt";
+    lookup.mapping.reset();
     return lookup;
   };
-  const std::uintmax_t file_bytes = fs::file_size(path, error);
-  if (error) return fail("is unreadable");
-  std::ifstream in(path, std::ios::binary);
-  std::string magic;
-  std::getline(in, magic);
+  // Mapped, not read: a hit costs no copy of what may be tens of megabytes.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return fail("is unreadable");
+  struct stat status {};
+  if (::fstat(fd, &status) != 0 || status.st_size <= 0) {
+    ::close(fd);
+    return fail("is unreadable or empty");
+  }
+  const auto file_bytes = static_cast<std::size_t>(status.st_size);
+  void* address = ::mmap(nullptr, file_bytes, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  ::close(fd);
+  if (address == MAP_FAILED) return fail("cannot be mapped");
+  lookup.mapping = std::shared_ptr<const void>(
+      address, [file_bytes](const void* p) { ::munmap(const_cast<void*>(p), file_bytes); });
+  const std::string_view bytes(static_cast<const char*>(address), file_bytes);
+
+  // Header: "<magic><kind>\n<key bytes> <payload bytes> <checksum>\n".
+  const std::size_t magic_end = bytes.find('\n');
+  if (magic_end == std::string_view::npos ||
+      bytes.substr(0, magic_end) != std::string(kMagic) + kind_)
+    return fail("has no valid header");
+  const std::size_t sizes_end = bytes.find('\n', magic_end + 1);
+  if (sizes_end == std::string_view::npos || sizes_end - magic_end > 100)
+    return fail("has no valid header");
+  std::istringstream sizes(std::string(bytes.substr(magic_end + 1, sizes_end - magic_end - 1)));
   std::size_t key_bytes = 0, payload_bytes = 0;
   std::string payload_hash;
-  in >> key_bytes >> payload_bytes >> payload_hash;
-  if (!in || magic != std::string(kMagic) + kind_ || in.get() != '\n')
-    return fail("has no valid header");
-  const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
-  if (key_bytes > kMaxKeyBytes || header_bytes + key_bytes + payload_bytes != file_bytes)
+  if (!(sizes >> key_bytes >> payload_bytes >> payload_hash)) return fail("has no valid header");
+  const std::size_t header_bytes = sizes_end + 1;
+  if (key_bytes > kMaxKeyBytes || payload_bytes > file_bytes ||
+      header_bytes + key_bytes + payload_bytes != file_bytes)
     return fail("has the wrong length");
-  std::string stored_key(key_bytes, '\0');
-  in.read(stored_key.data(), static_cast<std::streamsize>(key_bytes));
-  if (!in || stored_key != key) return fail("holds another key");
-  std::string payload(payload_bytes, '\0');
-  in.read(payload.data(), static_cast<std::streamsize>(payload_bytes));
-  if (!in || payload_checksum(payload) != payload_hash) return fail("is damaged");
-  lookup.payload = std::move(payload);
+  if (bytes.substr(header_bytes, key_bytes) != key) return fail("holds another key");
+  const std::string_view payload = bytes.substr(header_bytes + key_bytes, payload_bytes);
+  if (payload_checksum(payload) != payload_hash) return fail("is damaged");
+  lookup.payload = payload;
   return lookup;
 }
 

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -27,8 +28,11 @@ class DiskCache {
   DiskCache(std::optional<std::filesystem::path> folder, std::string kind);
 
   struct Lookup {
-    std::optional<std::string> payload;  ///< the stored payload on a hit
-    std::string problem;                 ///< why an existing file was not used; empty otherwise
+    /// The stored payload on a hit: a view of the file mapped into memory,
+    /// valid while this Lookup lives (nothing is copied).
+    std::optional<std::string_view> payload;
+    std::string problem;                  ///< why an existing file was not used; empty otherwise
+    std::shared_ptr<const void> mapping;  ///< keeps the file mapped
   };
 
   /// The payload stored under `key`.

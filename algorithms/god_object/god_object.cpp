@@ -56,6 +56,13 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
 
   SlowLoop* slow_loop() override { return this; }
 
+  BuildReport build_report() const override {
+    BuildReport report;
+    report.cache_hit = solver_.ccd().cache_hit();
+    report.memory_bytes = static_cast<int64_t>(solver_.ccd().memory_bytes());
+    return report;
+  }
+
   std::unique_ptr<Result> run_slow_update() override {
     auto box = mailbox_.box();
     GodObjectUpdate& update = box->data;

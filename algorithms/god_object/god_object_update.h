@@ -33,10 +33,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/god_object/gauss_least_constraint.h"
-#include "algorithms/ccd/mesh_ccd.h"
 
 namespace hb {
 
@@ -90,6 +90,8 @@ class GodObjectSolver {
 
   /// The tool's centre of mass in tool coordinates (m); zero for a point tool.
   const Vec3& centre_of_mass() const { return centre_of_mass_; }
+  /// The CCD structures (for the build report).
+  const MeshCcd& ccd() const { return ccd_; }
 
  private:
   Pose ccd_frame(const Pose& tool_pose) const;  // tool frame -> COM frame

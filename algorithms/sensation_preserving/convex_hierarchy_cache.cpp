@@ -96,8 +96,12 @@ class Reader {
     uint64_t count = 0;
     if (!get(count) || count > remaining() / (3 * sizeof(double))) return false;
     points.resize(static_cast<std::size_t>(count));
-    for (Vec3& p : points)
-      if (!get_vec(p)) return false;
+    // Vec3 is three packed doubles, as put_points wrote them.
+    static_assert(sizeof(Vec3) == 3 * sizeof(double));
+    if (!points.empty())
+      std::memcpy(static_cast<void*>(points.data()), bytes_.data() + position_,
+                  points.size() * sizeof(Vec3));
+    position_ += points.size() * sizeof(Vec3);
     return true;
   }
   bool get_text(std::string& text, std::size_t length) {

@@ -123,7 +123,7 @@ openvdb::GridPtrVec read_cache(const DiskCache& cache, const std::string& key,
     return openvdb::GridPtrVec{};
   };
   try {
-    std::istringstream vdb(*lookup.payload, std::ios::binary);
+    std::istringstream vdb(std::string(*lookup.payload), std::ios::binary);
     openvdb::io::Stream reader(vdb, false);
     const openvdb::GridPtrVecPtr all = reader.getGrids();
     openvdb::GridPtrVec grids;

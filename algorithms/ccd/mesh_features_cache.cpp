@@ -1,0 +1,148 @@
+// MeshFeatures on disk: every part is an array of plain values, written in
+// one payload (algorithms/core/disk_cache.h adds key, length and checksum).
+// The key holds the vertices' and triangles' bytes' hash and a hash of this
+// folder's sources (HB_BUILDER_SOURCES_HASH, from CMake), so a structure
+// built by other code or from other input never matches.
+#include <cstring>
+#include <optional>
+#include <string_view>
+#include <type_traits>
+
+#include "algorithms/ccd/mesh_features.h"
+#include "algorithms/core/cache_directory.h"
+#include "algorithms/core/content_hash.h"
+#include "algorithms/core/disk_cache.h"
+
+namespace hb::ccd_detail {
+
+namespace {
+
+constexpr int kPayloadLayout = 1;  // bump when the payload's layout changes
+
+// Each part is an array of plain numbers (doubles and ints in structs,
+// Eigen's fixed-size vectors among them: byte-copyable though the trait
+// says otherwise), so its bytes are its value.
+template <class T>
+std::string_view bytes_of(const std::vector<T>& values) {
+  static_assert(std::is_standard_layout_v<T>);
+  return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
+}
+
+std::string features_key(const std::vector<Vec3>& vertices,
+                         const std::vector<std::array<int, 3>>& triangles) {
+  return "mesh features layout " + std::to_string(kPayloadLayout) +
+         "\nbuilder " HB_BUILDER_SOURCES_HASH "\nvertices " + std::to_string(vertices.size()) +
+         " " + ContentHash().add(bytes_of(vertices)).hex() + "\ntriangles " +
+         std::to_string(triangles.size()) + " " + ContentHash().add(bytes_of(triangles)).hex() +
+         "\n";
+}
+
+class Writer {
+ public:
+  template <class T>
+  void put(const std::vector<T>& values) {
+    const auto count = static_cast<uint64_t>(values.size());
+    bytes_.append(reinterpret_cast<const char*>(&count), sizeof count);
+    bytes_.append(bytes_of(values));
+  }
+  std::string& bytes() { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+  template <class T>
+  bool get(std::vector<T>& values) {
+    uint64_t count = 0;
+    if (bytes_.size() - position_ < sizeof count) return false;
+    std::memcpy(&count, bytes_.data() + position_, sizeof count);
+    position_ += sizeof count;
+    if (count > (bytes_.size() - position_) / sizeof(T)) return false;
+    values.resize(static_cast<std::size_t>(count));
+    if (count > 0)
+      std::memcpy(static_cast<void*>(values.data()), bytes_.data() + position_,
+                  values.size() * sizeof(T));
+    position_ += values.size() * sizeof(T);
+    return true;
+  }
+  bool at_end() const { return position_ == bytes_.size(); }
+
+ private:
+  std::string_view bytes_;
+  std::size_t position_ = 0;
+};
+
+std::string payload_of(const MeshFeatures& mesh) {
+  Writer out;
+  out.put(mesh.edges);
+  out.put(mesh.triangle_edges);
+  out.put(mesh.edge_face_begin);
+  out.put(mesh.edge_faces);
+  out.put(mesh.face_normals);
+  out.put(mesh.planes);
+  out.put(mesh.tree.nodes());
+  out.put(mesh.tree.triangle_order());
+  out.put(mesh.slabs);
+  out.put(mesh.leaf_slot);
+  out.put(mesh.leaves);
+  return std::move(out.bytes());
+}
+
+// The stored parts around the given vertices and triangles, when they fit
+// them (sizes and indices in range); the checksum has ruled out damage.
+std::optional<MeshFeatures> parse_payload(std::string_view payload, std::vector<Vec3>& vertices,
+                                          std::vector<std::array<int, 3>>& triangles) {
+  Reader in(payload);
+  MeshFeatures mesh;
+  std::vector<SphereTreeNode> nodes;
+  std::vector<int> order;
+  if (!in.get(mesh.edges) || !in.get(mesh.triangle_edges) || !in.get(mesh.edge_face_begin) ||
+      !in.get(mesh.edge_faces) || !in.get(mesh.face_normals) || !in.get(mesh.planes) ||
+      !in.get(nodes) || !in.get(order) || !in.get(mesh.slabs) || !in.get(mesh.leaf_slot) ||
+      !in.get(mesh.leaves) || !in.at_end())
+    return std::nullopt;
+  const std::size_t n_triangles = triangles.size();
+  if (mesh.triangle_edges.size() != n_triangles || mesh.planes.size() != n_triangles ||
+      mesh.face_normals.size() != n_triangles || order.size() != n_triangles ||
+      mesh.edge_face_begin.size() != mesh.edges.size() + 1 || mesh.slabs.size() != nodes.size() ||
+      mesh.leaf_slot.size() != nodes.size())
+    return std::nullopt;
+  for (const auto& edge : mesh.edges)
+    for (const int v : edge)
+      if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return std::nullopt;
+  for (const int slot : mesh.leaf_slot)
+    if (slot < -1 || slot >= static_cast<int>(mesh.leaves.size())) return std::nullopt;
+  for (const SphereTreeNode& node : nodes)
+    if (node.first < 0 || node.count < 0 ||
+        static_cast<std::size_t>(node.first) + static_cast<std::size_t>(node.count) > n_triangles)
+      return std::nullopt;
+  mesh.vertices = std::move(vertices);
+  mesh.triangles = std::move(triangles);
+  mesh.tree = SphereTree(std::move(nodes), std::move(order));
+  return mesh;
+}
+
+}  // namespace
+
+MeshFeatures cached_mesh_features(std::vector<Vec3> vertices,
+                                  std::vector<std::array<int, 3>> triangles,
+                                  const std::string& name, bool* cache_hit) {
+  if (cache_hit != nullptr) *cache_hit = false;
+  check_mesh_features_input(vertices, triangles, name);
+  const std::string key = features_key(vertices, triangles);
+  const DiskCache cache(default_cache_directory(), "mesh_features");
+  if (const DiskCache::Lookup lookup = cache.read(key); lookup.payload) {
+    if (std::optional<MeshFeatures> cached = parse_payload(*lookup.payload, vertices, triangles)) {
+      if (cache_hit != nullptr) *cache_hit = true;
+      return std::move(*cached);
+    }
+  }
+  MeshFeatures mesh = build_mesh_features(std::move(vertices), std::move(triangles), name);
+  cache.write(key, payload_of(mesh));
+  return mesh;
+}
+
+}  // namespace hb::ccd_detail
