@@ -72,6 +72,12 @@ constexpr MetricDefinition kMetrics[] = {
     {"embree_penetration_max_m", "/oracle/embree/penetration_max_m", "m", Better::kLower, false, 1,
      CompareRule::kTolerance, kLengthAbsTolM, true, &embree_penetration_max,
      "deepest tool sample inside the scene by the Embree oracle"},
+    {"contact_normal_err_rms_deg", "/oracle/contact_normal_err_rms_deg", "deg", Better::kLower,
+     true, 1, CompareRule::kTolerance, kAngleAbsTolDeg, true,
+     [](const RunMetrics& m) {
+       return m.oracle ? m.oracle->contact_normal_err_rms_deg : std::nullopt;
+     },
+     "RMS angle between the reported contact normals and the oracle's surface normals"},
     // Stability and passivity.
     {"nonfinite", "/stability/nonfinite", "ticks", Better::kLower, true, 1, CompareRule::kCount, 0,
      false, [](const RunMetrics& m) { return count(m.stability.nonfinite); },

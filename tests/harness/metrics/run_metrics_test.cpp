@@ -163,5 +163,25 @@ TEST_CASE("timing budgets read microseconds and deadline misses count ticks over
   CHECK_THROWS_AS(budget_metric("embree_penetration_max_m", m), std::invalid_argument);
 }
 
+TEST_CASE("the contact normal error against the oracle is a budget, absent without an oracle") {
+  SyntheticRun run;
+  run.samples.reserve(10);
+  run.tick(Wrench{}, std::nullopt, 100);
+  CHECK_FALSE(budget_metric("contact_normal_err_rms_deg", run.metrics.finish()));
+
+  MetricsAccumulator with_oracle(MetricsSettings{});
+  TickRecord record;
+  DeviceSample device;
+  record.device = &device;
+  TickEvaluation evaluation;
+  evaluation.oracle.emplace();
+  evaluation.oracle->contact_checks = {{3.0, 0.0}, {4.0, 0.0}};  // degrees, metres
+  with_oracle.add(record, evaluation);
+  const RunMetrics m = with_oracle.finish();
+  CHECK(*budget_metric("contact_normal_err_rms_deg", m) == Approx(std::sqrt(12.5)));
+  CHECK_FALSE(evaluate_budget("contact_normal_err_rms_deg", 3.0, m).pass);
+  CHECK(evaluate_budget("contact_normal_err_rms_deg", 4.0, m).pass);
+}
+
 }  // namespace
 }  // namespace hb
