@@ -7,6 +7,7 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
+#include "harness/process/interrupt.h"
 
 namespace {
 constexpr const char* kUsage =
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
     return hb::kExitBadInput;
   }
   const std::string command = argv[1];
+  hb::install_interrupt_handlers();
   const std::vector<std::string> args(argv + 2, argv + argc);
   try {
     if (command == "run") return hb::run_command(args);
@@ -48,6 +50,11 @@ int main(int argc, char** argv) {
     }
     std::cerr << "error: unknown command \"" << command << "\"\n" << kUsage;
     return hb::kExitBadInput;
+  } catch (const hb::Interrupted& interrupted) {
+    // Unwinding removed the staging folders and stopped the workers.
+    std::cerr << "hapticbench " << command << ": " << interrupted.what()
+              << "; nothing half-written was left (finished run folders and sweep jobs are kept)\n";
+    return 128 + interrupted.signal;
   } catch (const hb::InputError& error) {
     std::cerr << "error: " << error.what() << "\n";
     return hb::kExitBadInput;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 
+#include "harness/process/interrupt.h"
 #include "harness/replay/instruction_count.h"
 
 namespace hb {
@@ -74,6 +75,9 @@ SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> sample
   int64_t installed_start_tick = -1;
 
   for (const DeviceSample& sample : samples) {
+    // A stop request (SIGINT, SIGTERM) is honoured between ticks, every
+    // 256 ticks: one load of a flag, outside the timed window.
+    if ((sample.tick & 255) == 0) throw_if_interrupted();
     TickRecord record;
     record.device = &sample;
     bool installed_now = false;

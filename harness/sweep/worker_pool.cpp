@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "harness/process/interrupt.h"
+
 namespace hb {
 
 namespace {
@@ -42,6 +44,9 @@ std::vector<WorkerResult> run_worker_processes(const std::vector<WorkerLaunch>& 
   std::vector<RunningWorker> running;
   std::size_t next = 0;
   while (next < launches.size() || !running.empty()) {
+    // Stopped (SIGINT, SIGTERM): the workers still running are stopped by
+    // their destructors (SIGTERM, then reaped) as this unwinds.
+    throw_if_interrupted();
     while (next < launches.size() && running.size() < parallel) {
       RunningWorker worker;
       worker.launch = next;

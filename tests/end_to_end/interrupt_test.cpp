@@ -1,0 +1,157 @@
+// End-to-end: a run or sweep stopped by a real SIGINT or SIGTERM exits with
+// 128 + the signal, says so, and leaves no half-written folder; finished
+// sweep jobs are kept and a second sweep runs only what is missing.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/support/cli_runner.h"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using hb::test::ScratchDir;
+
+// A press scenario whose trace lasts `duration_s` (long enough to be
+// stopped while it runs).
+std::string press_scenario(double duration_s) {
+  return R"({
+  "name": "long_press",
+  "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] }, "pose": { "p": [0, 0, -0.01] } } ],
+  "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 2 }, "density": 1000 },
+  "trace": { "generator": "press", "duration_s": )" +
+         std::to_string(duration_s) + R"(, "seed": 1,
+             "params": { "start": [0, 0, 0.03], "axis": [0, 0, -1], "surface_distance": 0.01, "depth": 0.005 } },
+  "coupling": { "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 },
+  "algorithms": [
+    { "name": "coupling_only", "params": { "integrator": "implicit_euler" } },
+    { "name": "penalty_analytic", "label": "penalty", "params": { "proxy": "quasi_static" } }
+  ]
+})";
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+// hapticbench ARGS started in `work`, stderr to work/stderr.txt.
+struct Started {
+  pid_t pid = -1;
+};
+
+Started start(const std::vector<std::string>& args, const fs::path& work) {
+  std::vector<std::string> argv = {HAPTICBENCH_BIN};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> raw;
+  for (std::string& arg : argv) raw.push_back(arg.data());
+  raw.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, work.c_str());
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, (work / "stdout.txt").c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, (work / "stderr.txt").c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  Started started;
+  const int error = posix_spawn(&started.pid, raw[0], &actions, nullptr, raw.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  REQUIRE(error == 0);
+  return started;
+}
+
+int exit_code_of(pid_t pid) {
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+}
+
+// Names in `folder` (files and folders), but the runner's own output files.
+std::vector<std::string> entries(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (name != "stdout.txt" && name != "stderr.txt") names.push_back(name);
+  }
+  return names;
+}
+
+bool wait_for(const std::function<bool()>& condition, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return condition();
+}
+
+TEST_CASE("SIGINT during a run: exit 130, a message, and no run folder or staging folder") {
+  const ScratchDir work("interrupt_run");
+  write_file(work.path() / "long.json", press_scenario(600));
+  const Started run = start({"run", "long.json", "--out", "out"}, work.path());
+  // Stopped a second in: loading or replaying (the run takes far longer);
+  // either way the signal is honoured at the next tick of a replay.
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  REQUIRE(kill(run.pid, SIGINT) == 0);
+  CHECK(exit_code_of(run.pid) == 128 + SIGINT);
+  const std::string err = hb::test::read_text_file(work.path() / "stderr.txt");
+  INFO(err);
+  CHECK(err.find("interrupted") != std::string::npos);
+  CHECK(entries(work.path()) == std::vector<std::string>{"long.json"});
+}
+
+TEST_CASE("SIGTERM during a sweep keeps finished jobs, and the next sweep runs only the rest") {
+  const ScratchDir work("interrupt_sweep");
+  write_file(work.path() / "scenarios" / "long.json", press_scenario(40));
+  write_file(work.path() / "sweeps" / "grid.json", R"({
+    "name": "grid",
+    "scenarios": ["../scenarios/long.json"],
+    "grid": { "/coupling/k_t": [1000, 1500, 2000, 2500] }
+  })");
+  const fs::path out = work.path() / "sweeps" / "out";
+  const Started sweep =
+      start({"sweep", "sweeps/grid.json", "--jobs", "1", "--out", "sweeps/out"}, work.path());
+  auto finished_jobs = [&] {
+    std::size_t count = 0;
+    if (fs::exists(out))
+      for (const auto& entry : fs::directory_iterator(out))
+        if (fs::exists(entry.path() / "summary.json")) ++count;
+    return count;
+  };
+  const bool one_finished = wait_for([&] { return finished_jobs() >= 1; }, 120);
+  INFO(hb::test::read_text_file(work.path() / "stderr.txt"));
+  REQUIRE(one_finished);
+  REQUIRE(kill(sweep.pid, SIGTERM) == 0);
+  CHECK(exit_code_of(sweep.pid) == 128 + SIGTERM);
+  const std::size_t kept = finished_jobs();
+  CHECK(kept >= 1);
+  CHECK(kept < 4);
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().filename().string();
+    INFO(name);
+    CHECK(name.find(".partial-") == std::string::npos);  // no half-written job folder
+  }
+
+  const hb::test::CommandResult again =
+      hb::test::run_hapticbench("sweep sweeps/grid.json --jobs 1 --out sweeps/out", work.path());
+  INFO(again.stderr_text);
+  CHECK(again.exit_code == 0);
+  CHECK(again.stderr_text.find(std::to_string(kept) + " done earlier, " + std::to_string(4 - kept) +
+                               " to run") != std::string::npos);
+  CHECK(finished_jobs() == 4);
+}
+
+}  // namespace
