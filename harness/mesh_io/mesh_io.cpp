@@ -7,14 +7,17 @@
 #include <array>
 #include <bit>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -89,36 +92,111 @@ void check_declared_count(const std::string& path, const std::string& what, long
   }
 }
 
+// Whitespace-separated tokens of a line up to a '#' comment: how many, and
+// the first as an integer (if it is one).
+struct LineTokens {
+  std::size_t count = 0;
+  std::optional<long long> first_integer;
+};
+LineTokens tokens_of(std::string_view line) {
+  LineTokens out;
+  std::size_t i = 0;
+  while (i < line.size() && line[i] != '#') {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i >= line.size() || line[i] == '#') break;
+    const std::size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i])) && line[i] != '#')
+      ++i;
+    if (out.count++ == 0) {
+      long long value = 0;
+      const auto [end, error] = std::from_chars(line.data() + start, line.data() + i, value);
+      if (error == std::errc() && end == line.data() + i) out.first_integer = value;
+    }
+  }
+  return out;
+}
+
+// A face (or other list) line must list as many numbers as its first token
+// declares: a face declaring 2e9 corners once made the reader zero-fill
+// 16 GB before failing.
+void check_list_line(const std::string& path, std::size_t line_number, const LineTokens& tokens) {
+  if (!tokens.first_integer) return;  // not a number: the reader reports it
+  const long long declared = *tokens.first_integer;
+  if (declared < 0 || static_cast<unsigned long long>(declared) > tokens.count - 1)
+    throw InputError(path, "line " + std::to_string(line_number),
+                     "a face declares " + std::to_string(declared) +
+                         " corners but the line lists " + std::to_string(tokens.count - 1) +
+                         " numbers");
+}
+
 // The counts in an OFF header ("[C][N][4]OFF" then "vertices faces edges",
-// '#' comments allowed) or a PLY header ("element vertex N" ...).
+// '#' comments allowed) or a PLY header ("element vertex N" ...), and, in
+// text files, every face line against the corners it declares.
 void check_header_counts(const std::string& path, const MeshFormat& format,
                          std::uintmax_t file_bytes) {
   std::ifstream in(path, std::ios::binary);
   const std::string name = format.name;
+  std::string line;
+  std::size_t line_number = 0;
   if (name == "OFF") {
     std::vector<std::string> tokens;
-    std::string line;
     while (tokens.size() < 4 && std::getline(in, line)) {
+      ++line_number;
       line = line.substr(0, line.find('#'));
       std::istringstream words(line);
       for (std::string word; tokens.size() < 4 && words >> word;) tokens.push_back(word);
     }
     if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
+    long double counts[2] = {0, 0};
     const char* names[] = {"vertices", "faces"};
     for (std::size_t k = 1; k < 3 && k < tokens.size(); ++k) {
-      long double count = 0;
       std::istringstream number(tokens[k]);
-      if (number >> count) check_declared_count(path, names[k - 1], count, file_bytes);
+      if (!(number >> counts[k - 1])) return;  // the reader reports it
+      check_declared_count(path, names[k - 1], counts[k - 1], file_bytes);
+    }
+    if (tokens[0].find("BINARY") != std::string::npos || tokens.size() < 4) return;
+    const auto vertex_lines = static_cast<std::size_t>(counts[0]);
+    const auto face_lines = static_cast<std::size_t>(counts[1]);
+    std::size_t vertices = 0, faces = 0;
+    while (faces < face_lines && std::getline(in, line)) {
+      ++line_number;
+      const LineTokens line_tokens = tokens_of(line);
+      if (line_tokens.count == 0) continue;
+      if (vertices < vertex_lines) {
+        ++vertices;
+        continue;
+      }
+      ++faces;
+      check_list_line(path, line_number, line_tokens);
     }
   } else if (name == "PLY") {
-    std::string line;
+    // Elements in header order, with whether each holds a list (faces).
+    std::vector<std::pair<std::size_t, bool>> elements;
+    bool ascii = false;
     for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
+      ++line_number;
       if (line.rfind("end_header", 0) == 0) break;
+      if (line.rfind("format ascii", 0) == 0) ascii = true;
       std::istringstream words(line);
       std::string keyword, element;
       long double count = 0;
-      if (words >> keyword >> element >> count && keyword == "element")
+      if (words >> keyword && keyword == "element" && words >> element >> count) {
         check_declared_count(path, "elements of \"" + element + "\"", count, file_bytes);
+        elements.emplace_back(static_cast<std::size_t>(count), false);
+      } else if (keyword == "property" && words >> element && element == "list" &&
+                 !elements.empty()) {
+        elements.back().second = true;
+      }
+    }
+    if (!ascii) return;
+    for (const auto& [count, is_list] : elements) {
+      for (std::size_t i = 0; i < count && std::getline(in, line);) {
+        ++line_number;
+        const LineTokens line_tokens = tokens_of(line);
+        if (line_tokens.count == 0) continue;
+        ++i;
+        if (is_list) check_list_line(path, line_number, line_tokens);
+      }
     }
   }
 }

@@ -79,7 +79,7 @@ TEST_CASE("mesh headers that claim more elements than the file holds are refused
                 {"huge.ply", "4000000000", "\"vertex\""});
   write_text(work.path() / "valence.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
   check_refused(run_hapticbench_limited("validate valence.off", work.path(), kBudgetKib),
-                {"valence.off"});
+                {"valence.off", "line 6", "declares 2000000000 corners"});
 }
 
 TEST_CASE("a trace whose rows are a day apart is refused before resampling") {
