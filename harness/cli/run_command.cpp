@@ -93,6 +93,8 @@ int run_command(const std::vector<std::string>& args) {
   try {
     for (const std::string& path : parsed->scenarios) {
       scenarios.push_back(load_scenario(path));
+      for (const std::string& warning : scenarios.back().warnings)
+        std::cerr << "warning: " << path << ": " << warning << "\n";
       for (std::size_t i = 0; i + 1 < scenarios.size(); ++i)
         if (scenarios[i].name == scenarios.back().name)
           throw InputError(path, "/name",

@@ -55,6 +55,8 @@ std::string vector_text(const Vec3& v) {
 
 void validate_scenario(const std::string& path) {
   const Scenario scenario = load_scenario(path);
+  for (const std::string& warning : scenario.warnings)
+    std::cerr << "warning: " << path << ": " << warning << "\n";
   // Everything `run` builds before it replays: the renderers (which reject
   // bad or unknown algorithm parameters) and the ground truth (whose oracles
   // reject open or self-intersecting scene meshes).

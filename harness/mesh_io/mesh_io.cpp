@@ -129,6 +129,65 @@ void check_list_line(const std::string& path, std::size_t line_number, const Lin
                          " numbers");
 }
 
+std::vector<std::string_view> words_of(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size() && line[i] != '#') {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i >= line.size() || line[i] == '#') break;
+    const std::size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i])) && line[i] != '#')
+      ++i;
+    words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+std::string preview_text(std::string_view line) {
+  std::string text(line.substr(0, 60));
+  if (line.size() > 60) text += "...";
+  return "\"" + text + "\"";
+}
+
+// An OFF vertex line starts with three finite coordinates (colours may follow).
+void check_off_vertex_line(const std::string& path, std::size_t line_number,
+                           const std::vector<std::string_view>& words) {
+  bool ok = words.size() >= 3;
+  for (std::size_t k = 0; ok && k < 3; ++k) {
+    double value = 0;
+    const auto [end, error] =
+        std::from_chars(words[k].data(), words[k].data() + words[k].size(), value);
+    ok = error == std::errc() && end == words[k].data() + words[k].size() && std::isfinite(value);
+  }
+  if (!ok) {
+    std::string line;
+    for (std::string_view word : words) line.append(line.empty() ? "" : " ").append(word);
+    throw InputError(path, "line " + std::to_string(line_number),
+                     "expected a vertex: three finite coordinates, got " + preview_text(line));
+  }
+}
+
+// An OFF face's indices name declared vertices.
+void check_off_face_indices(const std::string& path, std::size_t line_number,
+                            const std::vector<std::string_view>& words, std::size_t vertices) {
+  long long corners = 0;
+  if (words.empty() ||
+      std::from_chars(words[0].data(), words[0].data() + words[0].size(), corners).ec !=
+          std::errc())
+    return;
+  for (long long k = 1; k <= corners && static_cast<std::size_t>(k) < words.size(); ++k) {
+    const std::string_view word = words[static_cast<std::size_t>(k)];
+    long long index = -1;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), index);
+    if (error != std::errc() || end != word.data() + word.size() || index < 0 ||
+        static_cast<unsigned long long>(index) >= vertices)
+      throw InputError(path, "line " + std::to_string(line_number),
+                       "vertex index " + std::string(word) +
+                           " is not one of the file's vertices (0 to " +
+                           std::to_string(vertices == 0 ? 0 : vertices - 1) + ")");
+  }
+}
+
 // The counts in an OFF header ("[C][N][4]OFF" then "vertices faces edges",
 // '#' comments allowed) or a PLY header ("element vertex N" ...), and, in
 // text files, every face line against the corners it declares.
@@ -162,12 +221,15 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
       ++line_number;
       const LineTokens line_tokens = tokens_of(line);
       if (line_tokens.count == 0) continue;
+      const std::vector<std::string_view> words = words_of(line);
       if (vertices < vertex_lines) {
         ++vertices;
+        check_off_vertex_line(path, line_number, words);
         continue;
       }
       ++faces;
       check_list_line(path, line_number, line_tokens);
+      check_off_face_indices(path, line_number, words, vertex_lines);
     }
   } else if (name == "PLY") {
     // Elements in header order, with whether each holds a list (faces).

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "algorithms/core/input_error.h"
 #include "harness/reference/surface_samples.h"
 
 namespace hb {
@@ -52,6 +53,16 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
   for (const std::string& name : settings.backends)
     if (!oracle_backend_index(name))
       throw std::invalid_argument("unknown oracle backend \"" + name + "\"");
+  // The oracles sample the tool's surface and CGAL intersects it with the
+  // scene: a self-intersecting or open tool has no inside, no volume.
+  if (!settings.backends.empty()) {
+    if (auto defect = inside_outside_defect(context.tool.mesh))
+      throw InputError("", "/tool",
+                       "the tool mesh is " + *defect +
+                           "; the oracles' penetration and intersection volume need a closed, "
+                           "non-self-intersecting tool (repair it, or set \"reference\": "
+                           "{\"oracle\": \"none\"})");
+  }
   spacing_m_ = settings.sample_spacing_m > 0 ? settings.sample_spacing_m
                                              : tool_bounds_.diagonal().norm() / 40.0;
   tool_samples_ = sample_surface(tool_mesh_, spacing_m_);

@@ -38,7 +38,47 @@ using Json = nlohmann::ordered_json;
 constexpr double kDefaultToolDensity = 1000;  // kg/m³, water
 constexpr double kUnitQuaternionTolerance = 1e-6;
 constexpr double kMaxTraceDurationS = kMaxRunDurationS;
-constexpr double kMaxOracleSamples = 1e6;  ///< tool surface samples the oracles may test per tick
+constexpr double kMaxOracleSamples = 1e6;
+
+// Plausible ranges of the physical settings (docs/limits.md): outside them
+// a run is allowed but warned about, since absurd settings can pass budgets.
+struct PlausibleRange {
+  const char* pointer;
+  const char* unit;
+  double low, high;
+  const char* why;
+};
+
+std::string range_warning(const PlausibleRange& range, double value) {
+  std::ostringstream text;
+  text << range.pointer << ": " << value << " " << range.unit << " is outside the plausible range ["
+       << range.low << ", " << range.high << "] " << range.unit << " (" << range.why << ")";
+  return text.str();
+}
+
+std::vector<std::string> plausibility_warnings(const RenderContext& context) {
+  const std::pair<PlausibleRange, double> checks[] = {
+      {{"/coupling/k_t", "N/m", 10, 1e6, "haptic couplings render 0.1 to 10 kN/m"},
+       context.coupling.k_t},
+      {{"/coupling/b_t", "N·s/m", 0, 1e3, "beyond it the coupling is a brake"},
+       context.coupling.b_t},
+      {{"/coupling/k_r", "N·m/rad", 1e-3, 1e3, "devices render up to a few N·m/rad"},
+       context.coupling.k_r},
+      {{"/coupling/b_r", "N·m·s/rad", 0, 10, "beyond it the coupling is a brake"},
+       context.coupling.b_r},
+      {{"/device/max_force_n", "N", 0.1, 1000, "desktop devices display up to tens of N"},
+       context.device.max_force_n},
+      {{"/device/max_torque_nm", "N·m", 1e-3, 100, "desktop devices display up to a few N·m"},
+       context.device.max_torque_nm},
+      {{"/tool", "kg", 1e-4, 100, "the tool's mass: 0.1 g to 100 kg"}, context.tool.mass.mass_kg},
+      {{"/gravity", "m/s²", 0, 100, "the length of the gravity vector"}, context.gravity.norm()},
+  };
+  std::vector<std::string> warnings;
+  for (const auto& [range, value] : checks)
+    if (!(value >= range.low && value <= range.high))
+      warnings.push_back(range_warning(range, value));
+  return warnings;
+}  ///< tool surface samples the oracles may test per tick
 constexpr double kTicksPerSecond = 1000;
 constexpr int64_t kMaxSubdivisions = 6;
 
@@ -145,6 +185,7 @@ class ScenarioReader {
     read_trace(root.member("trace", "{\"generator\": ...} or {\"file\": ...}"), scenario);
     check_oracle_sample_count(scenario);
 
+    scenario.warnings = plausibility_warnings(scenario.context);
     scenario.content_hash = scenario_hash_.hex();
     return scenario;
   }
@@ -439,9 +480,8 @@ class ScenarioReader {
         scenario_hash_.add(file_content_hash(path));
       } catch (const InputError& error) {
         // An error about the trace's samples is the trace file's.
-        const InputError located = error.source().empty()
-                                       ? InputError(path, error.location(), error.message())
-                                       : error;
+        const InputError located =
+            error.source().empty() ? InputError(path, error.location(), error.message()) : error;
         throw with_reference_note(located, path_, file_field.pointer());
       }
       scenario.trace_description = "file " + path + " (" + format + ")";
@@ -534,9 +574,9 @@ class ScenarioReader {
                                : tool.bounds().diagonal().norm() / 40.0;
     double area = 0;
     for (const auto& [a, b, c] : tool.triangles)
-      area += 0.5 * (tool.vertices[b] - tool.vertices[a])
-                        .cross(tool.vertices[c] - tool.vertices[a])
-                        .norm();
+      area +=
+          0.5 *
+          (tool.vertices[b] - tool.vertices[a]).cross(tool.vertices[c] - tool.vertices[a]).norm();
     const double estimate = area / (spacing * spacing);
     if (estimate > kMaxOracleSamples) {
       std::ostringstream text;

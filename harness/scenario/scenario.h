@@ -52,6 +52,9 @@ struct Scenario {
   std::vector<AlgorithmSpec> algorithms;
   ReferenceSpec reference;
   std::vector<Budget> budgets;
+  /// Physical settings outside their plausible range ("/coupling/k_t: ..."),
+  /// warned about by run and validate (docs/limits.md gives the ranges).
+  std::vector<std::string> warnings;
 };
 
 /// Budget names a scenario may use.

@@ -82,6 +82,30 @@ TEST_CASE("mesh headers that claim more elements than the file holds are refused
                 {"valence.off", "line 6", "declares 2000000000 corners"});
 }
 
+TEST_CASE("implausible physical settings are warned about, and still run") {
+  const ScratchDir work("limits_plausibility");
+  nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
+  scenario["coupling"]["k_t"] = 1e9;
+  scenario["tool"]["density"] = 1e9;
+  write_text(work.path() / "absurd.json", scenario.dump());
+  const CommandResult result = run_hapticbench("validate absurd.json", work.path());
+  INFO(result.stderr_text);
+  CHECK(result.exit_code == 0);
+  CHECK(contains(result.stderr_text, "warning: absurd.json: /coupling/k_t: 1e+09 N/m"));
+  CHECK(contains(result.stderr_text, "/tool: "));
+  CHECK_FALSE(contains(run_hapticbench("validate " + kPress, work.path()).stderr_text, "warning"));
+}
+
+TEST_CASE("OFF parse errors name the line and say why") {
+  const ScratchDir work("limits_off_lines");
+  write_text(work.path() / "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+  check_refused(run_hapticbench("validate nan.off", work.path()),
+                {"nan.off", "line 4", "three finite coordinates", "\"1 nan 0\""});
+  write_text(work.path() / "index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  check_refused(run_hapticbench("validate index.off", work.path()),
+                {"index.off", "line 6", "vertex index 7", "0 to 2"});
+}
+
 TEST_CASE("a trace whose rows are a day apart is refused before resampling") {
   const ScratchDir work("limits_trace_span");
   write_text(work.path() / "gap.csv",

@@ -127,6 +127,22 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
   const json& run = summary.at("runs").at(0);
   CHECK(run.at("accuracy").at("penetration_max_m").is_null());
   CHECK(run.at("oracle").at("embree").is_null());
+
+  // As a tool it has no inside either: refused with the field, by run and validate.
+  std::ofstream(work / "tool.json") << R"({ "name": "self_intersecting_tool",
+      "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] }, "pose": { "p": [0, 0, -0.01] } } ],
+      "tool": { "mesh": "two_cubes.off", "density": 1000 },
+      "trace": { "generator": "rest", "duration_s": 0.02, "params": { "p": [0, 0, 0.05] } },
+      "algorithms": [ { "name": "coupling_only" } ],
+      "reference": { "oracle": "embree" } })";
+  for (const char* command : {"run tool.json --out tool_run", "validate tool.json"}) {
+    INFO(command);
+    CHECK(hb::test::run_hapticbench(command, work).exit_code == 2);
+    const std::string refused = hb::test::read_text_file(work / "stderr.txt");
+    CHECK(refused.find("/tool") != std::string::npos);
+    CHECK(refused.find("self-intersecting") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(work / "tool_run"));
 }
 
 }  // namespace
