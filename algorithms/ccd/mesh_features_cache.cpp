@@ -12,6 +12,7 @@
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/disk_cache.h"
+#include "algorithms/core/payload_bytes.h"
 
 namespace hb::ccd_detail {
 
@@ -37,57 +38,19 @@ std::string features_key(const std::vector<Vec3>& vertices,
          "\n";
 }
 
-class Writer {
- public:
-  template <class T>
-  void put(const std::vector<T>& values) {
-    const auto count = static_cast<uint64_t>(values.size());
-    bytes_.append(reinterpret_cast<const char*>(&count), sizeof count);
-    bytes_.append(bytes_of(values));
-  }
-  std::string& bytes() { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
-  template <class T>
-  bool get(std::vector<T>& values) {
-    uint64_t count = 0;
-    if (bytes_.size() - position_ < sizeof count) return false;
-    std::memcpy(&count, bytes_.data() + position_, sizeof count);
-    position_ += sizeof count;
-    if (count > (bytes_.size() - position_) / sizeof(T)) return false;
-    values.resize(static_cast<std::size_t>(count));
-    if (count > 0)
-      std::memcpy(static_cast<void*>(values.data()), bytes_.data() + position_,
-                  values.size() * sizeof(T));
-    position_ += values.size() * sizeof(T);
-    return true;
-  }
-  bool at_end() const { return position_ == bytes_.size(); }
-
- private:
-  std::string_view bytes_;
-  std::size_t position_ = 0;
-};
-
 std::string payload_of(const MeshFeatures& mesh) {
-  Writer out;
-  out.put(mesh.edges);
-  out.put(mesh.triangle_edges);
-  out.put(mesh.edge_face_begin);
-  out.put(mesh.edge_faces);
-  out.put(mesh.face_normals);
-  out.put(mesh.planes);
-  out.put(mesh.tree.nodes());
-  out.put(mesh.tree.triangle_order());
-  out.put(mesh.slabs);
-  out.put(mesh.leaf_slot);
-  out.put(mesh.leaves);
+  PayloadWriter out;
+  out.put_array(mesh.edges);
+  out.put_array(mesh.triangle_edges);
+  out.put_array(mesh.edge_face_begin);
+  out.put_array(mesh.edge_faces);
+  out.put_array(mesh.face_normals);
+  out.put_array(mesh.planes);
+  out.put_array(mesh.tree.nodes());
+  out.put_array(mesh.tree.triangle_order());
+  out.put_array(mesh.slabs);
+  out.put_array(mesh.leaf_slot);
+  out.put_array(mesh.leaves);
   return std::move(out.bytes());
 }
 
@@ -95,14 +58,15 @@ std::string payload_of(const MeshFeatures& mesh) {
 // them (sizes and indices in range); the checksum has ruled out damage.
 std::optional<MeshFeatures> parse_payload(std::string_view payload, std::vector<Vec3>& vertices,
                                           std::vector<std::array<int, 3>>& triangles) {
-  Reader in(payload);
+  PayloadReader in(payload);
   MeshFeatures mesh;
   std::vector<SphereTreeNode> nodes;
   std::vector<int> order;
-  if (!in.get(mesh.edges) || !in.get(mesh.triangle_edges) || !in.get(mesh.edge_face_begin) ||
-      !in.get(mesh.edge_faces) || !in.get(mesh.face_normals) || !in.get(mesh.planes) ||
-      !in.get(nodes) || !in.get(order) || !in.get(mesh.slabs) || !in.get(mesh.leaf_slot) ||
-      !in.get(mesh.leaves) || !in.at_end())
+  if (!in.get_array(mesh.edges) || !in.get_array(mesh.triangle_edges) ||
+      !in.get_array(mesh.edge_face_begin) || !in.get_array(mesh.edge_faces) ||
+      !in.get_array(mesh.face_normals) || !in.get_array(mesh.planes) || !in.get_array(nodes) ||
+      !in.get_array(order) || !in.get_array(mesh.slabs) || !in.get_array(mesh.leaf_slot) ||
+      !in.get_array(mesh.leaves) || !in.at_end())
     return std::nullopt;
   const std::size_t n_triangles = triangles.size();
   if (mesh.triangle_edges.size() != n_triangles || mesh.planes.size() != n_triangles ||

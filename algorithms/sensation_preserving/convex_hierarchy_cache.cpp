@@ -24,6 +24,7 @@
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/disk_cache.h"
+#include "algorithms/core/payload_bytes.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
 
 namespace hb {
@@ -45,88 +46,15 @@ std::string hierarchy_key(const TriangleMesh& mesh, const std::string& content_h
          std::to_string(settings.max_piece_vertices) + "\n";
 }
 
-class Writer {
- public:
-  template <class T>
-  void put(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    bytes_.append(reinterpret_cast<const char*>(&value), sizeof value);
-  }
-  template <class T>
-  void put_array(const std::vector<T>& values) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    put(static_cast<uint64_t>(values.size()));
-    bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-  }
-  void put_vec(const Vec3& v) {
-    for (int i = 0; i < 3; ++i) put(v[i]);
-  }
-  void put_points(const std::vector<Vec3>& points) {
-    put(static_cast<uint64_t>(points.size()));
-    for (const Vec3& p : points) put_vec(p);
-  }
-  std::string& bytes() { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
-  template <class T>
-  bool get(T& value) {
-    if (bytes_.size() - position_ < sizeof value) return false;
-    std::memcpy(&value, bytes_.data() + position_, sizeof value);
-    position_ += sizeof value;
-    return true;
-  }
-  template <class T>
-  bool get_array(std::vector<T>& values) {
-    uint64_t count = 0;
-    if (!get(count) || count > (bytes_.size() - position_) / sizeof(T)) return false;
-    values.resize(static_cast<std::size_t>(count));
-    if (!values.empty())
-      std::memcpy(values.data(), bytes_.data() + position_, values.size() * sizeof(T));
-    position_ += values.size() * sizeof(T);
-    return true;
-  }
-  bool get_vec(Vec3& v) { return get(v[0]) && get(v[1]) && get(v[2]); }
-  bool get_points(std::vector<Vec3>& points) {
-    uint64_t count = 0;
-    if (!get(count) || count > remaining() / (3 * sizeof(double))) return false;
-    points.resize(static_cast<std::size_t>(count));
-    // Vec3 is three packed doubles, as put_points wrote them.
-    static_assert(sizeof(Vec3) == 3 * sizeof(double));
-    if (!points.empty())
-      std::memcpy(static_cast<void*>(points.data()), bytes_.data() + position_,
-                  points.size() * sizeof(Vec3));
-    position_ += points.size() * sizeof(Vec3);
-    return true;
-  }
-  bool get_text(std::string& text, std::size_t length) {
-    if (bytes_.size() - position_ < length) return false;
-    text.assign(bytes_.data() + position_, length);
-    position_ += length;
-    return true;
-  }
-  std::size_t remaining() const { return bytes_.size() - position_; }
-  std::string_view rest() const { return bytes_.substr(position_); }
-
- private:
-  std::string_view bytes_;
-  std::size_t position_ = 0;
-};
-
 std::string payload_of(const ConvexHierarchy& hierarchy) {
-  Writer out;
+  PayloadWriter out;
   out.put(static_cast<int32_t>(hierarchy.root));
   out.put_array(hierarchy.pieces_per_level);
   out.put(static_cast<uint64_t>(hierarchy.nodes.size()));
   for (const ConvexNode& node : hierarchy.nodes) {
-    out.put_points(node.vertices);
+    out.put_array(node.vertices);
     out.put_array(node.triangles);
-    out.put_vec(node.centre);
+    out.put(node.centre);
     out.put(node.radius);
     out.put(node.deviation_m);
     out.put(static_cast<int32_t>(node.level));
@@ -139,7 +67,7 @@ std::string payload_of(const ConvexHierarchy& hierarchy) {
 // The hierarchy in a payload, if it is complete and consistent with a mesh
 // of triangle_count triangles.
 std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size_t triangle_count) {
-  Reader in(payload);
+  PayloadReader in(payload);
   ConvexHierarchy hierarchy;
   int32_t root = -1;
   uint64_t node_count = 0;
@@ -153,9 +81,9 @@ std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size
   for (std::size_t n = 0; n < hierarchy.nodes.size(); ++n) {
     ConvexNode& node = hierarchy.nodes[n];
     int32_t level = 0;
-    if (!in.get_points(node.vertices) || !in.get_array(node.triangles) ||
-        !in.get_vec(node.centre) || !in.get(node.radius) || !in.get(node.deviation_m) ||
-        !in.get(level) || !in.get(node.children) || !in.get_array(node.faces))
+    if (!in.get_array(node.vertices) || !in.get_array(node.triangles) || !in.get(node.centre) ||
+        !in.get(node.radius) || !in.get(node.deviation_m) || !in.get(level) ||
+        !in.get(node.children) || !in.get_array(node.faces))
       return std::nullopt;
     node.level = level;
     const int vertex_count = static_cast<int>(node.vertices.size());

@@ -92,14 +92,9 @@ void check_declared_count(const std::string& path, const std::string& what, long
   }
 }
 
-// Whitespace-separated tokens of a line up to a '#' comment: how many, and
-// the first as an integer (if it is one).
-struct LineTokens {
-  std::size_t count = 0;
-  std::optional<long long> first_integer;
-};
-LineTokens tokens_of(std::string_view line) {
-  LineTokens out;
+// Whitespace-separated words of a line up to a '#' comment.
+std::vector<std::string_view> words_of(std::string_view line) {
+  std::vector<std::string_view> words;
   std::size_t i = 0;
   while (i < line.size() && line[i] != '#') {
     while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
@@ -107,11 +102,25 @@ LineTokens tokens_of(std::string_view line) {
     const std::size_t start = i;
     while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i])) && line[i] != '#')
       ++i;
-    if (out.count++ == 0) {
-      long long value = 0;
-      const auto [end, error] = std::from_chars(line.data() + start, line.data() + i, value);
-      if (error == std::errc() && end == line.data() + i) out.first_integer = value;
-    }
+    words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+// A line's number of words and its first word as an integer (if it is one).
+struct LineTokens {
+  std::size_t count = 0;
+  std::optional<long long> first_integer;
+};
+LineTokens tokens_of(std::string_view line) {
+  const std::vector<std::string_view> words = words_of(line);
+  LineTokens out;
+  out.count = words.size();
+  long long value = 0;
+  if (!words.empty()) {
+    const auto [end, error] =
+        std::from_chars(words[0].data(), words[0].data() + words[0].size(), value);
+    if (error == std::errc() && end == words[0].data() + words[0].size()) out.first_integer = value;
   }
   return out;
 }
@@ -127,20 +136,6 @@ void check_list_line(const std::string& path, std::size_t line_number, const Lin
                      "a face declares " + std::to_string(declared) +
                          " corners but the line lists " + std::to_string(tokens.count - 1) +
                          " numbers");
-}
-
-std::vector<std::string_view> words_of(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size() && line[i] != '#') {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i >= line.size() || line[i] == '#') break;
-    const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i])) && line[i] != '#')
-      ++i;
-    words.push_back(line.substr(start, i - start));
-  }
-  return words;
 }
 
 std::string preview_text(std::string_view line) {

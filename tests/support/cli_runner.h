@@ -18,18 +18,25 @@ struct CommandResult {
   std::string stderr_text;
 };
 
-/// Runs `hapticbench ARGS` with `work` as the current folder; ARGS is
-/// passed to the shell as written.
-inline CommandResult run_hapticbench(const std::string& args, const std::filesystem::path& work) {
+/// Runs `hapticbench ARGS` with `work` as the current folder, after the
+/// shell command `setup` (e.g. a ulimit) when one is given; ARGS is passed
+/// to the shell as written.
+inline CommandResult run_hapticbench_after(const std::string& setup, const std::string& args,
+                                           const std::filesystem::path& work) {
   const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
-                              "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const std::string command = "cd '" + work.string() + "' && (" + setup + " exec '" +
+                              std::string(HAPTICBENCH_BIN) + "' " + args + ") > '" + out.string() +
+                              "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   result.stdout_text = read_text_file(out);
   result.stderr_text = read_text_file(err);
   return result;
+}
+
+inline CommandResult run_hapticbench(const std::string& args, const std::filesystem::path& work) {
+  return run_hapticbench_after("", args, work);
 }
 
 /// As run_hapticbench, with the address space limited to `memory_kib`
@@ -41,18 +48,9 @@ inline CommandResult run_hapticbench_limited(const std::string& args,
   // AddressSanitizer reserves terabytes of address space up front: no limit
   // can be set; the checks on exit code and message still run.
   return run_hapticbench(args, work);
+#else
+  return run_hapticbench_after("ulimit -v " + std::to_string(memory_kib) + " &&", args, work);
 #endif
-  const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && (ulimit -v " +
-                              std::to_string(memory_kib) + " && exec '" +
-                              std::string(HAPTICBENCH_BIN) + "' " + args + ") > '" + out.string() +
-                              "' 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  CommandResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.stdout_text = read_text_file(out);
-  result.stderr_text = read_text_file(err);
-  return result;
 }
 
 }  // namespace hb::test
