@@ -228,23 +228,44 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
     }
   } else if (name == "PLY") {
     // Elements in header order, with whether each holds a list (faces).
+    // The header is checked line by line before CGAL's reader sees it: that
+    // reader crashed (SIGSEGV) on a "property" line before any "element".
     std::vector<std::pair<std::size_t, bool>> elements;
-    bool ascii = false;
+    bool ascii = false, ended = false;
+    const auto header_error = [&](const std::string& why) {
+      throw InputError(path, "line " + std::to_string(line_number), why);
+    };
     for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
       ++line_number;
-      if (line.rfind("end_header", 0) == 0) break;
-      if (line.rfind("format ascii", 0) == 0) ascii = true;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
       std::istringstream words(line);
       std::string keyword, element;
+      words >> keyword;
+      if (line_number == 1) {
+        if (keyword != "ply") header_error("expected \"ply\" on the first line");
+        continue;
+      }
+      if (keyword == "end_header") {
+        ended = true;
+        break;
+      }
       long double count = 0;
-      if (words >> keyword && keyword == "element" && words >> element >> count) {
+      if (keyword == "format") {
+        ascii = line.rfind("format ascii", 0) == 0;
+      } else if (keyword == "element") {
+        if (!(words >> element >> count))
+          header_error("expected \"element NAME COUNT\", got " + preview_text(line));
         check_declared_count(path, "elements of \"" + element + "\"", count, file_bytes);
         elements.emplace_back(static_cast<std::size_t>(count), false);
-      } else if (keyword == "property" && words >> element && element == "list" &&
-                 !elements.empty()) {
-        elements.back().second = true;
+      } else if (keyword == "property") {
+        if (elements.empty()) header_error("a property before any element");
+        if (words >> element && element == "list") elements.back().second = true;
+      } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
+        header_error("unknown header line " + preview_text(line) +
+                     " (expected format, element, property, comment or end_header)");
       }
     }
+    if (!ended) header_error("no \"end_header\" line in the first 1000 lines");
     if (!ascii) return;
     for (const auto& [count, is_list] : elements) {
       for (std::size_t i = 0; i < count && std::getline(in, line);) {
