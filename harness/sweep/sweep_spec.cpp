@@ -118,6 +118,9 @@ std::optional<std::vector<std::string>> json_pointer_tokens(const std::string& p
   return tokens;
 }
 
+// Most jobs one sweep may have (each is a run folder; the index lists all).
+constexpr double kMaxSweepJobs = 100'000;
+
 SweepSpec parse_sweep_spec(const std::string& json_text, const std::string& path) {
   const Json document = parse_json_document(json_text, path);
   const JsonField root(document, path, "");
@@ -135,6 +138,16 @@ SweepSpec parse_sweep_spec(const std::string& json_text, const std::string& path
   if (root.has("description")) root.existing_member("description").string("expected a string");
   read_scenarios(root.member("scenarios", "a non-empty array of scenario file paths"), path, spec);
   if (root.has("grid")) read_grid(root.existing_member("grid"), spec);
+  // Jobs = scenarios × the product of the grid's axes, counted before any
+  // job is made: a few short axes can multiply into billions.
+  double jobs = static_cast<double>(spec.scenario_paths.size());
+  for (const auto& axis : spec.grid) jobs *= static_cast<double>(axis.values.size());
+  if (jobs > kMaxSweepJobs)
+    root.member("grid", "")
+        .fail_with("gives " + std::to_string(static_cast<long long>(std::min(jobs, 9e18))) +
+                   " jobs (scenarios × values of every axis); a sweep has at most " +
+                   std::to_string(static_cast<long long>(kMaxSweepJobs)) +
+                   " (split it into several sweeps)");
   if (root.has("only_algorithms"))
     read_only_algorithms(root.existing_member("only_algorithms"), spec);
   return spec;
