@@ -24,7 +24,7 @@ struct CommandResult {
 inline CommandResult run_hapticbench_after(const std::string& setup, const std::string& args,
                                            const std::filesystem::path& work) {
   const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && (" + setup + " exec '" +
+  const std::string command = "cd '" + work.string() + "' && (" + setup + " '" +
                               std::string(HAPTICBENCH_BIN) + "' " + args + ") > '" + out.string() +
                               "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
