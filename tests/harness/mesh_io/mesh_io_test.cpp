@@ -190,7 +190,10 @@ TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io
              Catch::Contains("bad.off") && Catch::Contains("could not parse as OFF"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.obj", garbage)); }),
              Catch::Contains("bad.obj") && Catch::Contains("could not parse as OBJ"));
+  // PLY headers are checked line by line before the reader sees them.
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.ply", garbage)); }),
+             Catch::Contains("bad.ply") && Catch::Contains("line 1") &&
+                 Catch::Contains("expected \"ply\" on the first line")); }),
              Catch::Contains("bad.ply") && Catch::Contains("could not parse as PLY"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.stl", garbage)); }),
              Catch::Contains("bad.stl") && Catch::Contains("could not parse as STL"));
