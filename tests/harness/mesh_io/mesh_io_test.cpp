@@ -193,8 +193,7 @@ TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io
   // PLY headers are checked line by line before the reader sees them.
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.ply", garbage)); }),
              Catch::Contains("bad.ply") && Catch::Contains("line 1") &&
-                 Catch::Contains("expected \"ply\" on the first line")); }),
-             Catch::Contains("bad.ply") && Catch::Contains("could not parse as PLY"));
+                 Catch::Contains("expected \"ply\" on the first line"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.stl", garbage)); }),
              Catch::Contains("bad.stl") && Catch::Contains("could not parse as STL"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("empty.off", "")); }),
