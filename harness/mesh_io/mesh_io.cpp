@@ -112,8 +112,7 @@ struct LineTokens {
   std::size_t count = 0;
   std::optional<long long> first_integer;
 };
-LineTokens tokens_of(std::string_view line) {
-  const std::vector<std::string_view> words = words_of(line);
+LineTokens tokens_of(const std::vector<std::string_view>& words) {
   LineTokens out;
   out.count = words.size();
   long long value = 0;
@@ -214,9 +213,9 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
     std::size_t vertices = 0, faces = 0;
     while (faces < face_lines && std::getline(in, line)) {
       ++line_number;
-      const LineTokens line_tokens = tokens_of(line);
-      if (line_tokens.count == 0) continue;
       const std::vector<std::string_view> words = words_of(line);
+      const LineTokens line_tokens = tokens_of(words);
+      if (line_tokens.count == 0) continue;
       if (vertices < vertex_lines) {
         ++vertices;
         check_off_vertex_line(path, line_number, words);
@@ -270,7 +269,7 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
     for (const auto& [count, is_list] : elements) {
       for (std::size_t i = 0; i < count && std::getline(in, line);) {
         ++line_number;
-        const LineTokens line_tokens = tokens_of(line);
+        const LineTokens line_tokens = tokens_of(words_of(line));
         if (line_tokens.count == 0) continue;
         ++i;
         if (is_list) check_list_line(path, line_number, line_tokens);
