@@ -22,6 +22,7 @@
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
+#include "harness/trace/device_trajectory.h"
 #include "harness/trace/trace.h"
 
 namespace hb {
@@ -80,8 +81,8 @@ void validate_scenario(const std::string& path) {
       << ", " << context.tool.mesh.triangles.size() << " triangles, mass "
       << context.tool.mass.mass_kg << " kg, centre of mass "
       << vector_text(context.tool.mass.centre_of_mass) << " m (tool frame); trace "
-      << scenario.trace_description << ", " << scenario.device_samples.size() << " ticks ("
-      << static_cast<double>(scenario.device_samples.size()) * context.dt_s << " s); algorithms ";
+      << scenario.trace_description << ", " << scenario.trajectory.ticks() << " ticks ("
+      << static_cast<double>(scenario.trajectory.ticks()) * context.dt_s << " s); algorithms ";
   for (std::size_t i = 0; i < scenario.algorithms.size(); ++i)
     out << (i ? ", " : "") << scenario.algorithms[i].label << " (" << scenario.algorithms[i].name
         << ")";
@@ -118,7 +119,7 @@ void validate_trace(const std::string& path, TraceFileFormat format) {
   std::cout << "\n";
   // What run does with it: resample onto the 1 kHz clock (spans checked).
   try {
-    (void)resample_to_ticks(trace);
+    (void)DeviceTrajectory::of_trace(trace, 0);
   } catch (const InputError& error) {
     throw InputError(path, error.location(), error.message());
   }

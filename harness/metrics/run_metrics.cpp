@@ -12,6 +12,7 @@ namespace {
 constexpr double kDirectionThresholdN = 0.05;  // below this a force has no reliable direction
 constexpr double kDirectionPeakShare = 0.1;    // direction counted under at least 10% of peak load
 constexpr double kJitterCutoffHz = 100.0;
+constexpr int64_t kStepSampleSize = 1000;  // step times kept for rank tests
 
 double angle_deg(const Vec3& a, const Vec3& b) {
   const double c = std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0);
@@ -20,24 +21,50 @@ double angle_deg(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-Percentiles percentiles_of(std::vector<int64_t> values) {
-  Percentiles p;
-  p.count = static_cast<int64_t>(values.size());
-  if (values.empty()) return p;
-  std::sort(values.begin(), values.end());
-  // Nearest rank: the smallest value with at least q of the sample at or below it.
-  auto rank = [&](double q) {
-    const auto n = values.size();
-    auto index = static_cast<std::size_t>(std::ceil(q * static_cast<double>(n)));
-    index = std::clamp<std::size_t>(index, 1, n);
-    return static_cast<double>(values[index - 1]);
-  };
-  p.p50 = rank(0.5);
-  p.p90 = rank(0.9);
-  p.p99 = rank(0.99);
-  p.p999 = rank(0.999);
-  p.max = static_cast<double>(values.back());
-  return p;
+MetricsAccumulator::MetricsAccumulator(MetricsSettings settings)
+    : settings_(settings),
+      volume_ns_(settings.exact_percentile_capacity),
+      step_ns_(settings.exact_percentile_capacity),
+      free_step_ns_(settings.exact_percentile_capacity),
+      contact_step_ns_(settings.exact_percentile_capacity),
+      slow_ns_(settings.exact_percentile_capacity),
+      sample_stride_(
+          std::max<int64_t>(1, (settings.expected_ticks + kStepSampleSize - 1) / kStepSampleSize)),
+      cpu_ns_(settings.exact_percentile_capacity) {}
+
+void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
+  const int64_t index = ticks_++;
+  step_ns_.add(record.step_ns);
+  if (record.step_ns > kTickNs) ++partial_.timing.over_budget;
+  (in_contact ? contact_step_ns_ : free_step_ns_).add(record.step_ns);
+  if (index % sample_stride_ == 0) {
+    if (step_ns_sample_.size() == kStepSampleSize) {
+      // Longer than expected: keep every other sample, at twice the stride.
+      for (std::size_t i = 0; 2 * i < step_ns_sample_.size(); ++i)
+        step_ns_sample_[i] = step_ns_sample_[2 * i];
+      step_ns_sample_.resize(kStepSampleSize / 2);
+      sample_stride_ *= 2;
+    }
+    if (index % sample_stride_ == 0) step_ns_sample_.push_back(record.step_ns);
+  }
+  // CPU time of the tick: its step plus its share of each slow update that
+  // covers it (spread from the update's start to its installation).
+  if (record.slow_started) {
+    slow_ns_.add(record.slow_ns);
+    const int64_t latency = std::max<int64_t>(1, record.slow_latency_ticks);
+    cpu_spreads_.push_back(
+        {index + latency - 1, static_cast<double>(record.slow_ns) / static_cast<double>(latency)});
+  }
+  double cpu_ns = static_cast<double>(record.step_ns);
+  for (const CpuSpread& spread : cpu_spreads_) cpu_ns += spread.share_ns;
+  std::erase_if(cpu_spreads_, [index](const CpuSpread& s) { return s.last_tick_index <= index; });
+  cpu_ns_.add(std::llround(cpu_ns));
+  cpu_sum_ns_ += cpu_ns;
+  if (record.slow_data_age_ticks >= 0) {
+    slow_age_sum_ += record.slow_data_age_ticks;
+    ++slow_age_count_;
+    slow_age_max_ = std::max(slow_age_max_, record.slow_data_age_ticks);
+  }
 }
 
 void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& evaluation) {
@@ -55,20 +82,9 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   if (result.flags & (kFlagForceSaturated | kFlagTorqueSaturated))
     ++partial_.stability.saturated_ticks;
 
-  step_ns_.push_back(record.step_ns);
-  if (record.step_ns > kTickNs) ++partial_.timing.over_budget;
   const bool reported_contact = !result.contacts.empty();
   const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
-  (in_contact ? contact_step_ns_ : free_step_ns_).push_back(record.step_ns);
-  if (record.slow_started) {
-    slow_ns_.push_back(record.slow_ns);
-    slow_starts_.push_back({step_ns_.size() - 1, record.slow_ns, record.slow_latency_ticks});
-  }
-  if (record.slow_data_age_ticks >= 0) {
-    slow_age_sum_ += record.slow_data_age_ticks;
-    ++slow_age_count_;
-    slow_age_max_ = std::max(slow_age_max_, record.slow_data_age_ticks);
-  }
+  add_timing(record, in_contact);
 
   // Accuracy against the analytic reference.
   if (evaluation.ideal_display) {
@@ -80,7 +96,9 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
         std::max(partial_.accuracy.force_err_max_n.value_or(0.0), force_err);
     const double torque_err = (display.torque - ideal.torque).norm();
     torque_err_sq_ += torque_err * torque_err;
-    force_pairs_.push_back({ideal.force, display.force});
+    force_pairs_.push_back({ideal.force.x(), ideal.force.y(), ideal.force.z(), display.force.x(),
+                            display.force.y(), display.force.z()});
+    peak_ideal_force_n_ = std::max(peak_ideal_force_n_, ideal.force.norm());
   }
   if (evaluation.penetration_m) {
     ++evaluated_pen_ticks_;
@@ -117,7 +135,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
         std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
   }
   last_force_ = display.force;
-  forces_.push_back(display.force);
+  forces_.push_back({display.force.x(), display.force.y(), display.force.z()});
 
   // Transparency: what the user feels when nothing is touched.
   if (!in_contact) {
@@ -150,11 +168,11 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
 
 namespace {
 void add_backend(std::optional<OracleBackendMetrics>& metrics, std::string_view name,
-                 const PenetrationResult& result, int64_t ns, std::vector<int64_t>& all_ns,
+                 const PenetrationResult& result, int64_t ns, StreamingPercentiles& all_ns,
                  double& depth_sq) {
   if (!metrics) metrics.emplace().name = name;
   ++metrics->ticks_evaluated;
-  all_ns.push_back(ns);
+  all_ns.add(ns);
   metrics->inside_samples_max = std::max(metrics->inside_samples_max, result.inside);
   if (result.inside > 0) {
     ++metrics->penetrating_ticks;
@@ -170,7 +188,8 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
   if (oracle.broad_phase_skipped) ++m.broad_phase_skipped_ticks;
   const auto entries = oracle_backends();
   backend_metrics_.resize(entries.size());
-  backend_sums_.resize(entries.size());
+  while (backend_sums_.size() < entries.size())
+    backend_sums_.push_back({StreamingPercentiles(settings_.exact_percentile_capacity), 0.0});
   for (std::size_t i = 0; i < oracle.backends.size(); ++i) {
     if (!oracle.backends[i]) continue;
     add_backend(backend_metrics_[i], entries[i].name, oracle.backends[i]->result,
@@ -179,7 +198,7 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
   m.inside_disagreements += oracle.inside_disagreements;
   if (oracle.intersection_volume_m3) {
     ++m.volume_evaluations;
-    volume_ns_.push_back(oracle.volume_ns);
+    volume_ns_.add(oracle.volume_ns);
     m.intersection_volume_max_m3 =
         std::max(m.intersection_volume_max_m3.value_or(0.0), *oracle.intersection_volume_m3);
   }
@@ -196,38 +215,18 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
 
 RunMetrics MetricsAccumulator::finish() const {
   RunMetrics m = partial_;
-  m.timing.ticks = static_cast<int64_t>(step_ns_.size());
-  m.timing.step_ns = percentiles_of(step_ns_);
-  constexpr std::size_t kSampleSize = 1000;
-  const std::size_t stride = (step_ns_.size() + kSampleSize - 1) / kSampleSize;
-  for (std::size_t i = 0; stride > 0 && i < step_ns_.size(); i += stride)
-    m.timing.step_ns_sample.push_back(step_ns_[i]);
-  if (!free_step_ns_.empty()) m.timing.free_space_step_ns = percentiles_of(free_step_ns_);
-  if (!contact_step_ns_.empty()) m.timing.contact_step_ns = percentiles_of(contact_step_ns_);
-  {
-    std::vector<double> cpu(step_ns_.begin(), step_ns_.end());
-    for (const SlowStart& slow : slow_starts_) {
-      const int64_t latency = std::max<int64_t>(1, slow.latency_ticks);
-      const double share = static_cast<double>(slow.ns) / static_cast<double>(latency);
-      for (std::size_t k = slow.tick_index;
-           k < cpu.size() && k < slow.tick_index + static_cast<std::size_t>(latency); ++k)
-        cpu[k] += share;
-    }
-    std::vector<int64_t> rounded;
-    rounded.reserve(cpu.size());
-    double sum = 0;
-    for (double value : cpu) {
-      rounded.push_back(std::llround(value));
-      sum += value;
-    }
-    m.timing.cpu_per_tick_ns.percentiles = percentiles_of(std::move(rounded));
-    m.timing.cpu_per_tick_ns.mean = cpu.empty() ? 0 : sum / static_cast<double>(cpu.size());
-  }
-  if (!slow_ns_.empty()) {
-    m.timing.slow_update_ns = percentiles_of(slow_ns_);
+  m.timing.ticks = ticks_;
+  m.timing.step_ns = step_ns_.result();
+  m.timing.step_ns_sample = step_ns_sample_;
+  if (free_step_ns_.count() > 0) m.timing.free_space_step_ns = free_step_ns_.result();
+  if (contact_step_ns_.count() > 0) m.timing.contact_step_ns = contact_step_ns_.result();
+  m.timing.cpu_per_tick_ns.percentiles = cpu_ns_.result();
+  m.timing.cpu_per_tick_ns.mean = ticks_ == 0 ? 0 : cpu_sum_ns_ / static_cast<double>(ticks_);
+  if (slow_ns_.count() > 0) {
+    m.timing.slow_update_ns = slow_ns_.result();
     const double seconds =
         static_cast<double>(m.timing.ticks) * 1e-9 * static_cast<double>(kTickNs);
-    m.timing.slow_loop_rate_hz = static_cast<double>(slow_ns_.size()) / seconds;
+    m.timing.slow_loop_rate_hz = static_cast<double>(slow_ns_.count()) / seconds;
   }
   if (slow_age_count_ > 0) {
     m.timing.slow_data_age_mean_ticks =
@@ -241,20 +240,20 @@ RunMetrics MetricsAccumulator::finish() const {
   // Direction error under load: ticks where the ideal force is at least
   // 10% of its peak in the run (and >= 0.05 N) and the rendered force is
   // not negligible; near contact onset and release a direction means little.
-  double peak_ideal = 0;
-  for (const auto& [ideal, rendered] : force_pairs_)
-    peak_ideal = std::max(peak_ideal, ideal.norm());
-  const double threshold = std::max(kDirectionThresholdN, kDirectionPeakShare * peak_ideal);
+  const double threshold =
+      std::max(kDirectionThresholdN, kDirectionPeakShare * peak_ideal_force_n_);
   double dir_err_sq = 0;
   int64_t dir_err_count = 0;
-  for (const auto& [ideal, rendered] : force_pairs_) {
-    if (ideal.norm() < threshold || rendered.norm() < kDirectionThresholdN) continue;
+  force_pairs_.for_each([&](const std::array<double, 6>& pair) {
+    const Vec3 ideal(pair[0], pair[1], pair[2]);
+    const Vec3 rendered(pair[3], pair[4], pair[5]);
+    if (ideal.norm() < threshold || rendered.norm() < kDirectionThresholdN) return;
     const double angle = angle_deg(rendered, ideal);
     dir_err_sq += angle * angle;
     ++dir_err_count;
     m.accuracy.force_dir_err_max_deg =
         std::max(m.accuracy.force_dir_err_max_deg.value_or(0.0), angle);
-  }
+  });
   if (dir_err_count > 0) {
     m.accuracy.force_dir_err_rms_deg = std::sqrt(dir_err_sq / static_cast<double>(dir_err_count));
   }
@@ -275,13 +274,13 @@ RunMetrics MetricsAccumulator::finish() const {
     for (std::size_t i = 0; i < backend_metrics_.size(); ++i) {
       if (!backend_metrics_[i]) continue;
       OracleBackendMetrics backend = *backend_metrics_[i];
-      backend.evaluation_ns = percentiles_of(backend_sums_[i].ns);
+      backend.evaluation_ns = backend_sums_[i].ns.result();
       if (backend.penetrating_ticks > 0)
         backend.penetration_rms_m =
             std::sqrt(backend_sums_[i].depth_sq / static_cast<double>(backend.penetrating_ticks));
       m.oracle->backends.push_back(std::move(backend));
     }
-    if (!volume_ns_.empty()) m.oracle->volume_ns = percentiles_of(volume_ns_);
+    if (volume_ns_.count() > 0) m.oracle->volume_ns = volume_ns_.result();
     if (m.oracle->contacts_checked > 0) {
       const auto n = static_cast<double>(m.oracle->contacts_checked);
       m.oracle->contact_normal_err_rms_deg = std::sqrt(contact_normal_sq_ / n);
@@ -289,11 +288,16 @@ RunMetrics MetricsAccumulator::finish() const {
     }
   }
   double hf = 0, total_weight = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::vector<double> component(forces_.size());
+  std::vector<double> component;  // one axis of the force signal at a time
+  component.reserve(forces_.size());
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    component.clear();
     double variance = 0, mean = 0;
-    for (std::size_t i = 0; i < forces_.size(); ++i) mean += component[i] = forces_[i][axis];
-    if (!forces_.empty()) mean /= static_cast<double>(forces_.size());
+    forces_.for_each([&](const std::array<double, 3>& force) {
+      component.push_back(force[axis]);
+      mean += force[axis];
+    });
+    if (!component.empty()) mean /= static_cast<double>(component.size());
     for (double x : component) variance += (x - mean) * (x - mean);
     hf += variance *
           energy_fraction_above(component, 1e9 / static_cast<double>(kTickNs), kJitterCutoffHz);

@@ -4,6 +4,8 @@
 // summary.json), never a made-up zero.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -12,6 +14,8 @@
 #include <vector>
 
 #include "algorithms/core/pose.h"
+#include "harness/metrics/percentiles.h"
+#include "harness/metrics/spill_buffer.h"
 #include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
 
@@ -24,14 +28,6 @@ struct TickEvaluation {
   std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
 };
-
-/// Nearest-rank percentiles of a sample, in the sample's unit.
-struct Percentiles {
-  double p50 = 0, p90 = 0, p99 = 0, p999 = 0, max = 0;
-  int64_t count = 0;
-};
-/// Percentiles of values (sorted copy); count 0 and zeros when empty.
-Percentiles percentiles_of(std::vector<int64_t> values);
 
 /// CPU time per tick of both loops together: the tick's step() plus, for
 /// each slow update, its time spread evenly over the ticks from its start to
@@ -146,38 +142,58 @@ struct RunMetrics {
 
 struct MetricsSettings {
   double divergence_distance_m = 0.1;  ///< proxy-device separation that counts as divergence
+  /// Ticks the run will have (0: unknown), to spread the step-time sample
+  /// evenly over the run without keeping every tick.
+  int64_t expected_ticks = 0;
+  /// Values each timing percentile keeps exactly (StreamingPercentiles).
+  std::size_t exact_percentile_capacity = StreamingPercentiles::kDefaultExactCapacity;
 };
 
-/// Accumulates ticks of one replay; finish() computes the metrics.
+/// Accumulates ticks of one replay; finish() computes the metrics. Memory
+/// does not grow with the run's length: percentiles are streamed
+/// (StreamingPercentiles: exact up to exact_percentile_capacity values), and
+/// the per-tick values that the end of the run needs (the force signal for
+/// its spectrum, force pairs for the direction error) are spilled to a
+/// temporary file past 1 MB each.
 class MetricsAccumulator {
  public:
-  explicit MetricsAccumulator(MetricsSettings settings) : settings_(settings) {}
+  explicit MetricsAccumulator(MetricsSettings settings);
   void add(const TickRecord& record, const TickEvaluation& evaluation);
   RunMetrics finish() const;
 
  private:
+  void add_timing(const TickRecord& record, bool in_contact);
   void add_oracle(const OracleTickEvaluation& oracle);
 
   MetricsSettings settings_;
   struct BackendSums {
-    std::vector<int64_t> ns;
+    StreamingPercentiles ns;
     double depth_sq = 0;
   };
   /// Indexed like oracle_backends(); empty until the backend is evaluated.
   std::vector<std::optional<OracleBackendMetrics>> backend_metrics_;
   std::vector<BackendSums> backend_sums_;
-  std::vector<int64_t> volume_ns_;
+  StreamingPercentiles volume_ns_;
   double contact_normal_sq_ = 0, contact_depth_sq_ = 0;
-  std::vector<int64_t> step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;
-  struct SlowStart {
-    std::size_t tick_index;
-    int64_t ns, latency_ticks;
+  // Timing.
+  int64_t ticks_ = 0;
+  StreamingPercentiles step_ns_, free_step_ns_, contact_step_ns_, slow_ns_;
+  std::vector<int64_t> step_ns_sample_;  ///< every sample_stride_-th tick's step time
+  int64_t sample_stride_ = 1;
+  /// A slow update's time spread over the ticks until its installation.
+  struct CpuSpread {
+    int64_t last_tick_index;
+    double share_ns;
   };
-  std::vector<SlowStart> slow_starts_;
-  std::vector<Vec3> forces_;
+  std::vector<CpuSpread> cpu_spreads_;  ///< those covering the current tick, oldest first
+  StreamingPercentiles cpu_ns_;
+  double cpu_sum_ns_ = 0;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
   RunMetrics partial_;
-  std::vector<std::pair<Vec3, Vec3>> force_pairs_;  ///< (ideal, displayed) force per reference tick
+  // Force signal and (ideal, displayed) force per reference tick, for finish().
+  SpillBuffer<std::array<double, 3>> forces_;
+  SpillBuffer<std::array<double, 6>> force_pairs_;
+  double peak_ideal_force_n_ = 0;
   double force_err_sq_ = 0, torque_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
   int64_t ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
   int64_t contacts_sum_ = 0;

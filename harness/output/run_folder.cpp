@@ -56,12 +56,29 @@ StagedRunFolder::~StagedRunFolder() {
   }
 }
 
-void StagedRunFolder::write_file(const std::string& name, const std::string& content) {
+void StagedRunFolder::list_file(const std::string& name) {
   // Listed first, so that a staging folder left by a killed process is
   // still recognised as ours and can be cleaned up.
   files_.push_back(name);
   write_whole_file(staging_ / kOwnershipMarkerName, ownership_marker_text(kind_, files_));
+}
+
+void StagedRunFolder::write_file(const std::string& name, const std::string& content) {
+  list_file(name);
   write_whole_file(staging_ / name, content);
+}
+
+void StagedRunFolder::move_file(const std::string& name, const fs::path& source) {
+  list_file(name);
+  std::error_code error;
+  fs::rename(source, staging_ / name, error);
+  if (error == std::errc::cross_device_link) {
+    fs::copy_file(source, staging_ / name, fs::copy_options::overwrite_existing);
+    fs::remove(source);
+  } else if (error) {
+    throw fs::filesystem_error("cannot move a finished file into the run folder", source,
+                               staging_ / name, error);
+  }
 }
 
 bool StagedRunFolder::commit() {

@@ -25,12 +25,17 @@ class StagedRunFolder {
 
   /// Writes one file into the staging folder.
   void write_file(const std::string& name, const std::string& content);
+  /// Moves a finished file into the staging folder under `name` (renamed,
+  /// or copied and removed when it is on another filesystem).
+  void move_file(const std::string& name, const std::filesystem::path& source);
   /// Replaces the destination with the staged folder. Returns true when an
   /// earlier folder of hapticbench's was replaced.
   bool commit();
   const std::filesystem::path& destination() const { return destination_; }
 
  private:
+  void list_file(const std::string& name);
+
   std::filesystem::path destination_;
   std::filesystem::path staging_;
   OutputFolderKind kind_;

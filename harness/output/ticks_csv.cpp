@@ -60,7 +60,18 @@ void append_pose(std::string& out, const Pose& pose) {
 }
 }  // namespace
 
-TicksCsvWriter::TicksCsvWriter() { text_ = ticks_csv_header() + "\n"; }
+constexpr std::size_t kFlushBytes = std::size_t{1} << 18;
+
+TicksCsvWriter::TicksCsvWriter(std::ostream& out) : out_(out) {
+  buffer_ = ticks_csv_header() + "\n";
+}
+
+bool TicksCsvWriter::finish() {
+  out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+  buffer_.clear();
+  out_.flush();
+  return static_cast<bool>(out_);
+}
 
 void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluation) {
   const DeviceSample& device = *record.device;
@@ -117,16 +128,20 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
 
   hash_.add(head).add(tail).add(slow_age).add(oracle).add("\n");
 
-  text_ += head;
-  text_ += ',';
-  append_integer(text_, record.step_ns);
-  text_ += tail;
-  text_ += ',';
-  if (record.slow_started) append_integer(text_, record.slow_ns);
-  text_ += slow_age;
-  text_ += oracle;
-  text_ += oracle_ns;
-  text_ += '\n';
+  buffer_ += head;
+  buffer_ += ',';
+  append_integer(buffer_, record.step_ns);
+  buffer_ += tail;
+  buffer_ += ',';
+  if (record.slow_started) append_integer(buffer_, record.slow_ns);
+  buffer_ += slow_age;
+  buffer_ += oracle;
+  buffer_ += oracle_ns;
+  buffer_ += '\n';
+  if (buffer_.size() >= kFlushBytes) {
+    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    buffer_.clear();
+  }
 }
 
 }  // namespace hb

@@ -3,6 +3,7 @@
 // which is the run's determinism fingerprint.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -19,18 +20,23 @@ const std::string& ticks_csv_header();
 /// ones that differ between two runs of one scenario on one build.
 const std::vector<std::string>& ticks_csv_timing_columns();
 
+/// Writes the rows to a stream as the ticks arrive (in blocks of about
+/// 256 KB), so a run's length costs no memory.
 class TicksCsvWriter {
  public:
-  TicksCsvWriter();
+  /// Writes the header to `out`, which must outlive the writer.
+  explicit TicksCsvWriter(std::ostream& out);
   void add(const TickRecord& record, const TickEvaluation& evaluation);
-  /// The whole file, header included.
-  const std::string& text() const { return text_; }
+  /// Writes the rows still buffered and flushes the stream; false when the
+  /// stream failed at any point.
+  bool finish();
   /// Hex hash of every column but step_ns and slow_update_ns: equal for two
   /// runs exactly when they computed the same numbers.
   std::string deterministic_hash() const { return hash_.hex(); }
 
  private:
-  std::string text_;
+  std::ostream& out_;
+  std::string buffer_;
   ContentHash hash_;
 };
 

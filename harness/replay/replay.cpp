@@ -1,8 +1,11 @@
 #include "harness/replay/replay.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "harness/process/interrupt.h"
 #include "harness/replay/instruction_count.h"
@@ -64,9 +67,20 @@ const char* slow_loop_timing_name(SlowLoopTiming timing) {
 
 SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> samples,
                         const ReplaySettings& settings, TickObserver& observer) {
+  return replay(
+      renderer,
+      DeviceTrajectory::of_samples(std::vector<DeviceSample>(samples.begin(), samples.end())),
+      settings, observer);
+}
+
+SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
+                        const ReplaySettings& settings, TickObserver& observer) {
   SlowLoopSchedule followed;
-  if (samples.empty()) return followed;
-  renderer.reset(samples.front().pose);
+  if (trajectory.ticks() == 0) return followed;
+  std::vector<DeviceSample> block(
+      static_cast<std::size_t>(std::min(DeviceTrajectory::kBlockTicks, trajectory.ticks())));
+  trajectory.fill(0, std::span<DeviceSample>(block.data(), 1));
+  renderer.reset(block.front().pose);
   SlowLoop* slow_loop = renderer.slow_loop();
   const bool count_step = settings.counted == CountedCalls::kStep;
   const bool count_slow = settings.counted == CountedCalls::kSlowUpdate;
@@ -74,7 +88,14 @@ SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> sample
   std::optional<PendingSlowResult> pending;
   int64_t installed_start_tick = -1;
 
-  for (const DeviceSample& sample : samples) {
+  for (int64_t tick = 0; tick < trajectory.ticks(); ++tick) {
+    // The next block of device samples, computed between two ticks.
+    const auto in_block = static_cast<std::size_t>(tick % DeviceTrajectory::kBlockTicks);
+    if (in_block == 0) {
+      const int64_t count = std::min(DeviceTrajectory::kBlockTicks, trajectory.ticks() - tick);
+      trajectory.fill(tick, std::span<DeviceSample>(block.data(), static_cast<std::size_t>(count)));
+    }
+    const DeviceSample& sample = block[in_block];
     // A stop request (SIGINT, SIGTERM) is honoured between ticks, every
     // 256 ticks: one load of a flag, outside the timed window.
     if ((sample.tick & 255) == 0) throw_if_interrupted();

@@ -10,6 +10,7 @@
 
 #include "algorithms/proxy/renderer.h"
 #include "harness/replay/slow_loop_schedule.h"
+#include "harness/trace/device_trajectory.h"
 
 namespace hb {
 
@@ -73,6 +74,11 @@ class TickObserver {
 /// installation at k + L (L from the settings); hand the record to the
 /// observer. Returns the schedule it followed (empty without a slow loop).
 /// Throws ScheduleMismatch when a replayed schedule does not fit.
+/// The device's samples are computed a block at a time, outside the timed
+/// windows; record.device is valid only during on_tick.
+SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
+                        const ReplaySettings& settings, TickObserver& observer);
+/// The same with every tick given.
 SlowLoopSchedule replay(Renderer& renderer, std::span<const DeviceSample> samples,
                         const ReplaySettings& settings, TickObserver& observer);
 

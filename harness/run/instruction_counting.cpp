@@ -127,15 +127,15 @@ void count_instructions_here(const std::string& scenario_path,
     IgnoringObserver ignore;
     // A first pass warms what a renderer builds lazily; the counted passes
     // then see the state every later replay sees.
-    replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+    replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
     settings.counted = CountedCalls::kStep;
     const SlowLoopSchedule schedule =
-        replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+        replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
     dump_instruction_counts("step:" + algorithm.spec->label);
-    nlohmann::json entry = {{"ticks", scenario.device_samples.size()}, {"slow_updates", nullptr}};
+    nlohmann::json entry = {{"ticks", scenario.trajectory.ticks()}, {"slow_updates", nullptr}};
     if (algorithm.has_slow_loop()) {
       settings.counted = CountedCalls::kSlowUpdate;
-      replay(*algorithm.renderer, scenario.device_samples, settings, ignore);
+      replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
       dump_instruction_counts("slow:" + algorithm.spec->label);
       entry["slow_updates"] = schedule.updates.size();
     }

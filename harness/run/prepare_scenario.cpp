@@ -50,8 +50,9 @@ namespace {
 RenderContext context_with_reach(const Scenario& scenario) {
   RenderContext context = scenario.context;
   Eigen::AlignedBox3d reach;
-  for (const DeviceSample& sample : scenario.device_samples)
+  scenario.trajectory.for_each([&reach](const DeviceSample& sample) {
     if (sample.pose.p.allFinite()) reach.extend(sample.pose.p);
+  });
   if (!reach.isEmpty()) {
     const double radius = context.tool.mesh.radius_about(Vec3::Zero());
     reach.min().array() -= radius;

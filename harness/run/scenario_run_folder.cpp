@@ -9,7 +9,7 @@ bool write_scenario_run_folder(const std::filesystem::path& folder, const Scenar
                                const std::vector<RunFolderFile>& extra_files) {
   StagedRunFolder staged(folder, OutputFolderKind::kRun);
   for (std::size_t i = 0; i < outcome.report.runs.size(); ++i) {
-    staged.write_file(outcome.report.runs[i].ticks_file, outcome.ticks_csv[i]);
+    staged.move_file(outcome.report.runs[i].ticks_file, outcome.ticks_files[i]);
     if (!outcome.report.runs[i].schedule_file.empty())
       staged.write_file(outcome.report.runs[i].schedule_file, outcome.schedule_csv[i]);
   }

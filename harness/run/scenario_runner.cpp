@@ -3,11 +3,16 @@
 #include "harness/run/scenario_runner.h"
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <memory>
 #include <optional>
 #include <string_view>
 
 #include "algorithms/core/input_error.h"
 #include "harness/metrics/budgets.h"
+#include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/replay/noise_floor.h"
@@ -30,38 +35,50 @@ void add_result(ContentHash& hash, const TickResult& result) {
 
 // First pass: step() with nothing else between the ticks, so the ground
 // truth of the second pass cannot evict the algorithm's data from the
-// caches and inflate its measured times.
+// caches and inflate its measured times. The first pass keeps each tick's
+// times for the evaluation pass (spilled to a temporary file when long);
+// repetitions keep only their percentiles.
 class TimingObserver : public TickObserver {
  public:
+  explicit TimingObserver(bool keep_times) : keep_times_(keep_times) {}
   void on_tick(const TickRecord& record) override {
-    step_ns.push_back(record.step_ns);
-    slow_ns.push_back(record.slow_ns);
+    if (keep_times_) times.push_back({record.step_ns, record.slow_ns});
+    step_ns.add(record.step_ns);
     add_result(results, record.result);
   }
-  std::vector<int64_t> step_ns, slow_ns;
+  /// (step, slow update) wall time per tick, ns; only with keep_times.
+  SpillBuffer<std::array<int64_t, 2>> times;
+  StreamingPercentiles step_ns;
   ContentHash results;
   SlowLoopSchedule schedule;  ///< what the pass followed
   NoiseFloor noise;           ///< how quiet the machine was during the pass
+
+ private:
+  bool keep_times_;
 };
 
 // Ground truth and logging for one algorithm's replay. With timings from a
 // timing pass, the tick records take their wall-clock times from it.
 class EvaluatingObserver : public TickObserver {
  public:
-  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings, const TimingObserver* timing)
-      : truth_(truth), metrics_(settings), timing_(timing) {}
+  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings, const TimingObserver* timing,
+                     std::ostream& ticks_out)
+      : truth_(truth), metrics_(settings), ticks_(ticks_out) {
+    if (timing) timing_.emplace(timing->times);
+  }
 
   void on_tick(const TickRecord& measured) override {
     TickRecord record_with_timing;
     const TickRecord* record_ptr = &measured;
     if (timing_) {
+      std::array<int64_t, 2> times{};
+      timing_->next(times);
       record_with_timing = measured;
       record_with_timing.result.contacts = measured.result.contacts;
-      record_with_timing.step_ns = timing_->step_ns[tick_index_];
-      record_with_timing.slow_ns = timing_->slow_ns[tick_index_];
+      record_with_timing.step_ns = times[0];
+      record_with_timing.slow_ns = times[1];
       record_ptr = &record_with_timing;
     }
-    ++tick_index_;
     const TickRecord& record = *record_ptr;
     add_result(results_, record.result);
     TickEvaluation evaluation;
@@ -91,14 +108,13 @@ class EvaluatingObserver : public TickObserver {
   }
 
   RunMetrics metrics() const { return metrics_.finish(); }
-  const TicksCsvWriter& ticks() const { return ticks_; }
+  TicksCsvWriter& ticks() { return ticks_; }
   const ContentHash& results() const { return results_; }
 
  private:
   GroundTruth& truth_;
   MetricsAccumulator metrics_;
-  const TimingObserver* timing_;
-  std::size_t tick_index_ = 0;
+  std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;
   TicksCsvWriter ticks_;
 };
@@ -135,6 +151,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   const Tool& tool = scenario.context.tool;
   const double tool_radius = tool.mesh.radius_about(tool.mass.centre_of_mass);
   metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
+  metrics_settings.expected_ticks = scenario.trajectory.ticks();
+  outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
     ReplaySettings timing_settings = algorithm.replay;
@@ -144,11 +162,14 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     }
     // Timing passes: step() with nothing else between the ticks. The first
     // one's times and schedule are the run's; repetitions give the spread.
-    std::vector<TimingObserver> passes(static_cast<std::size_t>(std::max(1, options.repeat)));
-    for (TimingObserver& pass : passes) {
+    std::vector<std::unique_ptr<TimingObserver>> passes;
+    for (int i = 0; i < std::max(1, options.repeat); ++i)
+      passes.push_back(std::make_unique<TimingObserver>(i == 0));
+    for (const std::unique_ptr<TimingObserver>& pass_pointer : passes) {
+      TimingObserver& pass = *pass_pointer;
       const NoiseFloorProbe probe;
       try {
-        pass.schedule = replay(*algorithm.renderer, scenario.device_samples, timing_settings, pass);
+        pass.schedule = replay(*algorithm.renderer, scenario.trajectory, timing_settings, pass);
       } catch (const ScheduleMismatch& mismatch) {
         throw InputError(algorithm.schedule_source, "",
                          std::string("the schedule does not fit ") + algorithm.spec->label +
@@ -156,14 +177,20 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
       }
       pass.noise = probe.finish();
     }
-    const TimingObserver& timing = passes.front();
+    const TimingObserver& timing = *passes.front();
     // The evaluation pass follows the first timing pass's schedule, so both
     // compute the same forces whatever the slow loop's timing.
     ReplaySettings evaluation_settings = algorithm.replay;
     evaluation_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
     evaluation_settings.replayed_schedule = &timing.schedule;
-    EvaluatingObserver observer(truth, metrics_settings, &timing);
-    replay(*algorithm.renderer, scenario.device_samples, evaluation_settings, observer);
+    const std::string ticks_file = "ticks_" + algorithm.spec->label + ".csv";
+    const std::filesystem::path ticks_path = outcome.scratch->path() / ticks_file;
+    std::ofstream ticks_out(ticks_path, std::ios::binary | std::ios::trunc);
+    EvaluatingObserver observer(truth, metrics_settings, &timing, ticks_out);
+    replay(*algorithm.renderer, scenario.trajectory, evaluation_settings, observer);
+    if (!observer.ticks().finish())
+      throw std::filesystem::filesystem_error("cannot write the ticks log", ticks_path,
+                                              std::make_error_code(std::errc::io_error));
 
     AlgorithmRun run;
     run.name = algorithm.spec->name;
@@ -174,8 +201,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.noise = timing.noise;
     if (passes.size() > 1) {
       std::vector<double> p50, p99;
-      for (const TimingObserver& pass : passes) {
-        const Percentiles p = percentiles_of(pass.step_ns);
+      for (const std::unique_ptr<TimingObserver>& pass : passes) {
+        const Percentiles p = pass->step_ns.result();
         p50.push_back(p.p50);
         p99.push_back(p.p99);
       }
@@ -191,7 +218,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     }
     for (const Budget& budget : scenario.budgets)
       run.budgets.push_back(evaluate_budget(budget.name, budget.limit, run.metrics));
-    run.ticks_file = "ticks_" + run.label + ".csv";
+    run.ticks_file = ticks_file;
     run.ticks_hash = observer.ticks().deterministic_hash();
     run.timing_pass = "separate";
     run.passes_agree = timing.results.value() == observer.results().value();
@@ -199,7 +226,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.reference_note = truth.analytic_note;
     run.penetration_source = penetration_source(truth);
     report.runs.push_back(std::move(run));
-    outcome.ticks_csv.push_back(observer.ticks().text());
+    outcome.ticks_files.push_back(ticks_path);
     outcome.schedule_csv.push_back(std::move(schedule_text));
   }
   return outcome;

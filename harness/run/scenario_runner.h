@@ -2,6 +2,7 @@
 // ground truth, metrics and tick logs outside the timed window.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "algorithms/proxy/renderer.h"
 #include "harness/output/run_report.h"
+#include "harness/process/scratch_folder.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
@@ -72,8 +74,10 @@ struct RunOptions {
 /// The outcome of a scenario: the report and each algorithm's files.
 struct ScenarioOutcome {
   ScenarioRun report;
-  std::vector<std::string> ticks_csv;     ///< parallel to report.runs
-  std::vector<std::string> schedule_csv;  ///< parallel; empty without a slow loop
+  /// Holds the ticks logs, written as the run went (removed with the outcome).
+  std::unique_ptr<ScratchFolder> scratch;
+  std::vector<std::filesystem::path> ticks_files;  ///< in scratch, parallel to report.runs
+  std::vector<std::string> schedule_csv;           ///< parallel; empty without a slow loop
 };
 
 /// Replays every prepared algorithm and evaluates metrics and budgets:

@@ -474,9 +474,9 @@ class ScenarioReader {
       const int64_t ticks =
           field.has("duration_s") ? read_duration_ticks(field.existing_member("duration_s")) : 0;
       try {
-        const Trace trace = read_trace_file(
+        Trace trace = read_trace_file(
             path, format == "tum" ? TraceFileFormat::kTum : TraceFileFormat::kHapticbenchCsv);
-        scenario.device_samples = resample_to_ticks(trace, ticks);
+        scenario.trajectory = DeviceTrajectory::of_trace(std::move(trace), ticks);
         scenario_hash_.add(file_content_hash(path));
       } catch (const InputError& error) {
         // An error about the trace's samples is the trace file's.
@@ -501,15 +501,15 @@ class ScenarioReader {
         request.params =
             param_set_from_json(field.existing_member("params").json(), "/trace/params", path_);
       try {
-        const Trace trace = generate_trace(name, request, name_field.pointer());
-        scenario.device_samples = resample_to_ticks(trace, ticks);
+        GeneratedTrace trace = make_generated_trace(name, request, name_field.pointer());
+        scenario.trajectory = DeviceTrajectory(std::move(trace.source), ticks);
       } catch (const InputError& error) {
         throw with_default_source(error, path_);
       }
       scenario.trace_description =
           "generator " + name + " (seed " + std::to_string(request.seed) + ")";
     }
-    if (scenario.device_samples.empty())
+    if (scenario.trajectory.ticks() == 0)
       field.fail_with("the trace gives no samples on the 1 kHz clock");
   }
 

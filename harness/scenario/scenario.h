@@ -11,6 +11,7 @@
 #include "algorithms/core/param_set.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/proxy/renderer.h"
+#include "harness/trace/device_trajectory.h"
 
 namespace hb {
 
@@ -44,11 +45,11 @@ struct Budget {
 
 struct Scenario {
   std::string name;
-  std::string path;          ///< the file it came from
-  std::string content_hash;  ///< hash of the file bytes and of every file it names
-  RenderContext context;     ///< scene, tool (with mass properties), coupling, device, gravity
-  std::vector<DeviceSample> device_samples;  ///< the trace on the 1 kHz clock
-  std::string trace_description;             ///< "generator press (seed 1)" or the trace file path
+  std::string path;               ///< the file it came from
+  std::string content_hash;       ///< hash of the file bytes and of every file it names
+  RenderContext context;          ///< scene, tool (with mass properties), coupling, device, gravity
+  DeviceTrajectory trajectory;    ///< the trace on the 1 kHz clock, computed on demand
+  std::string trace_description;  ///< "generator press (seed 1)" or the trace file path
   std::vector<AlgorithmSpec> algorithms;
   ReferenceSpec reference;
   std::vector<Budget> budgets;

@@ -154,7 +154,8 @@ Vec3 perpendicular_unit(const Vec3& axis) {
 int64_t sample_intervals(double duration_s, const std::string& field) {
   if (!std::isfinite(duration_s) || duration_s <= 0 || duration_s > kMaxDurationS)
     throw InputError("", field,
-                     "expected a duration in (0, " + number_text(kMaxDurationS) + "] s, got " + number_text(duration_s));
+                     "expected a duration in (0, " + number_text(kMaxDurationS) + "] s, got " +
+                         number_text(duration_s));
   const int64_t intervals = std::llround(duration_s * kSamplesPerSecond);
   if (intervals < 1)
     throw InputError("", field,
@@ -169,16 +170,18 @@ double sampled_duration_s(const GeneratorRequest& request) {
          kSamplesPerSecond;
 }
 
-Trace sample_motion(std::string_view name, const GeneratorRequest& request, const Motion& motion) {
+GeneratedTrace sample_motion(std::string_view name, const GeneratorRequest& request,
+                             Motion motion) {
   const int64_t intervals = sample_intervals(request.duration_s, "duration_s");
-  Trace trace;
+  GeneratedTrace trace;
   trace.info.source = "generator:" + std::string(name);
   trace.info.rate_hz = kSamplesPerSecond;
-  trace.samples.reserve(static_cast<std::size_t>(intervals + 1));
-  for (int64_t k = 0; k <= intervals; ++k) {
+  trace.source.count = intervals + 1;
+  trace.source.has_twists = true;
+  trace.source.at = [motion = std::move(motion)](int64_t k) {
     const MotionState state = motion(static_cast<double>(k) / kSamplesPerSecond);
-    trace.samples.push_back(TraceSample{k * kSampleNs, state.pose, state.twist});
-  }
+    return TraceSample{k * kSampleNs, state.pose, state.twist};
+  };
   return trace;
 }
 
@@ -209,7 +212,7 @@ PressGeometry press_geometry(const ParamSet& params, const std::string& start_ke
 // ---------------------------------------------------------------------------
 // The generators.
 
-Trace generate_press(const GeneratorRequest& request) {
+GeneratedTrace generate_press(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "start", 0.005);
   const double approach = params.number("approach_fraction", 0.3, 0.01, 0.97);
@@ -229,10 +232,10 @@ Trace generate_press(const GeneratorRequest& request) {
       {(approach + press + hold) * duration, {g.deepest(), g.q}},
       {duration, {g.start, g.q}},
   };
-  return sample_motion("press", request, [&](double t) { return keyframe_state(keys, t); });
+  return sample_motion("press", request, [=](double t) { return keyframe_state(keys, t); });
 }
 
-Trace generate_slide(const GeneratorRequest& request) {
+GeneratedTrace generate_slide(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "start", 0.002);
   const Vec3 direction = direction_param(params, "direction", Vec3(1, 0, 0));
@@ -249,10 +252,10 @@ Trace generate_slide(const GeneratorRequest& request) {
       {0.8 * duration, {g.deepest() + slid, g.q}},
       {duration, {g.start + slid, g.q}},
   };
-  return sample_motion("slide", request, [&](double t) { return keyframe_state(keys, t); });
+  return sample_motion("slide", request, [=](double t) { return keyframe_state(keys, t); });
 }
 
-Trace generate_rub(const GeneratorRequest& request) {
+GeneratedTrace generate_rub(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "centre", 0.002);
   const double radius = params.number("radius", 0.01, 0.0, 10.0);
@@ -273,7 +276,7 @@ Trace generate_rub(const GeneratorRequest& request) {
   // Lift where the rub ended (turns need not be whole).
   const std::vector<Keyframe> lift = {{rub_end, {g.deepest() + rim_end, g.q}},
                                       {duration, {g.start + rim_end, g.q}}};
-  return sample_motion("rub", request, [&](double t) {
+  return sample_motion("rub", request, [=](double t) {
     if (t <= rub_begin) return keyframe_state(press_in, t);
     if (t >= rub_end) return keyframe_state(lift, t);
     const double span = rub_end - rub_begin;
@@ -288,7 +291,7 @@ Trace generate_rub(const GeneratorRequest& request) {
   });
 }
 
-Trace generate_twist(const GeneratorRequest& request) {
+GeneratedTrace generate_twist(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "start", 0.005);
   const double amplitude = params.number("angle", 0.5, 0.0, std::numbers::pi);
@@ -307,7 +310,7 @@ Trace generate_twist(const GeneratorRequest& request) {
                                          {duration, {g.start, g.q}}};
   // Oscillation angle(t) = amplitude * sin(phase(t)) about the press axis,
   // with a minimum-jerk phase so it starts and ends at rest.
-  return sample_motion("twist", request, [&](double t) {
+  return sample_motion("twist", request, [=](double t) {
     if (t <= twist_begin) return keyframe_state(press_in, t);
     if (t >= twist_end) return keyframe_state(release, t);
     const double span = twist_end - twist_begin;
@@ -324,7 +327,7 @@ Trace generate_twist(const GeneratorRequest& request) {
   });
 }
 
-Trace generate_peg_in_hole(const GeneratorRequest& request) {
+GeneratedTrace generate_peg_in_hole(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const Vec3 hole = point_param(params, "hole", Vec3(0, 0, 0));
   const double start_height = params.number("start_height", 0.03, 0.0, 10.0);
@@ -344,10 +347,10 @@ Trace generate_peg_in_hole(const GeneratorRequest& request) {
       {0.8 * duration, {hole - insert_depth * Vec3::UnitZ(), aligned}},
       {duration, {hole - insert_depth * Vec3::UnitZ(), aligned}},
   };
-  return sample_motion("peg_in_hole", request, [&](double t) { return keyframe_state(keys, t); });
+  return sample_motion("peg_in_hole", request, [=](double t) { return keyframe_state(keys, t); });
 }
 
-Trace generate_human_like(const GeneratorRequest& request) {
+GeneratedTrace generate_human_like(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const Vec3 centre = point_param(params, "centre", Vec3(0, 0, 0.03));
   const Quat q_centre = orientation_param(params, "q");
@@ -407,7 +410,7 @@ Trace generate_human_like(const GeneratorRequest& request) {
     }
   }
   // Value and time derivative of one channel at sample k (unscaled).
-  auto evaluate = [&](int c, int64_t k, double& value, double& rate) {
+  auto evaluate = [=](int c, int64_t k, double& value, double& rate) {
     value = 0.0;
     rate = 0.0;
     for (const Sinusoid& sinusoid : sinusoids[c]) {
@@ -435,7 +438,7 @@ Trace generate_human_like(const GeneratorRequest& request) {
     scale[c] = peak > 0.0 ? target / peak : 0.0;
   }
 
-  return sample_motion("human_like", request, [&](double t) {
+  return sample_motion("human_like", request, [=](double t) {
     const int64_t k = std::llround(t * kSamplesPerSecond);
     double value[kChannels], rate[kChannels];
     for (int c = 0; c < kChannels; ++c) {
@@ -455,7 +458,7 @@ Trace generate_human_like(const GeneratorRequest& request) {
   });
 }
 
-Trace generate_impact(const GeneratorRequest& request) {
+GeneratedTrace generate_impact(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "start", 0.005);
   const double speed = params.number("speed_mps", 0.5, 1e-3, 100.0);
@@ -479,7 +482,7 @@ Trace generate_impact(const GeneratorRequest& request) {
                      "the motion takes " +
                          number_text(stop) + " s but the trace lasts " + number_text(duration) +
                          " s");
-  return sample_motion("impact", request, [&](double t) {
+  return sample_motion("impact", request, [=](double t) {
     double travelled = 0.0;  // m along the axis
     double velocity = 0.0;   // m/s along the axis
     if (t >= stop) {
@@ -503,7 +506,7 @@ Trace generate_impact(const GeneratorRequest& request) {
   });
 }
 
-Trace generate_jump(const GeneratorRequest& request) {
+GeneratedTrace generate_jump(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const double duration = sampled_duration_s(request);
   const Vec3 p = point_param(params, "p", Vec3(0, 0, 0.03));
@@ -516,17 +519,17 @@ Trace generate_jump(const GeneratorRequest& request) {
   const Pose after{p + jump, (quat_from_rotation_vector(rotation) * q).normalized()};
   const int64_t jump_ns = std::llround(at_s * 1e9);
   // Twists stay zero: the discontinuity is the point of this trace.
-  Trace trace = sample_motion("jump", request, [&](double) { return MotionState{before, {}}; });
-  for (TraceSample& sample : trace.samples)
-    if (sample.t_ns >= jump_ns) sample.pose = after;
-  return trace;
+  return sample_motion("jump", request, [=](double t) {
+    const int64_t k = std::llround(t * kSamplesPerSecond);
+    return MotionState{k * kSampleNs >= jump_ns ? after : before, {}};
+  });
 }
 
-Trace generate_rest(const GeneratorRequest& request) {
+GeneratedTrace generate_rest(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const Pose pose{point_param(params, "p", Vec3(0, 0, 0.015)), orientation_param(params, "q")};
   params.reject_unknown();
-  return sample_motion("rest", request, [&](double) { return MotionState{pose, {}}; });
+  return sample_motion("rest", request, [=](double) { return MotionState{pose, {}}; });
 }
 
 constexpr GeneratorEntry kGenerators[] = {
@@ -552,8 +555,8 @@ constexpr GeneratorEntry kGenerators[] = {
 
 std::span<const GeneratorEntry> generator_table() { return kGenerators; }
 
-Trace generate_trace(const std::string& name, const GeneratorRequest& request,
-                     const std::string& field) {
+GeneratedTrace make_generated_trace(const std::string& name, const GeneratorRequest& request,
+                                    const std::string& field) {
   for (const GeneratorEntry& entry : kGenerators) {
     if (entry.name != name) continue;
     // Name the duration beside the generator field ("/trace/duration_s").
@@ -567,6 +570,19 @@ Trace generate_trace(const std::string& name, const GeneratorRequest& request,
   for (const GeneratorEntry& entry : kGenerators)
     known += (known.empty() ? "" : ", ") + std::string(entry.name);
   throw InputError("", field, "unknown generator \"" + name + "\" (known: " + known + ")");
+}
+
+Trace generate_trace(const std::string& name, const GeneratorRequest& request,
+                     const std::string& field) {
+  return make_generated_trace(name, request, field).sampled();
+}
+
+Trace GeneratedTrace::sampled() const {
+  Trace trace;
+  trace.info = info;
+  trace.samples.reserve(static_cast<std::size_t>(source.count));
+  for (int64_t k = 0; k < source.count; ++k) trace.samples.push_back(source.at(k));
+  return trace;
 }
 
 }  // namespace hb

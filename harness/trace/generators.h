@@ -17,10 +17,20 @@ struct GeneratorRequest {
   ParamSet params;          ///< generator-specific; unknown keys are rejected
 };
 
+/// A generated trace: its samples are computed when asked for, so an
+/// hour-long trace costs no memory until it is written out.
+struct GeneratedTrace {
+  TraceInfo info;
+  TraceSource source;  ///< 1 kHz from t = 0, with analytic twists
+  /// Every sample.
+  Trace sampled() const;
+};
+
 struct GeneratorEntry {
   std::string_view name;     ///< used in a scenario's trace.generator
   std::string_view summary;  ///< one line for `hapticbench list`
-  Trace (*generate)(const GeneratorRequest& request);
+  /// Checks the parameters (InputError) and returns the trace.
+  GeneratedTrace (*generate)(const GeneratorRequest& request);
 };
 
 /// Every generator: press, slide, rub, twist, peg_in_hole, human_like,
@@ -32,6 +42,9 @@ std::span<const GeneratorEntry> generator_table();
 /// the parameter's field (params prefix + key) for bad or unknown
 /// parameters. Samples are at 1 kHz with analytic twists, from t = 0 to
 /// t = duration inclusive: round(duration_s * 1000) + 1 samples.
+GeneratedTrace make_generated_trace(const std::string& name, const GeneratorRequest& request,
+                                    const std::string& field);
+/// make_generated_trace(...).sampled(): every sample.
 Trace generate_trace(const std::string& name, const GeneratorRequest& request,
                      const std::string& field);
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +33,15 @@ struct TraceInfo {
 struct Trace {
   std::vector<TraceSample> samples;  ///< strictly increasing t_ns
   TraceInfo info;
+};
+
+/// A trace's samples on request: a stored trace's rows or a generator's
+/// samples, computed when asked for (an hour of them then costs no memory).
+struct TraceSource {
+  int64_t count = 0;        ///< samples
+  bool has_twists = false;  ///< every sample carries a twist
+  /// Sample `index` in [0, count); t_ns strictly increasing with the index.
+  std::function<TraceSample(int64_t index)> at;
 };
 
 enum class TraceFileFormat {
@@ -63,9 +73,10 @@ std::string sidecar_path(const std::string& trace_path);
 /// overwritten by `generate`.
 bool is_generated_trace(const std::string& trace_path);
 
-/// The longest run hapticbench replays (s): a run keeps every tick in
-/// memory (about 1 GB per hour of ticks with one algorithm), so longer
-/// traces are refused rather than allowed to exhaust memory.
+/// The longest run hapticbench replays (s). A run's memory does not grow
+/// with its length (device_trajectory.h, run_metrics.h), but its time and
+/// its ticks log do (about 0.5 GB of log per hour and algorithm), so longer
+/// traces are refused.
 inline constexpr double kMaxRunDurationS = 3600;
 
 /// Resamples onto the 1 kHz clock from t = 0 to the last sample: linear in
@@ -77,7 +88,8 @@ inline constexpr double kMaxRunDurationS = 3600;
 /// floor(t_last / 1 ms) + 1). Ticks before the first or after the last
 /// sample hold that sample's pose with zero twist. A trace that would give
 /// more than kMaxRunDurationS of ticks throws InputError("", "samples", ...)
-/// before anything is allocated.
+/// before anything is allocated. Every tick at once: runs use
+/// DeviceTrajectory (device_trajectory.h), which computes them block by block.
 std::vector<DeviceSample> resample_to_ticks(const Trace& trace, int64_t duration_ticks = 0);
 
 }  // namespace hb

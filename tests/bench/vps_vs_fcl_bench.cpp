@@ -132,7 +132,8 @@ struct Setup {
 // positions grown by the tool's radius about its frame origin.
 Eigen::AlignedBox3d reach_of(const Scenario& scenario) {
   Eigen::AlignedBox3d reach;
-  for (const DeviceSample& sample : scenario.device_samples) reach.extend(sample.pose.p);
+  scenario.trajectory.for_each(
+      [&reach](const DeviceSample& sample) { reach.extend(sample.pose.p); });
   const double radius = scenario.context.tool.mesh.radius_about(Vec3::Zero());
   reach.min().array() -= radius;
   reach.max().array() += radius;
@@ -179,7 +180,7 @@ Setup make_setup() {
   s.fcl_tool = fcl_model(context.tool.mesh, Pose{});
   s.fcl_scene = fcl_model(bunny.mesh, bunny.pose);
 
-  for (const DeviceSample& sample : s.scenario.device_samples) {
+  for (const DeviceSample& sample : s.scenario.trajectory.all()) {
     fcl::CollisionResultd collision;
     s.fcl_query(sample, collision);
     const double distance = collision.isCollision() ? 0.0 : s.fcl_distance(sample);
@@ -280,7 +281,7 @@ void print_summary() {
   std::printf(
       "\narmadillo (5 cm, %zu triangles) vs bunny00 (30 cm, %zu triangles), "
       "armadillo_on_bunny trace: %zu of %zu ticks in contact or within %.1f mm (FCL)\n",
-      s.tool_triangles, s.scene_triangles, results.size(), s.scenario.device_samples.size(),
+      s.tool_triangles, s.scene_triangles, results.size(), s.scenario.trajectory.ticks(),
       1e3 * kNearDistance);
   std::printf(
       "Voxmap PointShell: %.1f mm voxels, %zu points in %zu clusters, lookup %.1f MB; "

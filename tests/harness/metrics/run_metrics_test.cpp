@@ -12,22 +12,6 @@
 namespace hb {
 namespace {
 
-TEST_CASE("percentiles use the nearest rank") {
-  std::vector<int64_t> values;
-  for (int64_t i = 1000; i >= 1; --i) values.push_back(i);  // 1..1000, shuffled order
-  const Percentiles p = percentiles_of(values);
-  CHECK(p.p50 == 500);
-  CHECK(p.p90 == 900);
-  CHECK(p.p99 == 990);
-  CHECK(p.p999 == 999);
-  CHECK(p.max == 1000);
-  CHECK(p.count == 1000);
-  const Percentiles one = percentiles_of({7});
-  CHECK(one.p50 == 7);
-  CHECK(one.p999 == 7);
-  CHECK(percentiles_of({}).count == 0);
-}
-
 TEST_CASE("energy above a cutoff separates low and high frequencies") {
   const double rate = 1000;
   // Frequencies on DFT bins (k * rate / 1024), so no energy leaks between bins.

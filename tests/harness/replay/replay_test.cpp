@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <vector>
 
@@ -71,9 +72,16 @@ class ProbeRenderer : public Renderer, public SlowLoop {
   std::vector<int64_t> started_after_;
 };
 
+// Keeps every record with its own copy of the device sample: the replay's
+// record.device is valid only during on_tick.
 struct Recorder : TickObserver {
   std::vector<TickRecord> records;
-  void on_tick(const TickRecord& record) override { records.push_back(record); }
+  std::deque<DeviceSample> devices;
+  void on_tick(const TickRecord& record) override {
+    devices.push_back(*record.device);
+    records.push_back(record);
+    records.back().device = &devices.back();
+  }
 };
 
 TEST_CASE("every sample is replayed once, in order, after one reset") {
@@ -227,7 +235,7 @@ TEST_CASE("schedule files: malformed rows are refused with the line") {
 TEST_CASE("an empty trace replays nothing") {
   ProbeRenderer renderer;
   Recorder recorder;
-  replay(renderer, {}, ReplaySettings{}, recorder);
+  replay(renderer, DeviceTrajectory{}, ReplaySettings{}, recorder);
   CHECK(recorder.records.empty());
   CHECK(renderer.resets_ == 0);
 }

@@ -140,10 +140,11 @@ TEST_CASE("a scenario with shapes and a generated trace loads with exact mass pr
   CHECK(std::abs(tool.mass.inertia_about_com(0, 1)) < 1e-6 * sphere_inertia);
 
   // Generated trace: duration_s · 1000 ticks on the 1 kHz clock.
-  REQUIRE(scenario.device_samples.size() == 500);
-  for (std::size_t k = 0; k < scenario.device_samples.size(); ++k) {
-    CHECK(scenario.device_samples[k].tick == static_cast<int64_t>(k));
-    CHECK(scenario.device_samples[k].t_ns == static_cast<int64_t>(k) * 1'000'000);
+  const std::vector<DeviceSample> samples = scenario.trajectory.all();
+  REQUIRE(samples.size() == 500);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    CHECK(samples[k].tick == static_cast<int64_t>(k));
+    CHECK(samples[k].t_ns == static_cast<int64_t>(k) * 1'000'000);
   }
   CHECK(scenario.trace_description == "generator press (seed 7)");
 
@@ -191,10 +192,11 @@ TEST_CASE("a scenario with mesh files and a trace file loads, paths relative to 
   CHECK(tool.mass.inertia_about_com.isApprox(cube_inertia * Mat3::Identity(), 1e-9));
 
   // The CSV moves x at 0.1 m/s; the 1 kHz samples interpolate it linearly.
-  REQUIRE(scenario.device_samples.size() == 50);
-  CHECK(scenario.device_samples[25].pose.p.isApprox(Vec3(0.0025, 0, 0.05), 1e-12));
-  CHECK(scenario.device_samples[37].pose.p.x() == Approx(0.0037).epsilon(1e-12));
-  CHECK(scenario.device_samples[25].twist.v.x() == Approx(0.1).epsilon(1e-9));
+  const std::vector<DeviceSample> samples = scenario.trajectory.all();
+  REQUIRE(samples.size() == 50);
+  CHECK(samples[25].pose.p.isApprox(Vec3(0.0025, 0, 0.05), 1e-12));
+  CHECK(samples[37].pose.p.x() == Approx(0.0037).epsilon(1e-12));
+  CHECK(samples[25].twist.v.x() == Approx(0.1).epsilon(1e-9));
   CHECK(scenario.trace_description.find("line_trace.csv") != std::string::npos);
 
   CHECK(scenario.context.coupling.k_t == 1500);
