@@ -38,7 +38,7 @@ using Json = nlohmann::ordered_json;
 constexpr double kDefaultToolDensity = 1000;  // kg/m³, water
 constexpr double kUnitQuaternionTolerance = 1e-6;
 constexpr double kMaxTraceDurationS = kMaxRunDurationS;
-constexpr double kMaxOracleSamples = 1e6;
+constexpr double kMaxOracleSamples = 1e6;  ///< tool surface samples the oracles may test per tick
 
 // Plausible ranges of the physical settings (docs/limits.md): outside them
 // a run is allowed but warned about, since absurd settings can pass budgets.
@@ -73,12 +73,19 @@ std::vector<std::string> plausibility_warnings(const RenderContext& context) {
       {{"/tool", "kg", 1e-4, 100, "the tool's mass: 0.1 g to 100 kg"}, context.tool.mass.mass_kg},
       {{"/gravity", "m/s²", 0, 100, "the length of the gravity vector"}, context.gravity.norm()},
   };
+  // A device without limits (the default when "device" is not given) is
+  // not a setting to warn about.
+  const DeviceLimits unlimited;
   std::vector<std::string> warnings;
-  for (const auto& [range, value] : checks)
-    if (!(value >= range.low && value <= range.high))
+  for (const auto& [range, value] : checks) {
+    const bool unlimited_device =
+        std::string_view(range.pointer).starts_with("/device/") &&
+        (value == unlimited.max_force_n || value == unlimited.max_torque_nm);
+    if (!unlimited_device && !(value >= range.low && value <= range.high))
       warnings.push_back(range_warning(range, value));
+  }
   return warnings;
-}  ///< tool surface samples the oracles may test per tick
+}
 constexpr double kTicksPerSecond = 1000;
 constexpr int64_t kMaxSubdivisions = 6;
 

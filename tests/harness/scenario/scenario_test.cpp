@@ -483,6 +483,20 @@ TEST_CASE("other rule violations name their field") {
   }
 }
 
+TEST_CASE("settings outside their plausible range are warned about, defaults are not") {
+  ScratchDir dir;
+  Json scenario = valid_generated_scenario();  // no "device": unlimited, not implausible
+  CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).warnings.empty());
+  scenario["coupling"]["k_t"] = 1e30;
+  scenario["device"] = Json::parse(R"({ "max_force_n": 1e5 })");
+  const std::vector<std::string> warnings =
+      load_scenario(dir.write("absurd.json", scenario.dump(2))).warnings;
+  REQUIRE(warnings.size() == 2);
+  CHECK(warnings[0].find("/coupling/k_t: 1e+30 N/m is outside the plausible range [10, 1e+06]") ==
+        0);
+  CHECK(warnings[1].find("/device/max_force_n: 100000 N is outside") == 0);
+}
+
 TEST_CASE("a missing scenario file is an InputError naming it") {
   try {
     load_scenario("/nonexistent/scenario.json");
