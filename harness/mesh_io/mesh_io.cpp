@@ -225,6 +225,24 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
       check_list_line(path, line_number, line_tokens);
       check_off_face_indices(path, line_number, words, vertex_lines);
     }
+  } else if (name == "STL") {
+    // A binary STL (one not starting with "solid") holds an 80-byte header,
+    // a 32-bit triangle count and 50 bytes per triangle: the count must fit
+    // the file (a 233-byte file declaring 8e8 triangles once kept the
+    // reader busy with them).
+    char head[84] = {};
+    in.read(head, sizeof head);
+    if (std::string_view(head, 5) == "solid") return;
+    if (in.gcount() < 84)
+      throw InputError(path, "", "a binary STL file needs at least 84 bytes (header and count)");
+    uint32_t count = 0;
+    for (int k = 3; k >= 0; --k) count = (count << 8) | static_cast<unsigned char>(head[80 + k]);
+    const std::uintmax_t needed = 84 + 50 * static_cast<std::uintmax_t>(count);
+    if (needed > file_bytes)
+      throw InputError(path, "triangle count",
+                       "the binary STL header declares " + std::to_string(count) +
+                           " triangles, which need " + std::to_string(needed) +
+                           " bytes; the file has " + std::to_string(file_bytes));
   } else if (name == "PLY") {
     // Elements in header order, with whether each holds a list (faces).
     // The header is checked line by line before CGAL's reader sees it: that

@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -194,10 +195,26 @@ TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.ply", garbage)); }),
              Catch::Contains("bad.ply") && Catch::Contains("line 1") &&
                  Catch::Contains("expected \"ply\" on the first line"));
+  // Binary STL (not starting with "solid"): header and count are checked first.
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.stl", garbage)); }),
-             Catch::Contains("bad.stl") && Catch::Contains("could not parse as STL"));
+             Catch::Contains("bad.stl") && Catch::Contains("at least 84 bytes"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("empty.off", "")); }),
              Catch::Contains("empty.off"));
+}
+
+TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
+  TempFolder folder;
+  // One triangle: 80-byte header, count 1, normal, three corners, attribute.
+  std::string one(84 + 50, '\0');
+  one[80] = 1;
+  const float corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::memcpy(one.data() + 84 + 12, corners, sizeof corners);
+  CHECK(read_mesh_file(folder.write("one.stl", one)).triangles.size() == 1);
+  std::string lying = one;
+  lying[83] = 0x30;  // 805,306,369 triangles in 134 bytes
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("lying.stl", lying)); }),
+             Catch::Contains("lying.stl: triangle count") &&
+                 Catch::Contains("declares 805306369 triangles"));
 }
 
 TEST_CASE("face with an out-of-range vertex index", "[mesh_io]") {
