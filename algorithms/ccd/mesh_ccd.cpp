@@ -7,6 +7,7 @@
 #include "algorithms/ccd/interval.h"
 #include "algorithms/ccd/mesh_ccd_search.h"
 #include "algorithms/ccd/mesh_features.h"
+#include "algorithms/ccd/mesh_proximity.h"
 #include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 
@@ -147,25 +148,58 @@ MeshCcdResult MeshCcd::first_contact(const ScrewMotion& motion,
   return result;
 }
 
-FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {
-  if (features.scene_object < 0 ||
-      static_cast<std::size_t>(features.scene_object) >= data_->scene.size())
+namespace {
+// The scene object of a feature pair, with the pair's indices checked
+// (InputError naming the field otherwise).
+const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
+                                  const ContactFeatures& features) {
+  if (features.scene_object < 0 || static_cast<std::size_t>(features.scene_object) >= scenes.size())
     throw InputError("", "features.scene_object",
                      "no scene object " + std::to_string(features.scene_object));
-  const MeshFeatures& tool = data_->tool;
-  const MeshFeatures& scene = data_->scene[static_cast<std::size_t>(features.scene_object)];
+  const MeshFeatures& scene = scenes[static_cast<std::size_t>(features.scene_object)];
   auto check = [](int index, std::size_t size, const char* field) {
     if (index < 0 || static_cast<std::size_t>(index) >= size)
       throw InputError(
           "", std::string("features.") + field,
           "index " + std::to_string(index) + " out of range [0, " + std::to_string(size) + ")");
   };
+  switch (features.kind) {
+    case ContactFeatureKind::kToolVertexSceneFace:
+      check(features.tool_feature, tool.vertices.size(), "tool_feature");
+      check(features.scene_feature, scene.triangles.size(), "scene_feature");
+      break;
+    case ContactFeatureKind::kSceneVertexToolFace:
+      check(features.tool_feature, tool.triangles.size(), "tool_feature");
+      check(features.scene_feature, scene.vertices.size(), "scene_feature");
+      break;
+    case ContactFeatureKind::kEdgeEdge:
+      check(features.tool_feature, tool.edges.size(), "tool_feature");
+      check(features.scene_feature, scene.edges.size(), "scene_feature");
+      break;
+  }
+  return scene;
+}
+}  // namespace
+
+ProximityResult MeshCcd::proximity(const Pose& tool_pose, double max_distance,
+                                   std::size_t max_pairs) const {
+  return ccd_detail::search_proximity(data_->tool, data_->scene, tool_pose, max_distance,
+                                      max_pairs);
+}
+
+PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
+                                          const Pose& tool_pose) const {
+  return ccd_detail::pair_closest_points(
+      data_->tool, checked_scene(data_->tool, data_->scene, features), features, tool_pose);
+}
+
+FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {
+  const MeshFeatures& tool = data_->tool;
+  const MeshFeatures& scene = checked_scene(tool, data_->scene, features);
   const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
   auto tool_world = [&](int v) -> Vec3 { return tool_pose.p + rotation * tool.vertex(v); };
   switch (features.kind) {
     case ContactFeatureKind::kToolVertexSceneFace: {
-      check(features.tool_feature, tool.vertices.size(), "tool_feature");
-      check(features.scene_feature, scene.triangles.size(), "scene_feature");
       const auto& tri = scene.triangle(features.scene_feature);
       return vertex_face_geometry(
           tool_world(features.tool_feature), scene.vertex(tri[0]), scene.vertex(tri[1]),
@@ -173,8 +207,6 @@ FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& t
           scene.face_normals[static_cast<std::size_t>(features.scene_feature)]);
     }
     case ContactFeatureKind::kSceneVertexToolFace: {
-      check(features.tool_feature, tool.triangles.size(), "tool_feature");
-      check(features.scene_feature, scene.vertices.size(), "scene_feature");
       const auto& tri = tool.triangle(features.tool_feature);
       const Vec3 a = tool_world(tri[0]), b = tool_world(tri[1]), c = tool_world(tri[2]);
       const Vec3& vertex = scene.vertex(features.scene_feature);
@@ -191,8 +223,6 @@ FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& t
       return g;
     }
     case ContactFeatureKind::kEdgeEdge: {
-      check(features.tool_feature, tool.edges.size(), "tool_feature");
-      check(features.scene_feature, scene.edges.size(), "scene_feature");
       const auto& te = tool.edge(features.tool_feature);
       const auto& se = scene.edge(features.scene_feature);
       return edge_edge_geometry(tool_world(te[0]), tool_world(te[1]), scene.vertex(se[0]),

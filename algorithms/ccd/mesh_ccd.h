@@ -101,6 +101,29 @@ struct MeshCcdResult {
   bool budget_exhausted = false;  ///< some kernel answered by its budget fallback
 };
 
+/// Closest points of a feature pair at one tool pose.
+struct PairClosestPoints {
+  Vec3 tool_point = Vec3::Zero();   ///< on the tool feature, world, m
+  Vec3 scene_point = Vec3::Zero();  ///< on the scene feature, world, m
+  double distance = 0;              ///< between the two closed features, m
+};
+
+/// A feature pair and its distance at the pose asked about.
+struct ProximityPair {
+  ContactFeatures features;
+  double distance = 0;  ///< m
+};
+
+/// What lies near the tool at one pose (MeshCcd::proximity).
+struct ProximityResult {
+  /// Feature pairs closer than clearance_m (or at it), nearest first.
+  std::vector<ProximityPair> pairs;
+  /// Every feature pair not listed is at least this far apart (m).
+  double clearance_m = 0;
+  int64_t bv_tests = 0;    ///< node pairs tested
+  int64_t pair_tests = 0;  ///< feature pairs whose distance was computed
+};
+
 /// Bounding-sphere trees of one tool and a static scene, built once.
 class MeshCcd {
  public:
@@ -126,6 +149,18 @@ class MeshCcd {
 
   /// The pair's geometry with the tool's frame at `tool_pose` (world).
   FeatureGeometry evaluate(const ContactFeatures& features, const Pose& tool_pose) const;
+
+  /// The feature pairs (tool vertex–scene face, scene vertex–tool face, edge–
+  /// edge) at most max_distance apart with the tool's frame at `tool_pose`:
+  /// the max_pairs nearest when there are more. clearance_m is max_distance,
+  /// or, when pairs were left out, the distance of the nearest one left out;
+  /// either way no pair outside the list is closer.
+  ProximityResult proximity(const Pose& tool_pose, double max_distance,
+                            std::size_t max_pairs) const;
+
+  /// Closest points of the pair's two closed features, the tool's frame at
+  /// `tool_pose`. Indices are checked as by evaluate().
+  PairClosestPoints closest_points(const ContactFeatures& features, const Pose& tool_pose) const;
 
   /// Unique undirected edges (vertex index pairs, smaller first) of the tool
   /// and of scene object `object`, as indexed by ContactFeatures.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/god_object/haptic_proxy.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/slow_loop_mailbox.h"
 #include "algorithms/proxy/virtual_coupling.h"
@@ -14,10 +15,11 @@ namespace hb {
 
 namespace {
 
-// A finished update on its way to the haptic loop.
+// A finished update on its way to the haptic loop: where its CCD-limited
+// moves left the proxy, and the proximity certificate found there.
 struct GodObjectUpdate {
   Pose proxy;
-  std::vector<Contact> contacts;
+  ProximityCertificate certificate;
   GodObjectUpdateStats stats;
 };
 
@@ -28,29 +30,40 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
         gains_(context.coupling),
         limits_(context.device),
         dt_s_(context.dt_s),
-        solver_(context, settings) {
+        solver_(context, settings),
+        haptic_(solver_.ccd(), context.coupling, settings, solver_.centre_of_mass()) {
     body_.centre_of_mass = solver_.centre_of_mass();
   }
 
   void reset(const Pose& start) override {
     solver_.reset(start);
+    haptic_.reset(start);
     target_ = start;
     proxy_ = state_at_rest(body_, start);
-    contacts_.clear();
     mailbox_.clear();
-    last_install_tick_.reset();
   }
 
+  // Installs a finished update, then moves the proxy toward the device by
+  // the constraint solve on the certificate's pairs (haptic_proxy.h); the
+  // proxy's velocity, for the coupling's damping, is its motion this tick.
   TickResult step(const DeviceSample& device) override {
     TickResult result;
     if (is_finite(device)) target_ = device.pose;
-    if (GodObjectUpdate* update = mailbox_.take(result.flags))
-      install_update(device.tick, *update, result);
+    if (GodObjectUpdate* update = mailbox_.take(result.flags)) install_update(*update, result);
+    const HapticSolveStats haptic = haptic_.step(target_);
+    const RigidBodyState next = state_at_rest(body_, haptic_.pose());
+    proxy_.v = (next.x - proxy_.x) / dt_s_;
+    proxy_.w = rotation_vector(next.q * proxy_.q.conjugate()) / dt_s_;
+    proxy_.x = next.x;
+    proxy_.q = next.q;
     Wrench raw = evaluate_coupling(gains_, body_, proxy_, device.pose, device.twist, false).display;
     if (point_tool_) raw.torque.setZero();
     result.display = device_output(raw, limits_, result.flags);
     result.proxy = tool_pose(body_, proxy_);
-    result.contacts = contacts_;
+    result.contacts = haptic_.contacts();
+    result.work.names = &kWorkNames;
+    result.work.counts[4] += haptic.pairs_evaluated;
+    result.work.counts[2] += haptic.qp_iterations;
     return result;
   }
 
@@ -63,15 +76,16 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     return report;
   }
 
+  // From the haptic proxy's pose: CCD-limited moves toward the device
+  // (which also discover contacts), then the proximity query at the pose
+  // they reach.
   std::unique_ptr<Result> run_slow_update() override {
     auto box = mailbox_.box();
     GodObjectUpdate& update = box->data;
+    solver_.move_proxy(haptic_.pose());
     update.stats = solver_.update(target_);
     update.proxy = solver_.proxy_pose();
-    for (const KeptContact& kept : solver_.contacts()) {
-      const FeatureGeometry& g = kept.geometry;
-      update.contacts.push_back(Contact{g.point, g.normal, -g.gap});
-    }
+    update.certificate = haptic_.certify(update.proxy);
     return box;
   }
 
@@ -80,22 +94,13 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   }
 
  private:
-  // Makes the installed update the displayed proxy. The proxy's velocity
-  // (for the coupling's damping) is its displacement since the previous
-  // installation over the time between them.
-  void install_update(int64_t tick, GodObjectUpdate& update, TickResult& result) {
-    const RigidBodyState next = state_at_rest(body_, update.proxy);
-    if (last_install_tick_ && tick > *last_install_tick_) {
-      const double elapsed_s = static_cast<double>(tick - *last_install_tick_) * dt_s_;
-      proxy_.v = (next.x - proxy_.x) / elapsed_s;
-      proxy_.w = rotation_vector(next.q * proxy_.q.conjugate()) / elapsed_s;
-    }
-    proxy_.x = next.x;
-    proxy_.q = next.q;
-    last_install_tick_ = tick;
-    contacts_.swap(update.contacts);
-    static constexpr WorkCounters::Names kWorkNames = {"ccd_bound_tests", "ccd_primitive_queries",
-                                                       "qp_iterations", "ccd_moves"};
+  static constexpr WorkCounters::Names kWorkNames = {
+      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations", "ccd_moves", "pairs_evaluated"};
+
+  // Hands the update's certificate (and, when the haptic proxy has fallen
+  // behind it, its pose) to the haptic proxy; counts the update's work.
+  void install_update(GodObjectUpdate& update, TickResult& result) {
+    haptic_.offer(std::move(update.certificate), update.proxy, target_);
     result.work.names = &kWorkNames;
     result.work.counts = {update.stats.bv_tests, update.stats.primitive_queries,
                           update.stats.qp_iterations, update.stats.iterations, 0};
@@ -107,11 +112,10 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   double dt_s_;
   RigidBody body_;          ///< only its centre of mass matters: the coupling's lever arm
   GodObjectSolver solver_;  ///< owned by the slow loop
+  HapticProxy haptic_;      ///< owned by the haptic loop; its pose is read by the slow loop
   Pose target_;             ///< the latest finite device pose, read by the slow loop
-  RigidBodyState proxy_;    ///< the displayed proxy: pose installed, velocity estimated
-  std::vector<Contact> contacts_;
+  RigidBodyState proxy_;    ///< the displayed proxy: the haptic proxy's pose and velocity
   SlowLoopMailbox<GodObjectUpdate> mailbox_;
-  std::optional<int64_t> last_install_tick_;
 };
 
 }  // namespace
@@ -134,6 +138,13 @@ GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_to
       params.integer("ccd_max_evaluations", settings.ccd.primitive.max_evaluations, 1, 1000000));
   settings.ccd.contact_window =
       params.number("contact_window", settings.ccd.contact_window, 0.0, 1.0);
+  settings.haptic_band_m = params.number("haptic_band", settings.haptic_band_m, 1e-6, 1.0);
+  if (!(settings.haptic_band_m > settings.standoff_m))
+    throw InputError(
+        "", params.field("haptic_band"),
+        "expected a distance larger than standoff (" + std::to_string(settings.standoff_m) + " m)");
+  settings.haptic_max_pairs =
+      static_cast<int>(params.integer("haptic_max_pairs", settings.haptic_max_pairs, 1, 100000));
   return settings;
 }
 

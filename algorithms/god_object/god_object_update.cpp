@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "algorithms/god_object/proxy_motion.h"
+
 namespace hb {
 
 namespace {
@@ -19,19 +21,6 @@ TriangleMesh ccd_tool_mesh(const Tool& tool, bool point_tool) {
   mesh = tool.mesh;
   for (Vec3& vertex : mesh.vertices) vertex -= tool.mass.centre_of_mass;
   return mesh;
-}
-
-// Generalised displacement (centre of mass m, rotation vector rad) that
-// carries the pose `from` onto `to`, both frames at the centre of mass.
-Vec6 displacement(const Pose& from, const Pose& to) {
-  Vec6 d;
-  d.head<3>() = to.p - from.p;
-  d.tail<3>() = rotation_vector(to.q * from.q.conjugate());
-  return d;
-}
-
-Pose displaced(const Pose& from, const Vec6& d) {
-  return Pose{from.p + d.head<3>(), (quat_from_rotation_vector(d.tail<3>()) * from.q).normalized()};
 }
 
 Pose pose_on(const ScrewMotion& motion, double t) {
@@ -54,7 +43,7 @@ bool usable(const ContactFeatures& features, const FeatureGeometry& geometry,
 GodObjectSolver::GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings)
     : settings_(settings),
       gains_(context.coupling),
-      centre_of_mass_(settings.point_tool ? Vec3::Zero() : context.tool.mass.centre_of_mass),
+      frames_{settings.point_tool ? Vec3::Zero() : context.tool.mass.centre_of_mass},
       ccd_(ccd_tool_mesh(context.tool, settings.point_tool), context.scene) {}
 
 void GodObjectSolver::reset(const Pose& start) {
@@ -63,31 +52,8 @@ void GodObjectSolver::reset(const Pose& start) {
   warm_active_.clear();
 }
 
-Pose GodObjectSolver::ccd_frame(const Pose& tool_pose) const {
-  return Pose{tool_pose.transform_point(centre_of_mass_), tool_pose.q};
-}
-
-Pose GodObjectSolver::tool_frame(const Pose& ccd_pose) const {
-  return Pose{ccd_pose.p - ccd_pose.q * centre_of_mass_, ccd_pose.q};
-}
-
-// The coupling energy's Hessian in (centre-of-mass displacement, rotation
-// vector): the tool-frame origin moves by δc − [a]× δφ with a = origin − COM,
-// so K = Jᵀ diag(k_t I, k_r I) J, J = [[I, −[a]×], [0, I]]. A zero rotational
-// stiffness is replaced by a tiny one so K stays positive definite.
-Mat6 GodObjectSolver::metric(const Pose& tool_pose) const {
-  const Vec3 arm = -(tool_pose.q * centre_of_mass_);
-  const double radius = std::max(ccd_.tool_radius(), 1e-3);
-  const double k_r = std::max(gains_.k_r, 1e-6 * gains_.k_t * radius * radius);
-  Mat6 jacobian = Mat6::Identity();
-  jacobian.block<3, 3>(0, 3) = -skew(arm);
-  Vec6 stiffness;
-  stiffness << Vec3::Constant(gains_.k_t), Vec3::Constant(k_r);
-  return jacobian.transpose() * stiffness.asDiagonal() * jacobian;
-}
-
 void GodObjectSolver::refresh_contacts() {
-  const Pose frame = ccd_frame(proxy_);
+  const Pose frame = frames_.com_frame(proxy_);
   std::erase_if(contacts_, [&](KeptContact& contact) {
     contact.geometry = ccd_.evaluate(contact.features, frame);
     return !usable(contact.features, contact.geometry, settings_.contact_distance_m);
@@ -99,12 +65,12 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
   const double radius = settings_.point_tool ? 0.0 : ccd_.tool_radius();
   // Below this largest point displacement (m) a motion counts as none.
   constexpr double kNegligibleMotion = 1e-12;
-  auto reach = [&](const Vec6& d) { return d.head<3>().norm() + d.tail<3>().norm() * radius; };
+  auto reach = [&](const Vec6& d) { return point_reach(d, radius); };
 
   for (int iteration = 0; iteration < settings_.max_iterations; ++iteration) {
     refresh_contacts();
-    const Pose start = ccd_frame(proxy_);
-    const Vec6 unconstrained = displacement(start, ccd_frame(target));
+    const Pose start = frames_.com_frame(proxy_);
+    const Vec6 unconstrained = displacement(start, frames_.com_frame(target));
     if (reach(unconstrained) <= kNegligibleMotion) {
       stats.reached_device = true;
       break;
@@ -120,8 +86,9 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
     if (!constraints_.empty()) {
       std::erase_if(warm_active_,
                     [&](int k) { return k >= static_cast<int>(constraints_.size()); });
-      const GaussSolution& solution =
-          gauss_.solve(metric(proxy_), unconstrained, constraints_, warm_active_);
+      const GaussSolution& solution = gauss_.solve(
+          coupling_metric(gains_, frames_.centre_of_mass, proxy_.q, ccd_.tool_radius()),
+          unconstrained, constraints_, warm_active_);
       stats.qp_iterations += solution.iterations;
       if (!solution.converged) {
         stats.solver_failed = true;
@@ -138,7 +105,7 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
     stats.bv_tests += hit.bv_tests;
     stats.primitive_queries += hit.primitive_queries;
     if (!hit.contact) {
-      proxy_ = tool_frame(pose_on(motion, 1.0));
+      proxy_ = frames_.tool_frame(pose_on(motion, 1.0));
       continue;
     }
     ++stats.ccd_hits;
@@ -154,9 +121,9 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
       approach_speed = std::max(approach_speed, -contact.geometry.normal.dot(velocity));
     }
     const double stop = std::max(0.0, hit.toi - settings_.standoff_m / approach_speed);
-    proxy_ = tool_frame(pose_on(motion, stop));
+    proxy_ = frames_.tool_frame(pose_on(motion, stop));
 
-    const Pose stopped = ccd_frame(proxy_);
+    const Pose stopped = frames_.com_frame(proxy_);
     for (const MeshCcdContact& contact : hit.contacts) {
       const bool known =
           std::any_of(contacts_.begin(), contacts_.end(),

@@ -37,6 +37,7 @@
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/god_object/proxy_motion.h"
 
 namespace hb {
 
@@ -53,6 +54,13 @@ struct GodObjectSettings {
   int max_iterations = 8;
   /// The 3-DOF god-object: the tool is the point at its frame's origin.
   bool point_tool = false;
+  /// Contact discovery for the haptic-rate solve (haptic_proxy.h): feature
+  /// pairs within this distance (m) of the proxy are listed, and the proxy
+  /// may move up to about this far between slow updates.
+  double haptic_band_m = 5e-3;
+  /// At most this many pairs are listed (the nearest); the band shrinks to
+  /// the nearest pair left out.
+  int haptic_max_pairs = 64;
 };
 
 /// A contact the proxy keeps between iterations and updates.
@@ -89,19 +97,19 @@ class GodObjectSolver {
   const std::vector<KeptContact>& contacts() const { return contacts_; }
 
   /// The tool's centre of mass in tool coordinates (m); zero for a point tool.
-  const Vec3& centre_of_mass() const { return centre_of_mass_; }
+  const Vec3& centre_of_mass() const { return frames_.centre_of_mass; }
+  /// Moves the proxy to the tool-frame pose `pose` (known to be free), keeping
+  /// its contacts, which the next update refreshes there.
+  void move_proxy(const Pose& pose) { proxy_ = pose; }
   /// The CCD structures (for the build report).
   const MeshCcd& ccd() const { return ccd_; }
 
  private:
-  Pose ccd_frame(const Pose& tool_pose) const;  // tool frame -> COM frame
-  Pose tool_frame(const Pose& ccd_pose) const;  // COM frame -> tool frame
   void refresh_contacts();
-  Mat6 metric(const Pose& tool_pose) const;
 
   GodObjectSettings settings_;
   CouplingGains gains_;
-  Vec3 centre_of_mass_ = Vec3::Zero();
+  ProxyFrames frames_;
   MeshCcd ccd_;
   GaussLeastConstraintSolver gauss_;
   std::vector<GaussConstraint> constraints_;

@@ -1,0 +1,202 @@
+// Proximity of the tool and the scene at one pose: which feature pairs lie
+// within a distance, found by descending both sphere trees and pruning node
+// pairs whose spheres are farther apart than the current threshold. The
+// threshold starts at the distance asked for and shrinks to the distance of
+// the (max_pairs + 1)-th nearest pair found so far once that many are
+// known, so that a crowded contact costs about max_pairs pairs' work.
+#include "algorithms/ccd/mesh_proximity.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <queue>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "algorithms/core/closest_points.h"
+
+namespace hb::ccd_detail {
+
+namespace {
+
+// One key per feature pair, for removing the pairs found again through
+// another leaf that shares a vertex or an edge.
+uint64_t pair_key(const ContactFeatures& f) {
+  return (static_cast<uint64_t>(f.kind) << 62) ^ (static_cast<uint64_t>(f.scene_object) << 52) ^
+         (static_cast<uint64_t>(static_cast<uint32_t>(f.tool_feature)) << 26) ^
+         static_cast<uint64_t>(static_cast<uint32_t>(f.scene_feature));
+}
+
+class ProximitySearch {
+ public:
+  ProximitySearch(const MeshFeatures& tool, const Pose& tool_pose, double max_distance,
+                  std::size_t max_pairs)
+      : tool_(tool),
+        rotation_(tool_pose.q.normalized().toRotationMatrix()),
+        translation_(tool_pose.p),
+        threshold_(max_distance),
+        max_pairs_(max_pairs) {}
+
+  void search(const MeshFeatures& scene, int object) {
+    if (tool_.tree.empty() || scene.tree.empty()) return;
+    std::vector<std::pair<int, int>> stack = {{0, 0}};
+    while (!stack.empty()) {
+      const auto [t, s] = stack.back();
+      stack.pop_back();
+      const SphereTreeNode& tool_node = tool_.node(t);
+      const SphereTreeNode& scene_node = scene.node(s);
+      ++result_.bv_tests;
+      const double centres = (world(tool_node.centre) - scene_node.centre).norm();
+      if (centres - tool_node.radius - scene_node.radius > threshold_) continue;
+      if (tool_node.is_leaf() && scene_node.is_leaf()) {
+        leaf_pair(tool_.leaf(t), scene, scene.leaf(s), object);
+        continue;
+      }
+      // Open the larger sphere (or the one that is not a leaf).
+      if (scene_node.is_leaf() || (!tool_node.is_leaf() && tool_node.radius >= scene_node.radius)) {
+        stack.push_back({tool_node.first, s});
+        stack.push_back({tool_node.first + 1, s});
+      } else {
+        stack.push_back({t, scene_node.first});
+        stack.push_back({t, scene_node.first + 1});
+      }
+    }
+  }
+
+  ProximityResult finish(double max_distance) {
+    result_.clearance_m = max_distance;
+    if (nearest_.size() > max_pairs_) {
+      result_.clearance_m = nearest_.top().distance;  // the nearest pair left out
+      nearest_.pop();
+    }
+    result_.pairs.resize(nearest_.size());
+    for (std::size_t i = nearest_.size(); i-- > 0;) {
+      result_.pairs[i] = nearest_.top();
+      nearest_.pop();
+    }
+    return std::move(result_);
+  }
+
+ private:
+  Vec3 world(const Vec3& tool_point) const { return translation_ + rotation_ * tool_point; }
+
+  void leaf_pair(const LeafFeatures& tool_leaf, const MeshFeatures& scene,
+                 const LeafFeatures& scene_leaf, int object) {
+    Vec3 tool_vertices[LeafFeatures::kMaxVertices];
+    for (int i = 0; i < tool_leaf.vertex_count; ++i)
+      tool_vertices[i] = world(tool_.vertex(tool_leaf.vertices[i]));
+    auto tool_local = [&](int global) {
+      for (int i = 0; i < tool_leaf.vertex_count; ++i)
+        if (tool_leaf.vertices[i] == global) return tool_vertices[i];
+      return world(tool_.vertex(global));
+    };
+    // Tool vertices against scene faces.
+    for (int i = 0; i < tool_leaf.vertex_count; ++i) {
+      for (int k = 0; k < scene_leaf.triangle_count; ++k) {
+        const int face = scene_leaf.triangles[k];
+        const auto& tri = scene.triangle(face);
+        const Vec3 on_face = closest_point_on_triangle(tool_vertices[i], scene.vertex(tri[0]),
+                                                       scene.vertex(tri[1]), scene.vertex(tri[2]));
+        consider({ContactFeatureKind::kToolVertexSceneFace, object, tool_leaf.vertices[i], face},
+                 (tool_vertices[i] - on_face).norm());
+      }
+    }
+    // Scene vertices against tool faces.
+    for (int k = 0; k < tool_leaf.triangle_count; ++k) {
+      const int face = tool_leaf.triangles[k];
+      const auto& tri = tool_.triangle(face);
+      const Vec3 a = tool_local(tri[0]), b = tool_local(tri[1]), c = tool_local(tri[2]);
+      for (int j = 0; j < scene_leaf.vertex_count; ++j) {
+        const Vec3& vertex = scene.vertex(scene_leaf.vertices[j]);
+        const double distance = (vertex - closest_point_on_triangle(vertex, a, b, c)).norm();
+        consider({ContactFeatureKind::kSceneVertexToolFace, object, face, scene_leaf.vertices[j]},
+                 distance);
+      }
+    }
+    // Edges against edges.
+    for (int i = 0; i < tool_leaf.edge_count; ++i) {
+      const auto& te = tool_.edge(tool_leaf.edges[i]);
+      const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
+      for (int j = 0; j < scene_leaf.edge_count; ++j) {
+        const auto& se = scene.edge(scene_leaf.edges[j]);
+        const double distance =
+            closest_points_of_segments(p0, p1, scene.vertex(se[0]), scene.vertex(se[1])).distance();
+        consider({ContactFeatureKind::kEdgeEdge, object, tool_leaf.edges[i], scene_leaf.edges[j]},
+                 distance);
+      }
+    }
+  }
+
+  void consider(const ContactFeatures& features, double distance) {
+    ++result_.pair_tests;
+    if (!(distance <= threshold_)) return;
+    if (!seen_.insert(pair_key(features)).second) return;
+    nearest_.push(ProximityPair{features, distance});
+    if (nearest_.size() > max_pairs_ + 1) nearest_.pop();
+    // With max_pairs + 1 pairs known, nothing farther than the farthest of
+    // them can be listed or lower the clearance.
+    if (nearest_.size() == max_pairs_ + 1)
+      threshold_ = std::min(threshold_, nearest_.top().distance);
+  }
+
+  struct Farther {
+    bool operator()(const ProximityPair& a, const ProximityPair& b) const {
+      return a.distance < b.distance;
+    }
+  };
+
+  const MeshFeatures& tool_;
+  Mat3 rotation_;
+  Vec3 translation_;
+  double threshold_;
+  std::size_t max_pairs_;
+  std::priority_queue<ProximityPair, std::vector<ProximityPair>, Farther> nearest_;
+  std::unordered_set<uint64_t> seen_;
+  ProximityResult result_;
+};
+
+}  // namespace
+
+ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshFeatures> scene,
+                                 const Pose& tool_pose, double max_distance,
+                                 std::size_t max_pairs) {
+  ProximitySearch search(tool, tool_pose, max_distance, max_pairs);
+  for (std::size_t o = 0; o < scene.size(); ++o) search.search(scene[o], static_cast<int>(o));
+  return search.finish(max_distance);
+}
+
+PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
+                                      const ContactFeatures& features, const Pose& tool_pose) {
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  auto tool_world = [&](int v) -> Vec3 { return tool_pose.p + rotation * tool.vertex(v); };
+  PairClosestPoints out;
+  switch (features.kind) {
+    case ContactFeatureKind::kToolVertexSceneFace: {
+      const auto& tri = scene.triangle(features.scene_feature);
+      out.tool_point = tool_world(features.tool_feature);
+      out.scene_point = closest_point_on_triangle(out.tool_point, scene.vertex(tri[0]),
+                                                  scene.vertex(tri[1]), scene.vertex(tri[2]));
+      break;
+    }
+    case ContactFeatureKind::kSceneVertexToolFace: {
+      const auto& tri = tool.triangle(features.tool_feature);
+      out.scene_point = scene.vertex(features.scene_feature);
+      out.tool_point = closest_point_on_triangle(out.scene_point, tool_world(tri[0]),
+                                                 tool_world(tri[1]), tool_world(tri[2]));
+      break;
+    }
+    case ContactFeatureKind::kEdgeEdge: {
+      const auto& te = tool.edge(features.tool_feature);
+      const auto& se = scene.edge(features.scene_feature);
+      const SegmentClosestPoints points = closest_points_of_segments(
+          tool_world(te[0]), tool_world(te[1]), scene.vertex(se[0]), scene.vertex(se[1]));
+      out.tool_point = points.on_p;
+      out.scene_point = points.on_q;
+      break;
+    }
+  }
+  out.distance = (out.tool_point - out.scene_point).norm();
+  return out;
+}
+
+}  // namespace hb::ccd_detail

@@ -1,0 +1,112 @@
+// Proximity queries against brute force: at random poses of a tool near a
+// scene, the pairs listed are exactly those within the distance asked for
+// (or the nearest max_pairs), and no pair left out is nearer than the
+// clearance. Distances are recomputed from the meshes with the closest-
+// point functions, pair by pair.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <random>
+#include <vector>
+
+#include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/core/closest_points.h"
+#include "algorithms/core/shapes.h"
+#include "tests/support/proxy_fixtures.h"
+
+namespace hb {
+namespace {
+
+struct BruteForcePair {
+  ContactFeatures features;
+  double distance;
+};
+
+// Every feature pair of the tool (mesh in its own frame, placed at `pose`)
+// and the one scene object, with its distance.
+std::vector<BruteForcePair> all_pairs(const MeshCcd& ccd, const TriangleMesh& tool,
+                                      const TriangleMesh& scene, const Pose& pose) {
+  std::vector<Vec3> world;
+  for (const Vec3& v : tool.vertices) world.push_back(pose.transform_point(v));
+  std::vector<BruteForcePair> pairs;
+  for (std::size_t v = 0; v < world.size(); ++v)
+    for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+      const auto& tri = scene.triangles[t];
+      const Vec3 on = closest_point_on_triangle(world[v], scene.vertices[tri[0]],
+                                                scene.vertices[tri[1]], scene.vertices[tri[2]]);
+      pairs.push_back(
+          {{ContactFeatureKind::kToolVertexSceneFace, 0, int(v), int(t)}, (world[v] - on).norm()});
+    }
+  for (std::size_t t = 0; t < tool.triangles.size(); ++t)
+    for (std::size_t v = 0; v < scene.vertices.size(); ++v) {
+      const auto& tri = tool.triangles[t];
+      const Vec3 on =
+          closest_point_on_triangle(scene.vertices[v], world[tri[0]], world[tri[1]], world[tri[2]]);
+      pairs.push_back({{ContactFeatureKind::kSceneVertexToolFace, 0, int(t), int(v)},
+                       (scene.vertices[v] - on).norm()});
+    }
+  const auto tool_edges = ccd.tool_edges();
+  const auto scene_edges = ccd.scene_edges(0);
+  for (std::size_t a = 0; a < tool_edges.size(); ++a)
+    for (std::size_t b = 0; b < scene_edges.size(); ++b) {
+      const double d = closest_points_of_segments(world[tool_edges[a][0]], world[tool_edges[a][1]],
+                                                  scene.vertices[scene_edges[b][0]],
+                                                  scene.vertices[scene_edges[b][1]])
+                           .distance();
+      pairs.push_back({{ContactFeatureKind::kEdgeEdge, 0, int(a), int(b)}, d});
+    }
+  return pairs;
+}
+
+bool listed(const ProximityResult& result, const ContactFeatures& features) {
+  return std::any_of(result.pairs.begin(), result.pairs.end(),
+                     [&](const ProximityPair& p) { return p.features == features; });
+}
+
+TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest ones") {
+  // A 2 cm icosphere tool over a 4 cm box scene (world frame), at random
+  // poses from touching distance to 1 cm away.
+  const TriangleMesh tool = shape_mesh(test::sphere_tool(0.01).shape.value());
+  SceneObject box = test::box_object(Vec3(0.04, 0.04, 0.04), Pose{});
+  box.mesh = shape_mesh(*box.shape);
+  const std::vector<SceneObject> scene = {box};
+  const MeshCcd ccd(tool, scene);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.01), angle(-3, 3);
+  int crowded = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Pose pose{Vec3(lateral(rng), lateral(rng), 0.02 + 0.01 + gap(rng)),
+                    quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
+    const std::vector<BruteForcePair> pairs = all_pairs(ccd, tool, box.mesh, pose);
+    for (std::size_t max_pairs : {std::size_t{100000}, std::size_t{8}}) {
+      const double max_distance = 0.005;
+      const ProximityResult result = ccd.proximity(pose, max_distance, max_pairs);
+      INFO("trial " << trial << ", max_pairs " << max_pairs << ", listed " << result.pairs.size());
+      REQUIRE(result.pairs.size() <= max_pairs);
+      CHECK(result.clearance_m <= max_distance);
+      CHECK(std::is_sorted(result.pairs.begin(), result.pairs.end(),
+                           [](const auto& a, const auto& b) { return a.distance < b.distance; }));
+      std::size_t within = 0;
+      for (const BruteForcePair& pair : pairs) {
+        within += pair.distance <= max_distance;
+        if (listed(result, pair.features)) {
+          CHECK(pair.distance <= result.clearance_m + 1e-15);
+          const PairClosestPoints points = ccd.closest_points(pair.features, pose);
+          CHECK(points.distance == Approx(pair.distance).margin(1e-15));
+        } else {
+          CHECK(pair.distance >= result.clearance_m - 1e-15);  // no unlisted pair is nearer
+        }
+      }
+      if (max_pairs > within) {
+        CHECK(result.pairs.size() == within);  // every pair within the distance
+        CHECK(result.clearance_m == max_distance);
+      } else {
+        ++crowded;
+        CHECK(result.pairs.size() == max_pairs);
+      }
+    }
+  }
+  CHECK(crowded > 10);  // the cap was exercised
+}
+
+}  // namespace
+}  // namespace hb

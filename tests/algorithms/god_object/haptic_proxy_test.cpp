@@ -1,0 +1,126 @@
+// The god-object's haptic-rate solve: in free space the proxy is the
+// device's pose at every tick; it never leaves its certificate's reach;
+// random device motions with certificates refreshed every few ticks never
+// carry a cube vertex below the face; a press ends resting at the standoff.
+#include "algorithms/god_object/haptic_proxy.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "algorithms/core/shapes.h"
+#include "tests/support/proxy_fixtures.h"
+
+namespace hb {
+namespace {
+
+constexpr double kCube = 0.04;  // cube tool edge (m)
+
+struct CubeOnSlab {
+  RenderContext context;
+  GodObjectSettings settings;
+  GodObjectSolver solver;  // owns the CCD structures the haptic proxy uses
+  HapticProxy proxy;
+
+  CubeOnSlab()
+      : context(make_context()),
+        solver(context, settings),
+        proxy(solver.ccd(), context.coupling, settings, context.tool.mass.centre_of_mass) {}
+
+  // A 0.4 × 0.4 × 0.02 m slab whose top face is the plane z = 0.
+  static RenderContext make_context() {
+    RenderContext context;
+    SceneObject slab =
+        test::box_object(Vec3(0.4, 0.4, 0.02), Pose{Vec3(0, 0, -0.01), Quat::Identity()});
+    slab.mesh = shape_mesh(*slab.shape);
+    context.scene.push_back(slab);
+    context.tool = test::box_tool(Vec3::Constant(kCube));
+    context.tool.mesh = shape_mesh(*context.tool.shape);
+    context.coupling = test::example_gains();
+    return context;
+  }
+
+  double lowest_vertex_z() const {
+    double lowest = 1e300;
+    for (const Vec3& vertex : context.tool.mesh.vertices)
+      lowest = std::min(lowest, proxy.pose().transform_point(vertex).z());
+    return lowest;
+  }
+};
+
+Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
+
+TEST_CASE("in free space the proxy is the device's pose until it would leave the certificate") {
+  CubeOnSlab rig;
+  rig.proxy.reset(at(Vec3(0, 0, 0.1)));  // 8 cm above the face: nothing within the band
+  CHECK(rig.proxy.certificate().pairs.empty());
+  CHECK(rig.proxy.certificate().clearance_m == rig.settings.haptic_band_m);
+  const double reach = rig.settings.haptic_band_m - rig.settings.standoff_m;
+  for (int tick = 1; tick <= 80; ++tick) {
+    // 0.1 mm per tick sideways, with a slow turn; no new certificate.
+    const Pose target =
+        at(Vec3(1e-4 * tick, 0, 0.1), quat_from_rotation_vector(Vec3(0, 0, 1e-3 * tick)));
+    const HapticSolveStats stats = rig.proxy.step(target);
+    const double moved = point_reach(
+        displacement(rig.proxy.certificate().anchor, Pose{rig.proxy.pose().p, rig.proxy.pose().q}),
+        rig.solver.ccd().tool_radius());
+    INFO("tick " << tick);
+    CHECK(moved <= reach * (1 + 1e-9));
+    if (!stats.bounded) {
+      CHECK((rig.proxy.pose().p - target.p).norm() < 1e-12);
+      CHECK(rig.proxy.pose().q.angularDistance(target.q) < 1e-12);
+    }
+    if (tick <= 30) CHECK_FALSE(stats.bounded);  // 3 mm + 0.03 rad · 3.5 cm < 5 mm
+    if (tick >= 60) CHECK(stats.bounded);
+  }
+  // A new certificate at the proxy lets it move on at once.
+  const Pose target = at(rig.proxy.pose().p + Vec3(0.002, 0, 0), rig.proxy.pose().q);
+  CHECK(rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target));
+  rig.proxy.step(target);
+  CHECK((rig.proxy.pose().p - target.p).norm() < 1e-12);
+}
+
+TEST_CASE("random device motions at the haptic rate never carry a cube vertex below the face") {
+  CubeOnSlab rig;
+  rig.proxy.reset(at(Vec3(0, 0, 0.05)));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> offset(-0.001, 0.001);
+  std::uniform_real_distribution<double> angle(-0.02, 0.02);
+  Pose target = at(Vec3(0, 0, 0.05));
+  int contact_ticks = 0;
+  for (int tick = 0; tick < 3000; ++tick) {
+    // A random walk that keeps returning toward (and below) the face.
+    target.p += Vec3(offset(rng), offset(rng), offset(rng) - 0.0004);
+    target.p.z() = std::clamp(target.p.z(), 0.0, 0.06);
+    target.p.x() = std::clamp(target.p.x(), -0.1, 0.1);
+    target.p.y() = std::clamp(target.p.y(), -0.1, 0.1);
+    target.q = (quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng))) * target.q)
+                   .normalized();
+    if (tick % 10 == 0)  // a slow loop at 100 Hz
+      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target);
+    rig.proxy.step(target);
+    INFO("tick " << tick);
+    REQUIRE(rig.lowest_vertex_z() >= 0.0);
+    if (!rig.proxy.contacts().empty()) ++contact_ticks;
+  }
+  CHECK(contact_ticks > 500);  // the walk did press on the face
+}
+
+TEST_CASE("a cube pressed into the face rests on it at the standoff") {
+  CubeOnSlab rig;
+  rig.proxy.reset(at(Vec3(0, 0, 0.021)));         // 1 mm above the face
+  const Pose target = at(Vec3(0.001, 0, 0.016));  // 4 mm deep
+  for (int tick = 0; tick < 50; ++tick) {
+    if (tick % 5 == 0)
+      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target);
+    rig.proxy.step(target);
+  }
+  CHECK(rig.lowest_vertex_z() >= 0.0);
+  CHECK(rig.lowest_vertex_z() <= rig.settings.contact_distance_m);
+  CHECK(rig.proxy.pose().p.x() == Approx(0.001).margin(1e-9));  // free along the face
+  REQUIRE(rig.proxy.contacts().size() >= 3);
+  for (const Contact& contact : rig.proxy.contacts()) CHECK(contact.normal.z() > 0.999);
+}
+
+}  // namespace
+}  // namespace hb
