@@ -1,14 +1,17 @@
 // Proximity of the tool and the scene at one pose: which feature pairs lie
-// within a distance, found by descending both sphere trees and pruning node
-// pairs whose spheres are farther apart than the current threshold. The
+// within a distance, found by descending both sphere trees nearest node
+// pair first and pruning node pairs whose spheres are farther apart than
+// the current threshold. The
 // threshold starts at the distance asked for and shrinks to the distance of
 // the (max_pairs + 1)-th nearest pair found so far once that many are
 // known, so that a crowded contact costs about max_pairs pairs' work.
 #include "algorithms/ccd/mesh_proximity.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <queue>
+#include <span>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -37,28 +40,32 @@ class ProximitySearch {
         threshold_(max_distance),
         max_pairs_(max_pairs) {}
 
-  void search(const MeshFeatures& scene, int object) {
-    if (tool_.tree.empty() || scene.tree.empty()) return;
-    std::vector<std::pair<int, int>> stack = {{0, 0}};
-    while (!stack.empty()) {
-      const auto [t, s] = stack.back();
-      stack.pop_back();
-      const SphereTreeNode& tool_node = tool_.node(t);
-      const SphereTreeNode& scene_node = scene.node(s);
-      ++result_.bv_tests;
-      const double centres = (world(tool_node.centre) - scene_node.centre).norm();
-      if (centres - tool_node.radius - scene_node.radius > threshold_) continue;
+  // Best first: node pairs in increasing order of the lower bound on their
+  // features' distance, so the nearest pairs are found early and the
+  // threshold shrinks before most of the trees is opened.
+  void search(std::span<const MeshFeatures> scene) {
+    if (tool_.tree.empty()) return;
+    for (std::size_t o = 0; o < scene.size(); ++o)
+      if (!scene[o].tree.empty()) push(static_cast<int>(o), 0, scene[o], 0);
+    while (!open_.empty()) {
+      const NodePair pair = open_.top();
+      open_.pop();
+      if (pair.lower_bound > threshold_) break;  // every other pair is farther still
+      const MeshFeatures& objects = scene[static_cast<std::size_t>(pair.object)];
+      const SphereTreeNode& tool_node = tool_.node(pair.tool);
+      const SphereTreeNode& scene_node = objects.node(pair.scene);
       if (tool_node.is_leaf() && scene_node.is_leaf()) {
-        leaf_pair(tool_.leaf(t), scene, scene.leaf(s), object);
+        leaf_pair(tool_node, tool_.leaf(pair.tool), objects, scene_node, objects.leaf(pair.scene),
+                  pair.object);
         continue;
       }
       // Open the larger sphere (or the one that is not a leaf).
       if (scene_node.is_leaf() || (!tool_node.is_leaf() && tool_node.radius >= scene_node.radius)) {
-        stack.push_back({tool_node.first, s});
-        stack.push_back({tool_node.first + 1, s});
+        push(pair.object, tool_node.first, objects, pair.scene);
+        push(pair.object, tool_node.first + 1, objects, pair.scene);
       } else {
-        stack.push_back({t, scene_node.first});
-        stack.push_back({t, scene_node.first + 1});
+        push(pair.object, pair.tool, objects, scene_node.first);
+        push(pair.object, pair.tool, objects, scene_node.first + 1);
       }
     }
   }
@@ -78,9 +85,32 @@ class ProximitySearch {
   }
 
  private:
+  struct NodePair {
+    double lower_bound;  ///< no two features of the nodes are nearer (m)
+    int object, tool, scene;
+  };
+  struct Nearer {
+    bool operator()(const NodePair& a, const NodePair& b) const {
+      return a.lower_bound > b.lower_bound;
+    }
+  };
+
   Vec3 world(const Vec3& tool_point) const { return translation_ + rotation_ * tool_point; }
 
-  void leaf_pair(const LeafFeatures& tool_leaf, const MeshFeatures& scene,
+  void push(int object, int tool, const MeshFeatures& scene, int scene_node) {
+    const SphereTreeNode& a = tool_.node(tool);
+    const SphereTreeNode& b = scene.node(scene_node);
+    ++result_.bv_tests;
+    const double bound = (world(a.centre) - b.centre).norm() - a.radius - b.radius;
+    if (bound <= threshold_) open_.push(NodePair{bound, object, tool, scene_node});
+  }
+
+  // Every feature pair of two leaves, each skipped when a cheap lower bound
+  // on its distance already exceeds the threshold: a vertex's distance to
+  // the other leaf's sphere or to a face's plane, an edge's midpoint sphere
+  // against the other leaf's sphere or the other edge's.
+  void leaf_pair(const SphereTreeNode& tool_node, const LeafFeatures& tool_leaf,
+                 const MeshFeatures& scene, const SphereTreeNode& scene_node,
                  const LeafFeatures& scene_leaf, int object) {
     Vec3 tool_vertices[LeafFeatures::kMaxVertices];
     for (int i = 0; i < tool_leaf.vertex_count; ++i)
@@ -90,15 +120,23 @@ class ProximitySearch {
         if (tool_leaf.vertices[i] == global) return tool_vertices[i];
       return world(tool_.vertex(global));
     };
+    const Vec3 tool_centre = world(tool_node.centre);
+    auto beyond = [&](const Vec3& point, double radius, const Vec3& centre, double centre_radius) {
+      return (point - centre).norm() - radius - centre_radius > threshold_;
+    };
     // Tool vertices against scene faces.
     for (int i = 0; i < tool_leaf.vertex_count; ++i) {
+      const Vec3& v = tool_vertices[i];
+      if (beyond(v, 0, scene_node.centre, scene_node.radius)) continue;
       for (int k = 0; k < scene_leaf.triangle_count; ++k) {
         const int face = scene_leaf.triangles[k];
         const auto& tri = scene.triangle(face);
-        const Vec3 on_face = closest_point_on_triangle(tool_vertices[i], scene.vertex(tri[0]),
+        const Vec3& normal = scene.face_normals[static_cast<std::size_t>(face)];
+        if (std::abs(normal.dot(v - scene.vertex(tri[0]))) > threshold_) continue;
+        const Vec3 on_face = closest_point_on_triangle(v, scene.vertex(tri[0]),
                                                        scene.vertex(tri[1]), scene.vertex(tri[2]));
         consider({ContactFeatureKind::kToolVertexSceneFace, object, tool_leaf.vertices[i], face},
-                 (tool_vertices[i] - on_face).norm());
+                 (v - on_face).norm());
       }
     }
     // Scene vertices against tool faces.
@@ -106,8 +144,11 @@ class ProximitySearch {
       const int face = tool_leaf.triangles[k];
       const auto& tri = tool_.triangle(face);
       const Vec3 a = tool_local(tri[0]), b = tool_local(tri[1]), c = tool_local(tri[2]);
+      const Vec3 normal = rotation_ * tool_.face_normals[static_cast<std::size_t>(face)];
       for (int j = 0; j < scene_leaf.vertex_count; ++j) {
         const Vec3& vertex = scene.vertex(scene_leaf.vertices[j]);
+        if (beyond(vertex, 0, tool_centre, tool_node.radius)) continue;
+        if (std::abs(normal.dot(vertex - a)) > threshold_) continue;
         const double distance = (vertex - closest_point_on_triangle(vertex, a, b, c)).norm();
         consider({ContactFeatureKind::kSceneVertexToolFace, object, face, scene_leaf.vertices[j]},
                  distance);
@@ -117,10 +158,15 @@ class ProximitySearch {
     for (int i = 0; i < tool_leaf.edge_count; ++i) {
       const auto& te = tool_.edge(tool_leaf.edges[i]);
       const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
+      const Vec3 middle = 0.5 * (p0 + p1);
+      const double half = 0.5 * (p1 - p0).norm();
+      if (beyond(middle, half, scene_node.centre, scene_node.radius)) continue;
       for (int j = 0; j < scene_leaf.edge_count; ++j) {
         const auto& se = scene.edge(scene_leaf.edges[j]);
-        const double distance =
-            closest_points_of_segments(p0, p1, scene.vertex(se[0]), scene.vertex(se[1])).distance();
+        const Vec3& q0 = scene.vertex(se[0]);
+        const Vec3& q1 = scene.vertex(se[1]);
+        if (beyond(middle, half, 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm())) continue;
+        const double distance = closest_points_of_segments(p0, p1, q0, q1).distance();
         consider({ContactFeatureKind::kEdgeEdge, object, tool_leaf.edges[i], scene_leaf.edges[j]},
                  distance);
       }
@@ -152,6 +198,7 @@ class ProximitySearch {
   std::size_t max_pairs_;
   std::priority_queue<ProximityPair, std::vector<ProximityPair>, Farther> nearest_;
   std::unordered_set<uint64_t> seen_;
+  std::priority_queue<NodePair, std::vector<NodePair>, Nearer> open_;
   ProximityResult result_;
 };
 
@@ -161,7 +208,7 @@ ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshF
                                  const Pose& tool_pose, double max_distance,
                                  std::size_t max_pairs) {
   ProximitySearch search(tool, tool_pose, max_distance, max_pairs);
-  for (std::size_t o = 0; o < scene.size(); ++o) search.search(scene[o], static_cast<int>(o));
+  search.search(scene);
   return search.finish(max_distance);
 }
 

@@ -41,6 +41,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     target_ = start;
     proxy_ = state_at_rest(body_, start);
     mailbox_.clear();
+    previous_update_target_.reset();
   }
 
   // Installs a finished update, then moves the proxy toward the device by
@@ -85,7 +86,9 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     solver_.move_proxy(haptic_.pose());
     update.stats = solver_.update(target_);
     update.proxy = solver_.proxy_pose();
-    update.certificate = haptic_.certify(update.proxy);
+    const double band = haptic_.band_for(previous_update_target_.value_or(target_), target_);
+    previous_update_target_ = target_;
+    update.certificate = haptic_.certify(update.proxy, band);
     return box;
   }
 
@@ -116,6 +119,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   Pose target_;             ///< the latest finite device pose, read by the slow loop
   RigidBodyState proxy_;    ///< the displayed proxy: the haptic proxy's pose and velocity
   SlowLoopMailbox<GodObjectUpdate> mailbox_;
+  std::optional<Pose> previous_update_target_;  ///< the device's pose at the last slow update
 };
 
 }  // namespace

@@ -20,7 +20,8 @@ namespace hb {
 /// Reads "standoff" (m, default 1e-5), "contact_distance" (m, > standoff,
 /// default 1e-4), "max_iterations" (default 8), "ccd_time_tolerance"
 /// (default 1e-6), "ccd_max_evaluations" (default 64), "contact_window"
-/// (default 1e-3), "haptic_band" (m, > standoff, default 5e-3) and
+/// (default 1e-3), "haptic_band" (m, > standoff, default 5e-3), "haptic_band_min"
+/// (m, default 5e-4) and
 /// "haptic_max_pairs" (default 64). Throws InputError naming the field.
 GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool);
 

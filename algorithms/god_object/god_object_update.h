@@ -55,9 +55,14 @@ struct GodObjectSettings {
   /// The 3-DOF god-object: the tool is the point at its frame's origin.
   bool point_tool = false;
   /// Contact discovery for the haptic-rate solve (haptic_proxy.h): feature
-  /// pairs within this distance (m) of the proxy are listed, and the proxy
-  /// may move up to about this far between slow updates.
+  /// pairs within the band (m) of the proxy are listed, and the proxy may
+  /// move up to about this far between slow updates. The band is six times
+  /// how far the device moved between the last two slow updates (the
+  /// certificate must last until the next one is installed, up to two such
+  /// intervals, with a margin of three), within [haptic_band_min_m,
+  /// haptic_band_m].
   double haptic_band_m = 5e-3;
+  double haptic_band_min_m = 5e-4;
   /// At most this many pairs are listed (the nearest); the band shrinks to
   /// the nearest pair left out.
   int haptic_max_pairs = 64;

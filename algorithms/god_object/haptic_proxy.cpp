@@ -21,21 +21,27 @@ HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,
       frames_{centre_of_mass},
       radius_(settings.point_tool ? 0.0 : ccd.tool_radius()) {}
 
-ProximityCertificate HapticProxy::certify(const Pose& tool_pose) const {
+ProximityCertificate HapticProxy::certify(const Pose& tool_pose, double band_m) const {
   ProximityCertificate certificate;
   certificate.anchor = frames_.com_frame(tool_pose);
-  const ProximityResult found =
-      ccd_.proximity(certificate.anchor, settings_.haptic_band_m,
-                     static_cast<std::size_t>(settings_.haptic_max_pairs));
+  const ProximityResult found = ccd_.proximity(
+      certificate.anchor, band_m, static_cast<std::size_t>(settings_.haptic_max_pairs));
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   for (const ProximityPair& pair : found.pairs) certificate.pairs.push_back(pair.features);
   return certificate;
 }
 
+double HapticProxy::band_for(const Pose& previous_target, const Pose& target) const {
+  constexpr double kMargin = 6.0;  // two intervals until the next certificate, times three
+  const double moved = point_reach(
+      displacement(frames_.com_frame(previous_target), frames_.com_frame(target)), radius_);
+  return std::clamp(kMargin * moved, settings_.haptic_band_min_m, settings_.haptic_band_m);
+}
+
 void HapticProxy::reset(const Pose& start) {
   pose_ = start;
-  certificate_ = certify(start);
+  certificate_ = certify(start, settings_.haptic_band_m);
   warm_active_.clear();
   contacts_.clear();
 }

@@ -52,8 +52,14 @@ class HapticProxy {
   HapticProxy(const MeshCcd& ccd, const CouplingGains& gains, const GodObjectSettings& settings,
               const Vec3& centre_of_mass);
 
-  /// The proximity query the slow loop runs for a certificate at `tool_pose`.
-  ProximityCertificate certify(const Pose& tool_pose) const;
+  /// The proximity query the slow loop runs for a certificate at `tool_pose`,
+  /// listing pairs within `band_m` (at most settings.haptic_max_pairs).
+  ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
+
+  /// The band for the next certificate: six times how far (point_reach) the
+  /// device moved from `previous_target` to `target` between two slow
+  /// updates, within the settings' [haptic_band_min_m, haptic_band_m].
+  double band_for(const Pose& previous_target, const Pose& target) const;
 
   /// Puts the proxy at the tool-frame pose `start` (free of the scene) with
   /// a certificate computed there.

@@ -75,7 +75,8 @@ TEST_CASE("in free space the proxy is the device's pose until it would leave the
   }
   // A new certificate at the proxy lets it move on at once.
   const Pose target = at(rig.proxy.pose().p + Vec3(0.002, 0, 0), rig.proxy.pose().q);
-  CHECK(rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target));
+  CHECK(rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                        rig.proxy.pose(), target));
   rig.proxy.step(target);
   CHECK((rig.proxy.pose().p - target.p).norm() < 1e-12);
 }
@@ -97,7 +98,8 @@ TEST_CASE("random device motions at the haptic rate never carry a cube vertex be
     target.q = (quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng))) * target.q)
                    .normalized();
     if (tick % 10 == 0)  // a slow loop at 100 Hz
-      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target);
+      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                      rig.proxy.pose(), target);
     rig.proxy.step(target);
     INFO("tick " << tick);
     REQUIRE(rig.lowest_vertex_z() >= 0.0);
@@ -112,7 +114,8 @@ TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   const Pose target = at(Vec3(0.001, 0, 0.016));  // 4 mm deep
   for (int tick = 0; tick < 50; ++tick) {
     if (tick % 5 == 0)
-      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose()), rig.proxy.pose(), target);
+      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                      rig.proxy.pose(), target);
     rig.proxy.step(target);
   }
   CHECK(rig.lowest_vertex_z() >= 0.0);
@@ -120,6 +123,19 @@ TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   CHECK(rig.proxy.pose().p.x() == Approx(0.001).margin(1e-9));  // free along the face
   REQUIRE(rig.proxy.contacts().size() >= 3);
   for (const Contact& contact : rig.proxy.contacts()) CHECK(contact.normal.z() > 0.999);
+}
+
+TEST_CASE("the band follows the device's speed between slow updates, within its limits") {
+  CubeOnSlab rig;
+  const Pose still = at(Vec3(0, 0, 0.1));
+  CHECK(rig.proxy.band_for(still, still) == rig.settings.haptic_band_min_m);
+  CHECK(rig.proxy.band_for(still, at(Vec3(2e-4, 0, 0.1))) == Approx(1.2e-3));  // 6 × 0.2 mm
+  CHECK(rig.proxy.band_for(still, at(Vec3(0.01, 0, 0.1))) == rig.settings.haptic_band_m);
+  // A turn counts by how far it moves the cube's corners: 0.01 rad × 3.46 cm.
+  const double corner = std::sqrt(3.0) * kCube / 2;
+  CHECK(
+      rig.proxy.band_for(still, at(Vec3(0, 0, 0.1), quat_from_rotation_vector(Vec3(0, 0, 0.01)))) ==
+      Approx(6 * 0.01 * corner).epsilon(1e-6));
 }
 
 }  // namespace
