@@ -51,6 +51,7 @@ void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
   // covers it (spread from the update's start to its installation).
   if (record.slow_started) {
     slow_ns_.add(record.slow_ns);
+    if (record.slow_ns > kTickNs) ++slow_over_tick_;
     const int64_t latency = std::max<int64_t>(1, record.slow_latency_ticks);
     cpu_spreads_.push_back(
         {index + latency - 1, static_cast<double>(record.slow_ns) / static_cast<double>(latency)});
@@ -227,6 +228,7 @@ RunMetrics MetricsAccumulator::finish() const {
     const double seconds =
         static_cast<double>(m.timing.ticks) * 1e-9 * static_cast<double>(kTickNs);
     m.timing.slow_loop_rate_hz = static_cast<double>(slow_ns_.count()) / seconds;
+    m.timing.slow_updates_over_tick = slow_over_tick_;
   }
   if (slow_age_count_ > 0) {
     m.timing.slow_data_age_mean_ticks =

@@ -50,6 +50,7 @@ struct TimingMetrics {
   // Slow loop of a multi-rate algorithm; empty without one.
   std::optional<Percentiles> slow_update_ns;
   std::optional<double> slow_loop_rate_hz;         ///< updates per second of virtual time
+  std::optional<int64_t> slow_updates_over_tick;   ///< updates that took longer than 1 ms
   std::optional<double> slow_data_age_mean_ticks;  ///< staleness of contact data seen by step()
   std::optional<int64_t> slow_data_age_max_ticks;
   CpuPerTick cpu_per_tick_ns;
@@ -189,6 +190,7 @@ class MetricsAccumulator {
   StreamingPercentiles cpu_ns_;
   double cpu_sum_ns_ = 0;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
+  int64_t slow_over_tick_ = 0;
   RunMetrics partial_;
   // Force signal and (ideal, displayed) force per reference tick, for finish().
   SpillBuffer<std::array<double, 3>> forces_;

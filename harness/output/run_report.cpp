@@ -106,6 +106,12 @@ json run_json(const AlgorithmRun& run) {
              run.schedule_source.empty() ? json(nullptr) : json(run.schedule_source)},
             {"update_ns", percentiles_json(m.timing.slow_update_ns)},
             {"rate_hz", or_null(m.timing.slow_loop_rate_hz)},
+            {"updates_over_1ms", or_null(m.timing.slow_updates_over_tick)},
+            {"updates_over_1ms_share",
+             m.timing.slow_updates_over_tick && m.timing.slow_update_ns->count > 0
+                 ? json(static_cast<double>(*m.timing.slow_updates_over_tick) /
+                        static_cast<double>(m.timing.slow_update_ns->count))
+                 : json(nullptr)},
             {"data_age_mean_ticks", or_null(m.timing.slow_data_age_mean_ticks)},
             {"data_age_max_ticks", or_null(m.timing.slow_data_age_max_ticks)}};
   }

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 
@@ -56,6 +57,35 @@ struct SyntheticRun {
     metrics.add(r, e);
   }
 };
+
+TEST_CASE("slow updates: time spread over the ticks until installation, count over 1 ms") {
+  // Ten ticks of 100 ns; updates of 3 ms (installed 3 ticks later), 0.5 ms
+  // (1 tick) and 2 ms (2 ticks) starting at ticks 0, 3 and 4.
+  MetricsAccumulator metrics{MetricsSettings{}};
+  std::vector<DeviceSample> samples(10);
+  const std::map<int, std::pair<int64_t, int64_t>> updates = {
+      {0, {3'000'000, 3}}, {3, {500'000, 1}}, {4, {2'000'000, 2}}};
+  for (int k = 0; k < 10; ++k) {
+    samples[k].tick = k;
+    TickRecord r;
+    r.device = &samples[k];
+    r.step_ns = 100;
+    if (const auto it = updates.find(k); it != updates.end()) {
+      r.slow_started = true;
+      r.slow_ns = it->second.first;
+      r.slow_latency_ticks = it->second.second;
+    }
+    metrics.add(r, TickEvaluation{});
+  }
+  const RunMetrics m = metrics.finish();
+  CHECK(m.timing.slow_updates_over_tick == 2);
+  REQUIRE(m.timing.slow_update_ns);
+  CHECK(m.timing.slow_update_ns->count == 3);
+  // Per tick: 1,000,100 ns at ticks 0-2 and 4-5, 500,100 at tick 3, 100 after.
+  CHECK(m.timing.cpu_per_tick_ns.mean == Approx((5 * 1'000'100.0 + 500'100 + 4 * 100) / 10));
+  CHECK(m.timing.cpu_per_tick_ns.percentiles.p50 == 500'100);
+  CHECK(m.timing.cpu_per_tick_ns.percentiles.max == 1'000'100);
+}
 
 TEST_CASE("force error, direction error and penetration against the reference") {
   SyntheticRun run;
