@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <new>
 #include <optional>
 #include <sstream>
@@ -107,7 +108,9 @@ std::vector<std::string_view> words_of(std::string_view line) {
   return words;
 }
 
-// A line's number of words and its first word as an integer (if it is one).
+// A line's number of words and the integer its first word starts with, as
+// a stream reads it (an optional '+', digits, then anything: the readers
+// take "2000000000" from "2000000000\x1f..." and stop there).
 struct LineTokens {
   std::size_t count = 0;
   std::optional<long long> first_integer;
@@ -117,9 +120,12 @@ LineTokens tokens_of(const std::vector<std::string_view>& words) {
   out.count = words.size();
   long long value = 0;
   if (!words.empty()) {
-    const auto [end, error] =
-        std::from_chars(words[0].data(), words[0].data() + words[0].size(), value);
-    if (error == std::errc() && end == words[0].data() + words[0].size()) out.first_integer = value;
+    std::string_view first = words[0];
+    if (first.size() > 1 && first[0] == '+' && first[1] != '-') first.remove_prefix(1);
+    const auto [end, error] = std::from_chars(first.data(), first.data() + first.size(), value);
+    if (error == std::errc()) out.first_integer = value;
+    if (error == std::errc::result_out_of_range)
+      out.first_integer = std::numeric_limits<long long>::max();
   }
   return out;
 }

@@ -202,6 +202,20 @@ TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io
              Catch::Contains("empty.off"));
 }
 
+TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
+  // The readers take the digits a word starts with ("2000000000" from
+  // "2000000000\x1f...") and a leading '+': the check must too (found by
+  // fuzzing: each made the reader allocate 16 GB).
+  TempFolder folder;
+  const std::string head = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+  for (const std::string face :
+       {std::string("2000000000\x1f\x15 0 1 2\n"), std::string("+2000000000 0 1 2\n")}) {
+    CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("count.off", head + face)); }),
+               Catch::Contains("count.off: line 6") &&
+                   Catch::Contains("declares 2000000000 corners but the line lists 3"));
+  }
+}
+
 TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
   TempFolder folder;
   // One triangle: 80-byte header, count 1, normal, three corners, attribute.
