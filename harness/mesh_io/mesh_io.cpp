@@ -206,6 +206,13 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
       for (std::string word; tokens.size() < 4 && words >> word;) tokens.push_back(word);
     }
     if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
+    // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
+    // below cannot read, and the reader trusted them (found by fuzzing: a
+    // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
+    if (tokens[0].find("BINARY") != std::string::npos ||
+        (tokens.size() > 1 && tokens[1] == "BINARY"))
+      throw InputError(path, "line 1",
+                       "binary OFF is not read; convert the mesh to text OFF, PLY, OBJ or STL");
     long double counts[2] = {0, 0};
     const char* names[] = {"vertices", "faces"};
     for (std::size_t k = 1; k < 3 && k < tokens.size(); ++k) {
@@ -213,7 +220,7 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
       if (!(number >> counts[k - 1])) return;  // the reader reports it
       check_declared_count(path, names[k - 1], counts[k - 1], file_bytes);
     }
-    if (tokens[0].find("BINARY") != std::string::npos || tokens.size() < 4) return;
+    if (tokens.size() < 4) return;
     const auto vertex_lines = static_cast<std::size_t>(counts[0]);
     const auto face_lines = static_cast<std::size_t>(counts[1]);
     std::size_t vertices = 0, faces = 0;

@@ -214,6 +214,11 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
                Catch::Contains("count.off: line 6") &&
                    Catch::Contains("declares 2000000000 corners but the line lists 3"));
   }
+  // Binary OFF is refused: its raw counts were trusted (4 GB from 200 bytes).
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write("binary.off", "OFF\n\nBINARY\n\n\n\n\x9e\n"));
+             }),
+             Catch::Contains("binary.off: line 1") && Catch::Contains("binary OFF is not read"));
 }
 
 TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
