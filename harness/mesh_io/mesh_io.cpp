@@ -209,8 +209,14 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
     // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
     // below cannot read, and the reader trusted them (found by fuzzing: a
     // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
+    // The reader takes the keyword's letters and digits only ("BINARY]" is BINARY).
+    const auto keyword = [](const std::string& token) {
+      const auto end = std::find_if(token.begin(), token.end(),
+                                    [](unsigned char c) { return !std::isalnum(c); });
+      return std::string(token.begin(), end);
+    };
     if (tokens[0].find("BINARY") != std::string::npos ||
-        (tokens.size() > 1 && tokens[1] == "BINARY"))
+        (tokens.size() > 1 && keyword(tokens[1]) == "BINARY"))
       throw InputError(path, "line 1",
                        "binary OFF is not read; convert the mesh to text OFF, PLY, OBJ or STL");
     long double counts[2] = {0, 0};

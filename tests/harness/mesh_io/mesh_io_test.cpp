@@ -216,7 +216,7 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
   }
   // Binary OFF is refused: its raw counts were trusted (4 GB from 200 bytes).
   CHECK_THAT(input_error_text([&] {
-               read_mesh_file(folder.write("binary.off", "OFF\n\nBINARY\n\n\n\n\x9e\n"));
+               read_mesh_file(folder.write("binary.off", "OFF\n\nBINARY]\n\n\n\n\x9e\n"));
              }),
              Catch::Contains("binary.off: line 1") && Catch::Contains("binary OFF is not read"));
 }
