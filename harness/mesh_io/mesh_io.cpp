@@ -268,6 +268,7 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
     // reader crashed (SIGSEGV) on a "property" line before any "element".
     std::vector<std::pair<std::size_t, bool>> elements;
     bool ascii = false, ended = false;
+    std::string current_element;
     const auto header_error = [&](const std::string& why) {
       throw InputError(path, "line " + std::to_string(line_number), why);
     };
@@ -293,9 +294,18 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
           header_error("expected \"element NAME COUNT\", got " + preview_text(line));
         check_declared_count(path, "elements of \"" + element + "\"", count, file_bytes);
         elements.emplace_back(static_cast<std::size_t>(count), false);
+        current_element = element;
       } else if (keyword == "property") {
         if (elements.empty()) header_error("a property before any element");
-        if (words >> element && element == "list") elements.back().second = true;
+        std::string type, name;
+        if (words >> type && type == "list") elements.back().second = true;
+        // The reader takes vertex coordinates from float or double
+        // properties only; another type made it crash (found by fuzzing).
+        if (current_element == "vertex" && type != "list" && words >> name &&
+            (name == "x" || name == "y" || name == "z") && type != "float" && type != "float32" &&
+            type != "double" && type != "float64")
+          header_error("vertex coordinate \"" + name + "\" has type \"" + type +
+                       "\"; expected float or double");
       } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
         header_error("unknown header line " + preview_text(line) +
                      " (expected format, element, property, comment or end_header)");

@@ -214,6 +214,17 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
                Catch::Contains("count.off: line 6") &&
                    Catch::Contains("declares 2000000000 corners but the line lists 3"));
   }
+  // PLY vertex coordinates must be float or double: an int16 "z" crashed
+  // the reader (found by fuzzing).
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write(
+                   "short.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                   "property int16 z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                   "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+             }),
+             Catch::Contains("short.ply: line 6") &&
+                 Catch::Contains("vertex coordinate \"z\" has type \"int16\""));
   // Binary OFF is refused: its raw counts were trusted (4 GB from 200 bytes).
   CHECK_THAT(input_error_text([&] {
                read_mesh_file(folder.write("binary.off", "OFF\n\nBINARY]\n\n\n\n\x9e\n"));
