@@ -198,23 +198,32 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
   std::string line;
   std::size_t line_number = 0;
   if (name == "OFF") {
-    std::vector<std::string> tokens;
-    while (tokens.size() < 4 && std::getline(in, line)) {
-      ++line_number;
-      line = line.substr(0, line.find('#'));
-      std::istringstream words(line);
-      for (std::string word; tokens.size() < 4 && words >> word;) tokens.push_back(word);
-    }
-    if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
-    // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
-    // below cannot read, and the reader trusted them (found by fuzzing: a
-    // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
-    // The reader takes the keyword's letters and digits only ("BINARY]" is BINARY).
+    // The header's words as the reader takes them: a keyword is its word's
+    // leading letters and digits, and the character after them is consumed
+    // ("OFF>3" is OFF then 3, "BINARY]" is BINARY; found by fuzzing).
     const auto keyword = [](const std::string& token) {
       const auto end = std::find_if(token.begin(), token.end(),
                                     [](unsigned char c) { return !std::isalnum(c); });
       return std::string(token.begin(), end);
     };
+    std::vector<std::string> tokens;
+    while (tokens.size() < 4 && std::getline(in, line)) {
+      ++line_number;
+      line = line.substr(0, line.find('#'));
+      std::istringstream words(line);
+      for (std::string word; tokens.size() < 4 && words >> word;) {
+        if (!tokens.empty()) {
+          tokens.push_back(word);
+          continue;
+        }
+        tokens.push_back(keyword(word));
+        if (tokens[0].size() + 1 < word.size()) tokens.push_back(word.substr(tokens[0].size() + 1));
+      }
+    }
+    if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
+    // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
+    // below cannot read, and the reader trusted them (found by fuzzing: a
+    // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
     if (tokens[0].find("BINARY") != std::string::npos ||
         (tokens.size() > 1 && keyword(tokens[1]) == "BINARY"))
       throw InputError(path, "line 1",

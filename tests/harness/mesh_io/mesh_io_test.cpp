@@ -214,6 +214,14 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
                Catch::Contains("count.off: line 6") &&
                    Catch::Contains("declares 2000000000 corners but the line lists 3"));
   }
+  // The keyword ends at its first character that is not a letter or digit,
+  // which the reader consumes: "OFF>3 1 0" declares 3 vertices and 1 face.
+  CHECK_THAT(
+      input_error_text([&] {
+        read_mesh_file(
+            folder.write("glued.off", "OFF>3 1 0\n0 1 0\n1 0 0\n0 1 0\n20000000000 4 1 2\n"));
+      }),
+      Catch::Contains("glued.off: line 5") && Catch::Contains("declares 20000000000 corners"));
   // PLY vertex coordinates must be float or double: an int16 "z" crashed
   // the reader (found by fuzzing).
   CHECK_THAT(input_error_text([&] {
