@@ -706,7 +706,11 @@ def fmt(value, pattern="%.3g", scale=1.0):
         return "yes" if value else "no"
     if not finite_number(value):
         return None
-    return pattern % (value * scale)
+    # A scale below 1 divides by its inverse (1e-3: by 1000.0, exactly), so that
+    # 8935 ns prints 8.94 µs as printf("%.2f", ns / 1000.0) does, where
+    # 8935 * 1e-3 = 8.934999... would print 8.93.
+    scaled = value / (1.0 / scale) if 0 < scale < 1 else value * scale
+    return pattern % scaled
 
 
 def cell(value, pattern="%.3g", scale=1.0, css=""):

@@ -86,7 +86,10 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     solver_.move_proxy(haptic_.pose());
     update.stats = solver_.update(target_);
     update.proxy = solver_.proxy_pose();
-    const double band = haptic_.band_for(previous_update_target_.value_or(target_), target_);
+    // The first update has no earlier device pose to tell the speed: widest band.
+    const double band = previous_update_target_
+                            ? haptic_.band_for(*previous_update_target_, target_)
+                            : haptic_.widest_band();
     previous_update_target_ = target_;
     update.certificate = haptic_.certify(update.proxy, band);
     return box;

@@ -60,6 +60,7 @@ class HapticProxy {
   /// device moved from `previous_target` to `target` between two slow
   /// updates, within the settings' [haptic_band_min_m, haptic_band_m].
   double band_for(const Pose& previous_target, const Pose& target) const;
+  double widest_band() const { return settings_.haptic_band_m; }
 
   /// Puts the proxy at the tool-frame pose `start` (free of the scene) with
   /// a certificate computed there.

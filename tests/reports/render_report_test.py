@@ -62,5 +62,14 @@ class ParetoTest(unittest.TestCase):
         self.assertEqual(render_report.cost_us(self.runs[4]), 20.0)
 
 
+class NumberTextTest(unittest.TestCase):
+    def test_microseconds_print_as_c_printf_does(self):
+        # printf("%.2f", 8935 / 1000.0) prints 8.94; 8935 * 1e-3 would print 8.93.
+        self.assertEqual(render_report.fmt(8935, "%.2f", 1e-3), "8.94")
+        self.assertEqual(render_report.fmt(1234567, "%.2f", 1e-3), "1234.57")
+        self.assertEqual(render_report.fmt(0.0012, "%.3f", 1e3), "1.200")
+        self.assertIsNone(render_report.fmt(float("nan"), "%.2f", 1e-3))
+
+
 if __name__ == "__main__":
     unittest.main()
