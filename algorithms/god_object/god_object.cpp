@@ -131,12 +131,17 @@ GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_to
   GodObjectSettings settings;
   settings.point_tool = point_tool;
   settings.standoff_m = params.number("standoff", settings.standoff_m, 1e-9, 1e-2);
+  // A distance that must exceed the standoff (the proxy keeps that much).
+  const auto beyond_standoff = [&](const char* key, double fallback, double low, double high) {
+    const double value = params.number(key, fallback, low, high);
+    if (!(value > settings.standoff_m))
+      throw InputError("", params.field(key),
+                       "expected a distance larger than standoff (" +
+                           std::to_string(settings.standoff_m) + " m)");
+    return value;
+  };
   settings.contact_distance_m =
-      params.number("contact_distance", settings.contact_distance_m, 1e-9, 1.0);
-  if (!(settings.contact_distance_m > settings.standoff_m))
-    throw InputError(
-        "", params.field("contact_distance"),
-        "expected a distance larger than standoff (" + std::to_string(settings.standoff_m) + " m)");
+      beyond_standoff("contact_distance", settings.contact_distance_m, 1e-9, 1.0);
   settings.max_iterations =
       static_cast<int>(params.integer("max_iterations", settings.max_iterations, 1, 1000));
   settings.ccd.primitive.time_tolerance =
@@ -145,11 +150,9 @@ GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_to
       params.integer("ccd_max_evaluations", settings.ccd.primitive.max_evaluations, 1, 1000000));
   settings.ccd.contact_window =
       params.number("contact_window", settings.ccd.contact_window, 0.0, 1.0);
-  settings.haptic_band_m = params.number("haptic_band", settings.haptic_band_m, 1e-6, 1.0);
-  if (!(settings.haptic_band_m > settings.standoff_m))
-    throw InputError(
-        "", params.field("haptic_band"),
-        "expected a distance larger than standoff (" + std::to_string(settings.standoff_m) + " m)");
+  settings.haptic_band_m = beyond_standoff("haptic_band", settings.haptic_band_m, 1e-6, 1.0);
+  settings.haptic_band_min_m =
+      beyond_standoff("haptic_band_min", settings.haptic_band_min_m, 1e-6, settings.haptic_band_m);
   settings.haptic_max_pairs =
       static_cast<int>(params.integer("haptic_max_pairs", settings.haptic_max_pairs, 1, 100000));
   return settings;

@@ -181,6 +181,15 @@ TEST_CASE("god-object settings are read with their field names") {
   negative.set("max_iterations", 0.0);
   CHECK_THROWS_WITH(read_god_object_settings(negative, false),
                     Catch::Contains("/algorithms/0/params/max_iterations"));
+  ParamSet bands("/algorithms/0/params");
+  bands.set("haptic_band", 2e-3);
+  bands.set("haptic_band_min", 1e-3);
+  const GodObjectSettings read = read_god_object_settings(bands, false);
+  CHECK(read.haptic_band_m == 2e-3);
+  CHECK(read.haptic_band_min_m == 1e-3);
+  bands.set("haptic_band_min", 3e-3);  // above haptic_band
+  CHECK_THROWS_WITH(read_god_object_settings(bands, false),
+                    Catch::Contains("/algorithms/0/params/haptic_band_min"));
 }
 
 }  // namespace
