@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <queue>
 #include <span>
 #include <unordered_set>
@@ -29,6 +30,11 @@ uint64_t pair_key(const ContactFeatures& f) {
          (static_cast<uint64_t>(static_cast<uint32_t>(f.tool_feature)) << 26) ^
          static_cast<uint64_t>(static_cast<uint32_t>(f.scene_feature));
 }
+
+// Lower bounds are lowered by this fraction of the lengths they are made
+// of, so that rounding can never make one exceed a distance computed
+// pair by pair.
+constexpr double kBoundSlack = 1e-12;
 
 class ProximitySearch {
  public:
@@ -97,12 +103,45 @@ class ProximitySearch {
 
   Vec3 world(const Vec3& tool_point) const { return translation_ + rotation_ * tool_point; }
 
+  Vec3 tool_coordinates(const Vec3& world_point) const {
+    return rotation_.transpose() * (world_point - translation_);
+  }
+
+  // The node pair's lower bound: the spheres' distance, raised, when a node
+  // is a leaf, to the distance from the other node's sphere to the leaf's
+  // nearest triangle (far tighter where a leaf holds a few large triangles,
+  // as a box's faces).
   void push(int object, int tool, const MeshFeatures& scene, int scene_node) {
     const SphereTreeNode& a = tool_.node(tool);
     const SphereTreeNode& b = scene.node(scene_node);
     ++result_.bv_tests;
-    const double bound = (world(a.centre) - b.centre).norm() - a.radius - b.radius;
+    const Vec3 tool_centre = world(a.centre);
+    double bound = (tool_centre - b.centre).norm() - a.radius - b.radius;
+    if (bound > threshold_) return;
+    if (b.is_leaf())
+      bound = std::max(bound, distance_to_leaf(scene, scene.leaf(scene_node), tool_centre) -
+                                  a.radius - kBoundSlack * (a.radius + b.radius));
+    if (bound <= threshold_ && a.is_leaf())
+      bound =
+          std::max(bound, distance_to_leaf(tool_, tool_.leaf(tool), tool_coordinates(b.centre)) -
+                              b.radius - kBoundSlack * (a.radius + b.radius));
     if (bound <= threshold_) open_.push(NodePair{bound, object, tool, scene_node});
+  }
+
+  /// Distance (m) from `point` (the mesh's frame) to the leaf's nearest triangle.
+  static double distance_to_leaf(const MeshFeatures& mesh, const LeafFeatures& leaf,
+                                 const Vec3& point) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < leaf.triangle_count; ++k)
+      nearest = std::min(nearest, distance_to_triangle(mesh, leaf.triangles[k], point));
+    return nearest;
+  }
+
+  static double distance_to_triangle(const MeshFeatures& mesh, int triangle, const Vec3& point) {
+    const auto& tri = mesh.triangle(triangle);
+    return (point - closest_point_on_triangle(point, mesh.vertex(tri[0]), mesh.vertex(tri[1]),
+                                              mesh.vertex(tri[2])))
+        .norm();
   }
 
   // Every feature pair of two leaves, each skipped when a cheap lower bound
@@ -124,11 +163,31 @@ class ProximitySearch {
     auto beyond = [&](const Vec3& point, double radius, const Vec3& centre, double centre_radius) {
       return (point - centre).norm() - radius - centre_radius > threshold_;
     };
+    // near_scene bit k: the scene leaf's k-th triangle comes within the
+    // threshold of the tool leaf's sphere; near_tool likewise. A feature
+    // pair is nearer than the threshold only if its scene feature lies on a
+    // near scene triangle and its tool feature on a near tool triangle.
+    const double slack = kBoundSlack * (tool_node.radius + scene_node.radius);
+    unsigned near_scene = 0, near_tool = 0;
+    for (int k = 0; k < scene_leaf.triangle_count; ++k)
+      if (distance_to_triangle(scene, scene_leaf.triangles[k], tool_centre) - tool_node.radius -
+              slack <=
+          threshold_)
+        near_scene |= 1u << k;
+    const Vec3 scene_centre = tool_coordinates(scene_node.centre);
+    for (int k = 0; k < tool_leaf.triangle_count; ++k)
+      if (distance_to_triangle(tool_, tool_leaf.triangles[k], scene_centre) - scene_node.radius -
+              slack <=
+          threshold_)
+        near_tool |= 1u << k;
+    if (near_scene == 0 || near_tool == 0) return;
     // Tool vertices against scene faces.
     for (int i = 0; i < tool_leaf.vertex_count; ++i) {
       const Vec3& v = tool_vertices[i];
+      if (!(tool_leaf.vertex_triangles[i] & near_tool)) continue;
       if (beyond(v, 0, scene_node.centre, scene_node.radius)) continue;
       for (int k = 0; k < scene_leaf.triangle_count; ++k) {
+        if (!(near_scene >> k & 1u)) continue;
         const int face = scene_leaf.triangles[k];
         const auto& tri = scene.triangle(face);
         const Vec3& normal = scene.face_normals[static_cast<std::size_t>(face)];
@@ -141,11 +200,13 @@ class ProximitySearch {
     }
     // Scene vertices against tool faces.
     for (int k = 0; k < tool_leaf.triangle_count; ++k) {
+      if (!(near_tool >> k & 1u)) continue;
       const int face = tool_leaf.triangles[k];
       const auto& tri = tool_.triangle(face);
       const Vec3 a = tool_local(tri[0]), b = tool_local(tri[1]), c = tool_local(tri[2]);
       const Vec3 normal = rotation_ * tool_.face_normals[static_cast<std::size_t>(face)];
       for (int j = 0; j < scene_leaf.vertex_count; ++j) {
+        if (!(scene_leaf.vertex_triangles[j] & near_scene)) continue;
         const Vec3& vertex = scene.vertex(scene_leaf.vertices[j]);
         if (beyond(vertex, 0, tool_centre, tool_node.radius)) continue;
         if (std::abs(normal.dot(vertex - a)) > threshold_) continue;
@@ -156,16 +217,22 @@ class ProximitySearch {
     }
     // Edges against edges.
     for (int i = 0; i < tool_leaf.edge_count; ++i) {
+      if (!(tool_leaf.edge_triangles[i] & near_tool)) continue;
       const auto& te = tool_.edge(tool_leaf.edges[i]);
       const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
       const Vec3 middle = 0.5 * (p0 + p1);
       const double half = 0.5 * (p1 - p0).norm();
       if (beyond(middle, half, scene_node.centre, scene_node.radius)) continue;
       for (int j = 0; j < scene_leaf.edge_count; ++j) {
+        if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
         const auto& se = scene.edge(scene_leaf.edges[j]);
         const Vec3& q0 = scene.vertex(se[0]);
         const Vec3& q1 = scene.vertex(se[1]);
-        if (beyond(middle, half, 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm())) continue;
+        // The tool edge lies within `half` of its middle: no nearer than the
+        // middle's distance from the scene edge, less half.
+        if ((middle - closest_point_on_segment(middle, q0, q1)).norm() - half - kBoundSlack * half >
+            threshold_)
+          continue;
         const double distance = closest_points_of_segments(p0, p1, q0, q1).distance();
         consider({ContactFeatureKind::kEdgeEdge, object, tool_leaf.edges[i], scene_leaf.edges[j]},
                  distance);

@@ -62,13 +62,20 @@ bool listed(const ProximityResult& result, const ContactFeatures& features) {
                      [&](const ProximityPair& p) { return p.features == features; });
 }
 
+// A 2 cm icosphere and a 4 cm box (12 triangles, each larger than the
+// sphere), one the tool and the other the scene object, at random poses
+// from touching distance to 1 cm apart: small triangles against large ones
+// from both sides of the search.
 TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest ones") {
-  // A 2 cm icosphere tool over a 4 cm box scene (world frame), at random
-  // poses from touching distance to 1 cm away.
-  const TriangleMesh tool = shape_mesh(test::sphere_tool(0.01).shape.value());
-  SceneObject box = test::box_object(Vec3(0.04, 0.04, 0.04), Pose{});
-  box.mesh = shape_mesh(*box.shape);
-  const std::vector<SceneObject> scene = {box};
+  const bool sphere_tool = GENERATE(true, false);
+  INFO((sphere_tool ? "sphere tool, box scene" : "box tool, sphere scene"));
+  const TriangleMesh sphere = shape_mesh(test::sphere_tool(0.01).shape.value());
+  const TriangleMesh box = shape_mesh(*test::box_object(Vec3(0.04, 0.04, 0.04), Pose{}).shape);
+  const TriangleMesh& tool = sphere_tool ? sphere : box;
+  SceneObject object;
+  object.name = "scene";
+  object.mesh = sphere_tool ? box : sphere;
+  const std::vector<SceneObject> scene = {object};
   const MeshCcd ccd(tool, scene);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.01), angle(-3, 3);
@@ -76,7 +83,7 @@ TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest
   for (int trial = 0; trial < 40; ++trial) {
     const Pose pose{Vec3(lateral(rng), lateral(rng), 0.02 + 0.01 + gap(rng)),
                     quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
-    const std::vector<BruteForcePair> pairs = all_pairs(ccd, tool, box.mesh, pose);
+    const std::vector<BruteForcePair> pairs = all_pairs(ccd, tool, object.mesh, pose);
     for (std::size_t max_pairs : {std::size_t{100000}, std::size_t{8}}) {
       const double max_distance = 0.005;
       const ProximityResult result = ccd.proximity(pose, max_distance, max_pairs);
