@@ -8,6 +8,7 @@
 #include "algorithms/ccd/mesh_ccd_search.h"
 #include "algorithms/ccd/mesh_features.h"
 #include "algorithms/ccd/mesh_proximity.h"
+#include "algorithms/ccd/screw_ccd.h"
 #include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 
@@ -145,6 +146,78 @@ MeshCcdResult MeshCcd::first_contact(const ScrewMotion& motion,
     for (MeshCcdContact& contact : result.contacts)
       contact.geometry = evaluate(contact.features, pose);
   }
+  return result;
+}
+
+namespace {
+const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
+                                  const ContactFeatures& features);
+}  // namespace
+
+MeshCcdResult MeshCcd::first_contact_among(const ScrewMotion& motion,
+                                           std::span<const ContactFeatures> pairs,
+                                           const MeshCcdSettings& settings) const {
+  MeshCcdResult result;
+  if (!motion.within(kMaxCcdCoordinate)) {
+    result.contact = true;
+    result.toi = 0;
+    return result;
+  }
+  const MeshFeatures& tool = data_->tool;
+  const double cap =
+      !(settings.primitive.time_limit < 1) ? 1.0 : std::max(settings.primitive.time_limit, 0.0);
+  const double window = settings.contact_window >= 0 ? std::min(settings.contact_window, 1.0) : 0.0;
+  CcdSettings kernel = settings.primitive;
+  kernel.time_limit = cap;
+  std::vector<MeshCcdContact> candidates;
+  double best = 2;  // above every toi
+  for (const ContactFeatures& features : pairs) {
+    const MeshFeatures& scene = checked_scene(tool, data_->scene, features);
+    CcdResult r;
+    switch (features.kind) {
+      case ContactFeatureKind::kToolVertexSceneFace: {
+        const auto& tri = scene.triangle(features.scene_feature);
+        r = screw_vertex_face_ccd(
+            motion, tool.vertex(features.tool_feature),
+            {scene.vertex(tri[0]), scene.vertex(tri[1]), scene.vertex(tri[2])}, kernel);
+        break;
+      }
+      case ContactFeatureKind::kSceneVertexToolFace: {
+        const auto& tri = tool.triangle(features.tool_feature);
+        r = screw_face_vertex_ccd(motion,
+                                  {tool.vertex(tri[0]), tool.vertex(tri[1]), tool.vertex(tri[2])},
+                                  scene.vertex(features.scene_feature), kernel);
+        break;
+      }
+      case ContactFeatureKind::kEdgeEdge: {
+        const auto& te = tool.edge(features.tool_feature);
+        const auto& se = scene.edge(features.scene_feature);
+        r = screw_edge_edge_ccd(motion, {tool.vertex(te[0]), tool.vertex(te[1])},
+                                {scene.vertex(se[0]), scene.vertex(se[1])}, kernel);
+        break;
+      }
+    }
+    ++result.primitive_queries;
+    result.primitive_evaluations += r.evaluations;
+    result.budget_exhausted = result.budget_exhausted || r.budget_exhausted;
+    if (!r.contact) continue;
+    candidates.push_back(MeshCcdContact{features, r.toi, {}});
+    if (r.toi < best) {
+      best = r.toi;
+      kernel.time_limit = std::min(cap, best + window);  // later pairs search only up to it
+    }
+  }
+  if (candidates.empty()) return result;
+  result.contact = true;
+  result.toi = best;
+  const Pose pose = pose_at(motion, best);
+  for (MeshCcdContact& contact : candidates)
+    if (contact.toi <= best + window) {
+      contact.geometry = evaluate(contact.features, pose);
+      result.contacts.push_back(contact);
+    }
+  std::stable_sort(result.contacts.begin(), result.contacts.end(),
+                   [](const MeshCcdContact& x, const MeshCcdContact& y) { return x.toi < y.toi; });
   return result;
 }
 

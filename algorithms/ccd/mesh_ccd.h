@@ -147,6 +147,16 @@ class MeshCcd {
   /// kernels answer it, as contact at t = 0 (with no contacts listed).
   MeshCcdResult first_contact(const ScrewMotion& motion, const MeshCcdSettings& settings) const;
 
+  /// The first contact along `motion` among the listed feature pairs only,
+  /// each by its primitive kernel (no tree is traversed): the caller knows
+  /// that no other pair can meet during the motion, e.g. from a proximity
+  /// query whose clearance the motion's point_reach stays below. Contacts,
+  /// counters and the time limit as for first_contact; bv_tests is 0.
+  /// Indices are checked as by evaluate().
+  MeshCcdResult first_contact_among(const ScrewMotion& motion,
+                                    std::span<const ContactFeatures> pairs,
+                                    const MeshCcdSettings& settings) const;
+
   /// The pair's geometry with the tool's frame at `tool_pose` (world).
   FeatureGeometry evaluate(const ContactFeatures& features, const Pose& tool_pose) const;
 

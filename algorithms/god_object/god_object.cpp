@@ -77,21 +77,29 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     return report;
   }
 
-  // From the haptic proxy's pose: CCD-limited moves toward the device
-  // (which also discover contacts), then the proximity query at the pose
-  // they reach.
+  // From the haptic proxy's pose: the proximity query there, then
+  // CCD-limited moves toward the device (which also discover contacts),
+  // checked on the query's pairs while they stay within its reach. The
+  // certificate goes to the haptic loop when the moves ended within its
+  // reach; otherwise a second query at the pose they reached.
   std::unique_ptr<Result> run_slow_update() override {
     auto box = mailbox_.box();
     GodObjectUpdate& update = box->data;
-    solver_.move_proxy(haptic_.pose());
-    update.stats = solver_.update(target_);
-    update.proxy = solver_.proxy_pose();
+    const Pose start = haptic_.pose();
+    solver_.move_proxy(start);
     // The first update has no earlier device pose to tell the speed: widest band.
     const double band = previous_update_target_
                             ? haptic_.band_for(*previous_update_target_, target_)
                             : haptic_.widest_band();
     previous_update_target_ = target_;
-    update.certificate = haptic_.certify(update.proxy, band);
+    update.certificate = haptic_.certify(start, band);
+    update.stats = solver_.update(target_, &update.certificate);
+    update.stats.certificates = 1;
+    update.proxy = solver_.proxy_pose();
+    if (!haptic_.within_reach(update.certificate, update.proxy)) {
+      update.certificate = haptic_.certify(update.proxy, band);
+      ++update.stats.certificates;
+    }
     return box;
   }
 
@@ -101,15 +109,22 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
 
  private:
   static constexpr WorkCounters::Names kWorkNames = {
-      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations", "ccd_moves", "pairs_evaluated"};
+      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
+      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries"};
 
   // Hands the update's certificate (and, when the haptic proxy has fallen
   // behind it, its pose) to the haptic proxy; counts the update's work.
   void install_update(GodObjectUpdate& update, TickResult& result) {
     haptic_.offer(std::move(update.certificate), update.proxy, target_);
     result.work.names = &kWorkNames;
-    result.work.counts = {update.stats.bv_tests, update.stats.primitive_queries,
-                          update.stats.qp_iterations, update.stats.iterations, 0};
+    result.work.counts = {update.stats.bv_tests,
+                          update.stats.primitive_queries,
+                          update.stats.qp_iterations,
+                          update.stats.iterations,
+                          0,
+                          update.stats.budget_hits,
+                          update.stats.certified_moves,
+                          update.stats.certificates};
   }
 
   bool point_tool_;

@@ -60,7 +60,8 @@ void GodObjectSolver::refresh_contacts() {
   });
 }
 
-GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
+GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
+                                             const ProximityCertificate* certificate) {
   GodObjectUpdateStats stats;
   const double radius = settings_.point_tool ? 0.0 : ccd_.tool_radius();
   // Below this largest point displacement (m) a motion counts as none.
@@ -99,13 +100,32 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target) {
     }
     if (reach(constrained) <= kNegligibleMotion) break;
 
+    // Within the certificate's reach only its pairs can meet: a move that
+    // would leave it is cut at its boundary and is the update's last (the
+    // path's point displacement from the anchor is convex along the screw
+    // motion, a line for the centre and a geodesic for the rotation, so a
+    // path whose ends are within reach stays within it). Only a start with
+    // no room left (a crowded contact whose 64 pairs end close to the
+    // standoff) falls back to the whole mesh CCD.
+    double fraction = 1.0;
+    if (certificate != nullptr)
+      fraction = fraction_within_reach(certificate->anchor, start, constrained, radius,
+                                       certificate->clearance_m - settings_.standoff_m);
+    const bool certified = certificate != nullptr && fraction > 0;
+    const bool last_move = certified && fraction < 1;
+    if (certified) constrained *= fraction;
     const ScrewMotion motion(start, displaced(start, constrained));
-    const MeshCcdResult hit = ccd_.first_contact(motion, settings_.ccd);
+    stats.certified_moves += certified;
+    const MeshCcdResult hit =
+        certified ? ccd_.first_contact_among(motion, certificate->pairs, settings_.ccd)
+                  : ccd_.first_contact(motion, settings_.ccd);
     ++stats.iterations;
     stats.bv_tests += hit.bv_tests;
     stats.primitive_queries += hit.primitive_queries;
+    stats.budget_hits += hit.budget_exhausted;
     if (!hit.contact) {
       proxy_ = frames_.tool_frame(pose_on(motion, 1.0));
+      if (last_move) break;
       continue;
     }
     ++stats.ccd_hits;

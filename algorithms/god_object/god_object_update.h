@@ -68,6 +68,15 @@ struct GodObjectSettings {
   int haptic_max_pairs = 64;
 };
 
+/// What a proximity query certifies around an anchor pose: within reach
+/// clearance_m − standoff of the anchor (point_reach of the displacement
+/// from it), only the listed pairs can come closer than the standoff.
+struct ProximityCertificate {
+  Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
+  std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
+  double clearance_m = 0;              ///< every other pair is at least this far apart there
+};
+
 /// A contact the proxy keeps between iterations and updates.
 struct KeptContact {
   ContactFeatures features;
@@ -76,8 +85,11 @@ struct KeptContact {
 
 /// What one update did.
 struct GodObjectUpdateStats {
-  int iterations = 0;  ///< CCD-limited moves made
-  int ccd_hits = 0;    ///< moves the CCD stopped short
+  int iterations = 0;       ///< CCD-limited moves made
+  int ccd_hits = 0;         ///< moves the CCD stopped short
+  int certified_moves = 0;  ///< moves checked on a certificate's pairs only
+  int budget_hits = 0;      ///< moves whose CCD had a kernel answer by its budget fallback
+  int certificates = 0;     ///< proximity queries made for the update (by its caller)
   int64_t bv_tests = 0;
   int64_t primitive_queries = 0;
   int64_t qp_iterations = 0;
@@ -94,8 +106,12 @@ class GodObjectSolver {
   /// Puts the proxy at the tool-frame pose `start` with no contacts.
   void reset(const Pose& start);
 
-  /// Moves the proxy toward the device's tool-frame pose `target`.
-  GodObjectUpdateStats update(const Pose& target);
+  /// Moves the proxy toward the device's tool-frame pose `target`. With a
+  /// certificate, a move that stays within its reach is checked by the
+  /// kernels of its listed pairs only (MeshCcd::first_contact_among), a
+  /// move beyond it by the whole mesh CCD.
+  GodObjectUpdateStats update(const Pose& target,
+                              const ProximityCertificate* certificate = nullptr);
 
   /// The proxy's tool-frame pose (world) and its contacts at that pose.
   const Pose& proxy_pose() const { return proxy_; }

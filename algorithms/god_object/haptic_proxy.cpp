@@ -6,8 +6,6 @@
 namespace hb {
 
 namespace {
-// Halvings of the step when it must be shortened to stay within reach.
-constexpr int kBoundBisections = 30;
 // Below this distance (m) a pair's closest points give no direction; the
 // pair's own normal is used instead.
 constexpr double kDirectionFloor = 1e-12;
@@ -44,6 +42,12 @@ void HapticProxy::reset(const Pose& start) {
   certificate_ = certify(start, settings_.haptic_band_m);
   warm_active_.clear();
   contacts_.clear();
+}
+
+bool HapticProxy::within_reach(const ProximityCertificate& certificate,
+                               const Pose& tool_pose) const {
+  return point_reach(displacement(certificate.anchor, frames_.com_frame(tool_pose)), radius_) <=
+         certificate.clearance_m - settings_.standoff_m;
 }
 
 double HapticProxy::reach_from_anchor(const Pose& com_pose) const {
@@ -115,17 +119,9 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   // Stay within the certificate's reach: the largest fraction of the step
   // that does (the reach bound is continuous in the fraction, and the
   // start lies within it).
-  const double reach = certificate_.clearance_m - settings_.standoff_m;
-  double fraction = 1.0;
-  if (reach_from_anchor(displaced(start, step)) > reach) {
-    stats.bounded = true;
-    double lo = 0.0, hi = 1.0;
-    for (int i = 0; i < kBoundBisections; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (reach_from_anchor(displaced(start, mid * step)) <= reach ? lo : hi) = mid;
-    }
-    fraction = lo;
-  }
+  const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius_,
+                                                certificate_.clearance_m - settings_.standoff_m);
+  stats.bounded = fraction < 1;
   const Vec6 moved = fraction * step;
   if (fraction > 0) pose_ = frames_.tool_frame(displaced(start, moved));
 

@@ -32,13 +32,6 @@
 
 namespace hb {
 
-/// What the slow loop certifies around an anchor pose.
-struct ProximityCertificate {
-  Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
-  std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
-  double clearance_m = 0;              ///< every other pair is at least this far apart there
-};
-
 /// What one haptic tick did.
 struct HapticSolveStats {
   int64_t pairs_evaluated = 0;  ///< feature pairs re-evaluated at the proxy's pose
@@ -61,6 +54,9 @@ class HapticProxy {
   /// updates, within the settings' [haptic_band_min_m, haptic_band_m].
   double band_for(const Pose& previous_target, const Pose& target) const;
   double widest_band() const { return settings_.haptic_band_m; }
+
+  /// Whether the tool-frame pose lies within the certificate's reach.
+  bool within_reach(const ProximityCertificate& certificate, const Pose& tool_pose) const;
 
   /// Puts the proxy at the tool-frame pose `start` (free of the scene) with
   /// a certificate computed there.

@@ -44,6 +44,25 @@ inline double point_reach(const Vec6& d, double radius) {
   return d.head<3>().norm() + d.tail<3>().norm() * radius;
 }
 
+/// The largest fraction f in [0, 1] (to 2⁻³⁰) of the step d from `start`
+/// that keeps the proxy within `reach` (m, point_reach with `radius`) of
+/// `anchor`; 0 when `start` itself is not within it. The reach bound is
+/// continuous in f, so bisection finds the boundary.
+inline double fraction_within_reach(const Pose& anchor, const Pose& start, const Vec6& d,
+                                    double radius, double reach) {
+  auto within = [&](double f) {
+    return point_reach(displacement(anchor, displaced(start, f * d)), radius) <= reach;
+  };
+  if (within(1.0)) return 1.0;
+  if (!within(0.0)) return 0.0;
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (within(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 /// The coupling energy's Hessian in (centre-of-mass displacement, rotation
 /// vector) for a tool whose centre of mass is at `centre_of_mass` (tool
 /// coordinates) with orientation q: the tool-frame origin moves by

@@ -426,5 +426,75 @@ TEST_CASE("armadillo onto bunny: no intersection before the toi, intersection ju
   CHECK(accepted == kMotions);
 }
 
+TEST_CASE("the kernels of a proximity query's pairs find what the whole search finds",
+          "[mesh_ccd][cgal]") {
+  // Short motions (the god-object's slow-loop moves) of the armadillo onto
+  // the bunny: every pair that can meet during a motion whose points move at
+  // most `reach` is within `reach` at its start, so the pairs a proximity
+  // query lists within that distance hold the first contact.
+  TriangleMesh tool = model("armadillo.off", 3.305e-4);
+  const Vec3 com = mass_properties_from_density(tool, 1000).centre_of_mass;
+  for (Vec3& v : tool.vertices) v -= com;
+  SceneObject bunny;
+  bunny.name = "bunny00.off";
+  bunny.mesh = model("bunny00.off", 0.2);
+  const std::vector<SceneObject> scene{bunny};
+  const MeshCcd ccd(tool, scene);
+  const test::CgalMeshIntersection cgal(bunny.mesh);
+
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  constexpr int kMotions = 12;
+  int accepted = 0;
+  for (int attempt = 0; attempt < 300 && accepted < kMotions; ++attempt) {
+    const auto& tri = bunny.mesh.triangles[std::uniform_int_distribution<std::size_t>(
+        0, bunny.mesh.triangles.size() - 1)(rng)];
+    double u = unit(rng), v = unit(rng);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    const Vec3 &a = bunny.mesh.vertices[tri[0]], &b = bunny.mesh.vertices[tri[1]],
+               &c = bunny.mesh.vertices[tri[2]];
+    const Vec3 normal = (b - a).cross(c - a).normalized();
+    const Quat end_rotation = random_rotation(rng);
+    double extent = 0;  // the tool's extent along −normal from its frame
+    for (const Vec3& p : tool.vertices) extent = std::max(extent, -normal.dot(end_rotation * p));
+    // End: sunk 20–200 µm; start: 0.1–0.5 mm back, turned by up to 5 mrad.
+    const Pose end{a + u * (b - a) + v * (c - a) + (extent - 2e-5 - 1.8e-4 * unit(rng)) * normal,
+                   end_rotation};
+    const Pose start{
+        end.p + (1e-4 + 4e-4 * unit(rng)) * (normal + 0.5 * random_unit(rng)).normalized(),
+        (end_rotation * Quat(Eigen::AngleAxisd(5e-3 * unit(rng), random_unit(rng)))).normalized()};
+    if (cgal.intersects(tool, start) || !cgal.intersects(tool, end)) continue;
+    ++accepted;
+    const ScrewMotion motion(start, end);
+    const double reach = (end.p - start.p).norm() + motion.angle() * ccd.tool_radius();
+    const ProximityResult near = ccd.proximity(start, 1.01 * reach, 100000);
+    std::vector<ContactFeatures> pairs;
+    for (const ProximityPair& pair : near.pairs) pairs.push_back(pair.features);
+
+    const MeshCcdResult among = ccd.first_contact_among(motion, pairs, MeshCcdSettings{});
+    const MeshCcdResult whole = ccd.first_contact(motion, MeshCcdSettings{});
+    INFO("motion " << accepted << ": " << pairs.size() << " pairs, toi " << among.toi
+                   << ", whole search " << whole.toi);
+    REQUIRE(among.contact);
+    REQUIRE_FALSE(among.contacts.empty());
+    CHECK(among.bv_tests == 0);
+    CHECK(among.primitive_queries == static_cast<int64_t>(pairs.size()));
+    CHECK(among.toi == Approx(whole.toi).margin(2e-6));
+    for (int k = 0; k < 20; ++k) {
+      const double t = among.toi * k / 20.0;
+      INFO("t " << t);
+      CHECK_FALSE(cgal.intersects(tool, pose_at(motion, t)));
+    }
+    bool intersects_soon = false;
+    for (int k = 1; k <= 4 && !intersects_soon; ++k)
+      intersects_soon =
+          cgal.intersects(tool, pose_at(motion, std::min(1.0, among.toi + 2.5e-4 * k)));
+    CHECK(intersects_soon);
+    // Without the pairs there is nothing to hit.
+    CHECK_FALSE(ccd.first_contact_among(motion, {}, MeshCcdSettings{}).contact);
+  }
+  CHECK(accepted == kMotions);
+}
+
 }  // namespace
 }  // namespace hb
