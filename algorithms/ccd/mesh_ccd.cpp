@@ -314,6 +314,18 @@ std::span<const std::array<int, 2>> MeshCcd::scene_edges(int object) const {
   return data_->scene[static_cast<std::size_t>(object)].edges;
 }
 
+std::pair<Vec3, double> MeshCcd::scene_bounding_sphere() const {
+  std::pair<Vec3, double> bound{Vec3::Zero(), -1.0};
+  for (const MeshFeatures& object : data_->scene) {
+    if (object.tree.empty()) continue;
+    const SphereTreeNode& root = object.node(0);
+    if (bound.second < 0) bound = {root.centre, root.radius};
+    bound.second = std::max(
+        bound.second, next_up(((root.centre - bound.first).norm() + root.radius) * (1 + 1e-12)));
+  }
+  return bound;
+}
+
 double MeshCcd::tool_radius() const { return data_->tool_radius; }
 
 std::size_t MeshCcd::memory_bytes() const {

@@ -21,6 +21,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "algorithms/ccd/ccd_settings.h"
@@ -179,6 +180,9 @@ class MeshCcd {
 
   /// Radius (m) of the tool about its frame's origin; bytes held by the trees.
   double tool_radius() const;
+  /// A sphere (world, m) holding every scene triangle: centre and radius
+  /// (radius −1 for a scene without triangles).
+  std::pair<Vec3, double> scene_bounding_sphere() const;
   std::size_t memory_bytes() const;
 
  private:

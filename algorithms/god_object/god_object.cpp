@@ -1,5 +1,6 @@
 #include "algorithms/god_object/god_object.h"
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -35,11 +36,16 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     body_.centre_of_mass = solver_.centre_of_mass();
   }
 
+  // A start inside the scene (or within the standoff of it) is moved out
+  // the shortest way found (GodObjectSolver::escape); the first tick
+  // reports it in the work counters start_escapes and start_escape_um.
   void reset(const Pose& start) override {
-    solver_.reset(start);
-    haptic_.reset(start);
+    escape_ = solver_.escape(start);
+    escape_reported_ = false;
+    solver_.reset(escape_.pose);
+    haptic_.reset(escape_.pose);
     target_ = start;
-    proxy_ = state_at_rest(body_, start);
+    proxy_ = state_at_rest(body_, escape_.pose);
     mailbox_.clear();
     previous_update_target_.reset();
   }
@@ -65,6 +71,11 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     result.work.names = &kWorkNames;
     result.work.counts[4] += haptic.pairs_evaluated;
     result.work.counts[2] += haptic.qp_iterations;
+    if (!escape_reported_ && escape_.escaped) {
+      result.work.counts[8] = 1;
+      result.work.counts[9] = std::llround(escape_.distance_m * 1e6);
+    }
+    escape_reported_ = true;
     return result;
   }
 
@@ -110,7 +121,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
  private:
   static constexpr WorkCounters::Names kWorkNames = {
       "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
-      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries"};
+      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
+      "start_escapes",   "start_escape_um"};
 
   // Hands the update's certificate (and, when the haptic proxy has fallen
   // behind it, its pose) to the haptic proxy; counts the update's work.
@@ -138,6 +150,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   RigidBodyState proxy_;    ///< the displayed proxy: the haptic proxy's pose and velocity
   SlowLoopMailbox<GodObjectUpdate> mailbox_;
   std::optional<Pose> previous_update_target_;  ///< the device's pose at the last slow update
+  StartEscape escape_;                          ///< how reset() moved the start, if it did
+  bool escape_reported_ = false;
 };
 
 }  // namespace

@@ -97,11 +97,28 @@ struct GodObjectUpdateStats {
   bool solver_failed = false;   ///< the least-constraint solve did not converge (the proxy stayed)
 };
 
+/// Where a start pose that is not free of the scene is moved.
+struct StartEscape {
+  Pose pose;              ///< tool frame, world: free of the scene (the start when it was)
+  double distance_m = 0;  ///< how far the tool was moved, m
+  bool escaped = false;   ///< the start was not free (or within the standoff)
+};
+
 /// The god-object's proxy and contacts, and the update that moves them.
 class GodObjectSolver {
  public:
   /// Settings as read by read_god_object_settings (god_object.h).
   GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings);
+
+  /// The nearest free pose to the tool-frame pose `start` along 26
+  /// directions (the faces, edges and corners of a cube, world frame),
+  /// orientation kept: for each, the tool is brought back from outside the
+  /// scene's bounding sphere toward `start` and stopped by the mesh CCD
+  /// `standoff` short of its first contact. A path that reaches `start`
+  /// proves it free (returned unchanged); otherwise the shortest way out
+  /// wins. A start that is free but enclosed, with every path from outside
+  /// blocked, would be moved out too.
+  StartEscape escape(const Pose& start) const;
 
   /// Puts the proxy at the tool-frame pose `start` with no contacts.
   void reset(const Pose& start);
