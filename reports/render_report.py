@@ -900,6 +900,7 @@ def scenario_section(folder):
         parts.append(note("No step times in this run folder (no ticks CSV and no sample in the "
                           "summary)."))
     parts.append(metric_table_html(folder))
+    parts.append(work_counters_html(folder))
     parts.append("</section>")
     return "".join(parts)
 
@@ -938,6 +939,24 @@ def metric_table_html(folder):
                        esc(metric.get("unit", ""))) + "".join(cells) + "</tr>")
     return ("<details><summary>All metrics of the metric table</summary>"
             '<div class="wide"><table class="summary" id="metrics-%s"><thead>%s</thead>'
+            "<tbody>%s</tbody></table></div></details>" % (folder.slug, head, "".join(rows)))
+
+
+def work_counters_html(folder):
+    """The algorithms' own work counters (contacts.work: CCD tests, kernel calls, budget
+    hits, points looked up ...), totals over the run, one row per counter name and one
+    column per label; '' when no run counts anything."""
+    works = [dig(run.summary, "contacts", "work") or {} for run in folder.runs]
+    names = sorted({name for work in works for name in work})
+    if not names:
+        return ""
+    head = "<tr><th class='text'>counter</th>" + "".join(
+        "<th>%s</th>" % esc(run.label) for run in folder.runs) + "</tr>"
+    rows = ["<tr><td class='text'><code>%s</code></td>%s</tr>"
+            % (esc(name), "".join(cell(work.get(name), "%.0f") for work in works))
+            for name in names]
+    return ("<details><summary>Work counters (totals over the run)</summary>"
+            '<div class="wide"><table class="summary" id="work-%s"><thead>%s</thead>'
             "<tbody>%s</tbody></table></div></details>" % (folder.slug, head, "".join(rows)))
 
 

@@ -48,6 +48,27 @@ constexpr MetricDefinition kMetrics[] = {
     {"over_budget_ticks", "/timing/over_budget", "ticks", Better::kLower, true, 1,
      CompareRule::kNone, 0, false, [](const RunMetrics& m) { return count(m.timing.over_budget); },
      "ticks whose step took longer than 1 ms", true},
+    // The slow loop of a multi-rate algorithm (absent without one).
+    {"slow_update_p99_us", "/timing/slow_loop/update_ns/p99", "ns", Better::kLower, true, 1e-3,
+     CompareRule::kNone, 0, true,
+     [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.timing.slow_update_ns) return std::nullopt;
+       return m.timing.slow_update_ns->p99;
+     },
+     "99th percentile of the wall time of one slow-loop update"},
+    {"slow_updates_per_s", "/timing/slow_loop/rate_hz", "Hz", Better::kHigher, true, 1,
+     CompareRule::kNone, 0, true, [](const RunMetrics& m) { return m.timing.slow_loop_rate_hz; },
+     "slow-loop updates achieved per second of the replay's virtual time"},
+    {"slow_updates_over_1ms_share", "/timing/slow_loop/updates_over_1ms_share", "fraction",
+     Better::kLower, true, 1, CompareRule::kNone, 0, true,
+     [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.timing.slow_updates_over_tick || !m.timing.slow_update_ns ||
+           m.timing.slow_update_ns->count == 0)
+         return std::nullopt;
+       return static_cast<double>(*m.timing.slow_updates_over_tick) /
+              static_cast<double>(m.timing.slow_update_ns->count);
+     },
+     "share of slow-loop updates that took longer than 1 ms"},
     // Accuracy against ground truth.
     {"force_err_rms_n", "/accuracy/force_err_rms_n", "N", Better::kLower, true, 1,
      CompareRule::kTolerance, kForceAbsTolN, false,

@@ -71,5 +71,21 @@ class NumberTextTest(unittest.TestCase):
         self.assertIsNone(render_report.fmt(float("nan"), "%.2f", 1e-3))
 
 
+class WorkCountersTest(unittest.TestCase):
+    def test_one_row_per_counter_one_column_per_label(self):
+        class ScenarioFolder:
+            slug = "press"
+            runs = [FakeRun("press", "god_object", 0.5, 200),
+                    FakeRun("press", "penalty", 0.5, 200)]
+        ScenarioFolder.runs[0].summary["contacts"] = {
+            "work": {"ccd_budget_hits": 3, "ccd_bound_tests": 1200}}
+        html = render_report.work_counters_html(ScenarioFolder)
+        self.assertIn("<code>ccd_budget_hits</code></td><td>3</td><td class=\"na\"", html)
+        self.assertIn("<code>ccd_bound_tests</code></td><td>1200</td>", html)
+        self.assertLess(html.index("ccd_bound_tests"), html.index("ccd_budget_hits"))
+        ScenarioFolder.runs[0].summary["contacts"] = {"work": {}}
+        self.assertEqual(render_report.work_counters_html(ScenarioFolder), "")
+
+
 if __name__ == "__main__":
     unittest.main()
