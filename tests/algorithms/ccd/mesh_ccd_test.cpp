@@ -361,66 +361,107 @@ Vec3 random_unit(std::mt19937& rng) {
   return Vec3(normal(rng), normal(rng), normal(rng)).normalized();
 }
 
-TEST_CASE("armadillo onto bunny: no intersection before the toi, intersection just after",
-          "[mesh_ccd][cgal]") {
-  // As scenarios/meshes/armadillo_on_bunny.json scales them: a 5 cm
-  // armadillo (frame at its centre of mass) and a 20 cm bunny.
-  TriangleMesh tool = model("armadillo.off", 3.305e-4);
-  const Vec3 com = mass_properties_from_density(tool, 1000).centre_of_mass;
-  for (Vec3& v : tool.vertices) v -= com;
-  SceneObject bunny;
-  bunny.name = "bunny00.off";
-  bunny.mesh = model("bunny00.off", 0.2);
-  const std::vector<SceneObject> scene{bunny};
-  const MeshCcd ccd(tool, scene);
-  const test::CgalMeshIntersection cgal(bunny.mesh);
+// As scenarios/meshes/armadillo_on_bunny.json scales them: a 5 cm armadillo
+// (frame at its centre of mass) and a 20 cm bunny, with CGAL's exact
+// intersection test.
+struct ArmadilloOnBunny {
+  TriangleMesh tool = centred(model("armadillo.off", 3.305e-4));
+  SceneObject bunny = bunny_object();
+  MeshCcd ccd{tool, std::vector<SceneObject>{bunny}};
+  test::CgalMeshIntersection cgal{bunny.mesh};
 
-  std::mt19937 rng(20240611);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  constexpr int kMotions = 16;
-  int accepted = 0;
-  for (int attempt = 0; attempt < 200 && accepted < kMotions; ++attempt) {
-    // End pose: sunk 0.2–2 mm past the tangent plane at a random point of
-    // the bunny; start: 5–30 mm away, mostly along the normal, turned by up
-    // to 0.4 rad.
+  static TriangleMesh centred(TriangleMesh mesh) {
+    const Vec3 com = mass_properties_from_density(mesh, 1000).centre_of_mass;
+    for (Vec3& v : mesh.vertices) v -= com;
+    return mesh;
+  }
+  static SceneObject bunny_object() {
+    SceneObject object;
+    object.name = "bunny00.off";
+    object.mesh = model("bunny00.off", 0.2);
+    return object;
+  }
+
+  /// The tool at a random orientation, sunk a random depth in [depth_lo,
+  /// depth_hi] (m) past the tangent plane at a random point of the bunny;
+  /// `normal` gets the plane's normal.
+  Pose sunk(std::mt19937& rng, double depth_lo, double depth_hi, Vec3& normal) const {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
     const auto& tri = bunny.mesh.triangles[std::uniform_int_distribution<std::size_t>(
         0, bunny.mesh.triangles.size() - 1)(rng)];
     double u = unit(rng), v = unit(rng);
     if (u + v > 1) u = 1 - u, v = 1 - v;
     const Vec3 &a = bunny.mesh.vertices[tri[0]], &b = bunny.mesh.vertices[tri[1]],
                &c = bunny.mesh.vertices[tri[2]];
-    const Vec3 surface = a + u * (b - a) + v * (c - a);
-    const Vec3 normal = (b - a).cross(c - a).normalized();
-    const Quat end_rotation = random_rotation(rng);
-    double reach = 0;  // the tool's extent along −normal from its frame
-    for (const Vec3& p : tool.vertices) reach = std::max(reach, -normal.dot(end_rotation * p));
-    const double depth = 2e-4 + 1.8e-3 * unit(rng);
-    const Pose end{surface + (reach - depth) * normal, end_rotation};
-    const Vec3 away = (normal + 0.6 * random_unit(rng)).normalized();
-    if (away.dot(normal) < 0.2) continue;
-    const Pose start{
-        end.p + (0.005 + 0.025 * unit(rng)) * away,
-        (end_rotation * Quat(Eigen::AngleAxisd(0.4 * unit(rng), random_unit(rng)))).normalized()};
-    if (cgal.intersects(tool, start) || !cgal.intersects(tool, end)) continue;
-    ++accepted;
+    normal = (b - a).cross(c - a).normalized();
+    const Quat rotation = random_rotation(rng);
+    double extent = 0;  // the tool's extent along −normal from its frame
+    for (const Vec3& p : tool.vertices) extent = std::max(extent, -normal.dot(rotation * p));
+    const double depth = depth_lo + (depth_hi - depth_lo) * unit(rng);
+    return Pose{a + u * (b - a) + v * (c - a) + (extent - depth) * normal, rotation};
+  }
 
-    const ScrewMotion motion(start, end);
-    const MeshCcdResult r = ccd.first_contact(motion, MeshCcdSettings{});
-    INFO("motion " << accepted << " toi " << r.toi);
-    REQUIRE(r.contact);
-    REQUIRE_FALSE(r.contacts.empty());
+  /// Ranges of a random motion onto the bunny (m, rad).
+  struct MotionRanges {
+    double depth_lo, depth_hi;  ///< the end, sunk past the tangent plane (sunk())
+    double back_lo, back_hi;    ///< the start's distance from the end
+    double spread;              ///< weight of a random unit vector added to the normal
+    double turn;                ///< largest turn from the end's orientation
+  };
+
+  /// A motion with the ranges; false (try again) unless it heads away from
+  /// the surface, its start is free and its end intersects (CGAL).
+  bool random_motion(std::mt19937& rng, const MotionRanges& ranges, Pose& start, Pose& end) const {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Vec3 normal;
+    end = sunk(rng, ranges.depth_lo, ranges.depth_hi, normal);
+    const Vec3 away = (normal + ranges.spread * random_unit(rng)).normalized();
+    if (away.dot(normal) < 0.2) return false;
+    start.p = end.p + (ranges.back_lo + (ranges.back_hi - ranges.back_lo) * unit(rng)) * away;
+    start.q =
+        (end.q * Quat(Eigen::AngleAxisd(ranges.turn * unit(rng), random_unit(rng)))).normalized();
+    return !cgal.intersects(tool, start) && cgal.intersects(tool, end);
+  }
+
+  /// CGAL finds no intersection at 20 times before `toi` and, unless a
+  /// kernel answered by its budget (a conservative, earlier time), one
+  /// within 1e-3 after it.
+  void check_first_contact(const ScrewMotion& motion, double toi, bool budget_exhausted) const {
     for (int k = 0; k < 20; ++k) {
-      const double t = r.toi * k / 20.0;
+      const double t = toi * k / 20.0;
       INFO("t " << t);
       CHECK_FALSE(cgal.intersects(tool, pose_at(motion, t)));
     }
+    if (budget_exhausted) return;
     bool intersects_soon = false;
     for (int k = 1; k <= 4 && !intersects_soon; ++k)
-      intersects_soon = cgal.intersects(tool, pose_at(motion, std::min(1.0, r.toi + 2.5e-4 * k)));
+      intersects_soon = cgal.intersects(tool, pose_at(motion, std::min(1.0, toi + 2.5e-4 * k)));
     CHECK(intersects_soon);
+  }
+};
+
+TEST_CASE("armadillo onto bunny: no intersection before the toi, intersection just after",
+          "[mesh_ccd][cgal]") {
+  const ArmadilloOnBunny s;
+  std::mt19937 rng(20240611);
+  constexpr int kMotions = 16;
+  int accepted = 0;
+  for (int attempt = 0; attempt < 200 && accepted < kMotions; ++attempt) {
+    // End pose: sunk 0.2–2 mm; start: 5–30 mm away, mostly along the
+    // normal, turned by up to 0.4 rad.
+    Pose start, end;
+    if (!s.random_motion(rng, {2e-4, 2e-3, 0.005, 0.03, 0.6, 0.4}, start, end)) continue;
+    ++accepted;
+
+    const ScrewMotion motion(start, end);
+    const MeshCcdResult r = s.ccd.first_contact(motion, MeshCcdSettings{});
+    INFO("motion " << accepted << " toi " << r.toi);
+    REQUIRE(r.contact);
+    REQUIRE_FALSE(r.contacts.empty());
+    s.check_first_contact(motion, r.toi, r.budget_exhausted);
     // The first pair is (nearly) touching at the toi: no point of the tool
     // moves more than `speed` per unit of t.
-    const double speed = (end.p - start.p).norm() + motion.angle() * ccd.tool_radius();
+    const double speed = (end.p - start.p).norm() + motion.angle() * s.ccd.tool_radius();
     if (!r.budget_exhausted) CHECK(r.contacts.front().geometry.distance <= 1e-4 * speed);
   }
   CHECK(accepted == kMotions);
@@ -432,47 +473,23 @@ TEST_CASE("the kernels of a proximity query's pairs find what the whole search f
   // the bunny: every pair that can meet during a motion whose points move at
   // most `reach` is within `reach` at its start, so the pairs a proximity
   // query lists within that distance hold the first contact.
-  TriangleMesh tool = model("armadillo.off", 3.305e-4);
-  const Vec3 com = mass_properties_from_density(tool, 1000).centre_of_mass;
-  for (Vec3& v : tool.vertices) v -= com;
-  SceneObject bunny;
-  bunny.name = "bunny00.off";
-  bunny.mesh = model("bunny00.off", 0.2);
-  const std::vector<SceneObject> scene{bunny};
-  const MeshCcd ccd(tool, scene);
-  const test::CgalMeshIntersection cgal(bunny.mesh);
-
+  const ArmadilloOnBunny s;
   std::mt19937 rng(77);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   constexpr int kMotions = 12;
   int accepted = 0;
   for (int attempt = 0; attempt < 300 && accepted < kMotions; ++attempt) {
-    const auto& tri = bunny.mesh.triangles[std::uniform_int_distribution<std::size_t>(
-        0, bunny.mesh.triangles.size() - 1)(rng)];
-    double u = unit(rng), v = unit(rng);
-    if (u + v > 1) u = 1 - u, v = 1 - v;
-    const Vec3 &a = bunny.mesh.vertices[tri[0]], &b = bunny.mesh.vertices[tri[1]],
-               &c = bunny.mesh.vertices[tri[2]];
-    const Vec3 normal = (b - a).cross(c - a).normalized();
-    const Quat end_rotation = random_rotation(rng);
-    double extent = 0;  // the tool's extent along −normal from its frame
-    for (const Vec3& p : tool.vertices) extent = std::max(extent, -normal.dot(end_rotation * p));
     // End: sunk 20–200 µm; start: 0.1–0.5 mm back, turned by up to 5 mrad.
-    const Pose end{a + u * (b - a) + v * (c - a) + (extent - 2e-5 - 1.8e-4 * unit(rng)) * normal,
-                   end_rotation};
-    const Pose start{
-        end.p + (1e-4 + 4e-4 * unit(rng)) * (normal + 0.5 * random_unit(rng)).normalized(),
-        (end_rotation * Quat(Eigen::AngleAxisd(5e-3 * unit(rng), random_unit(rng)))).normalized()};
-    if (cgal.intersects(tool, start) || !cgal.intersects(tool, end)) continue;
+    Pose start, end;
+    if (!s.random_motion(rng, {2e-5, 2e-4, 1e-4, 5e-4, 0.5, 5e-3}, start, end)) continue;
     ++accepted;
     const ScrewMotion motion(start, end);
-    const double reach = (end.p - start.p).norm() + motion.angle() * ccd.tool_radius();
-    const ProximityResult near = ccd.proximity(start, 1.01 * reach, 100000);
+    const double reach = (end.p - start.p).norm() + motion.angle() * s.ccd.tool_radius();
+    const ProximityResult near = s.ccd.proximity(start, 1.01 * reach, 100000);
     std::vector<ContactFeatures> pairs;
     for (const ProximityPair& pair : near.pairs) pairs.push_back(pair.features);
 
-    const MeshCcdResult among = ccd.first_contact_among(motion, pairs, MeshCcdSettings{});
-    const MeshCcdResult whole = ccd.first_contact(motion, MeshCcdSettings{});
+    const MeshCcdResult among = s.ccd.first_contact_among(motion, pairs, MeshCcdSettings{});
+    const MeshCcdResult whole = s.ccd.first_contact(motion, MeshCcdSettings{});
     INFO("motion " << accepted << ": " << pairs.size() << " pairs, toi " << among.toi
                    << ", whole search " << whole.toi);
     REQUIRE(among.contact);
@@ -480,18 +497,9 @@ TEST_CASE("the kernels of a proximity query's pairs find what the whole search f
     CHECK(among.bv_tests == 0);
     CHECK(among.primitive_queries == static_cast<int64_t>(pairs.size()));
     CHECK(among.toi == Approx(whole.toi).margin(2e-6));
-    for (int k = 0; k < 20; ++k) {
-      const double t = among.toi * k / 20.0;
-      INFO("t " << t);
-      CHECK_FALSE(cgal.intersects(tool, pose_at(motion, t)));
-    }
-    bool intersects_soon = false;
-    for (int k = 1; k <= 4 && !intersects_soon; ++k)
-      intersects_soon =
-          cgal.intersects(tool, pose_at(motion, std::min(1.0, among.toi + 2.5e-4 * k)));
-    CHECK(intersects_soon);
+    s.check_first_contact(motion, among.toi, among.budget_exhausted);
     // Without the pairs there is nothing to hit.
-    CHECK_FALSE(ccd.first_contact_among(motion, {}, MeshCcdSettings{}).contact);
+    CHECK_FALSE(s.ccd.first_contact_among(motion, {}, MeshCcdSettings{}).contact);
   }
   CHECK(accepted == kMotions);
 }
