@@ -50,6 +50,11 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
   return shell;
 }
 
+Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const PointShellGains& gains,
+                       const Mat3& rotation) {
+  return gains.signed_distance ? hit.reference : Vec3(rotation * shell.normals[hit.point]);
+}
+
 double averaging_divisor(std::size_t n) {
   return n >= kAveragingThreshold ? static_cast<double>(n) / kAveragingThreshold : 1.0;
 }
@@ -101,14 +106,18 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   const double k = gains.stiffness;
 
   // Contacts. Per point, with a = ∂d/∂x and c = ∂d/∂δθ, m = s × n:
-  //   ∂F/∂x = K n aᵀ, ∂F/∂δθ = K n cᵀ − K d [n]×,
-  //   ∂τ/∂x = K m aᵀ, ∂τ/∂δθ = K m cᵀ − K d [m]×.
-  // Voxmap: a = −n, c = n × (C − x). Signed distance: a = −∇φ, c = ∇φ × s.
+  //   ∂F/∂x = K n aᵀ, ∂τ/∂x = K m aᵀ, and
+  //   voxmap (n the point's normal, turning with the body): a = −n,
+  //     c = n × (C − x), ∂F/∂δθ = K n cᵀ − K d [n]×, ∂τ/∂δθ = K m cᵀ − K d [m]×;
+  //   signed distance (n = ∇φ, fixed in the world; φ's second derivatives
+  //     left out): a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ,
+  //     ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×.
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   Mat3 n_a = Mat3::Zero(), n_c = Mat3::Zero(), m_a = Mat3::Zero(), m_c = Mat3::Zero();
+  Mat3 turning = Mat3::Zero();  // signed distance: Σ d [n]×[s]×
   for (const PointHit& hit : hits.contacts) {
     const Vec3 s = rotation * shell.points[hit.point];
-    const Vec3 n = rotation * shell.normals[hit.point];
+    const Vec3 n = contact_direction(shell, hit, gains, rotation);
     const Vec3 m = s.cross(n);
     force += hit.depth * n;
     torque += hit.depth * m;
@@ -120,6 +129,7 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     } else {
       a = -hit.reference;
       c = hit.reference.cross(s);
+      turning.noalias() += hit.depth * skew(n) * skew(s);
     }
     n_a.noalias() += n * a.transpose();
     n_c.noalias() += n * c.transpose();
@@ -131,9 +141,14 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   result.wrench.torque = contact_scale * torque;
   if (with_jacobians && !hits.contacts.empty()) {
     result.stiffness.block<3, 3>(0, 0) = contact_scale * n_a;
-    result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c - skew(force));
     result.stiffness.block<3, 3>(3, 0) = contact_scale * m_a;
-    result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c - skew(torque));
+    if (!gains.signed_distance) {
+      result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c - skew(force));
+      result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c - skew(torque));
+    } else {
+      result.stiffness.block<3, 3>(0, 3) = contact_scale * n_c;
+      result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c + turning);
+    }
   }
 
   // Braking: F = b c u with c = n·u < 0, u = v + ω × s. With A = ∂F/∂u =
@@ -202,11 +217,15 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
 }
 
 void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const RigidBodyState& state, std::vector<Contact>& contacts) {
+                     const PointShellGains& gains, const RigidBodyState& state,
+                     std::vector<Contact>& contacts) {
   const Mat3 rotation = state.q.toRotationMatrix();
   for (const PointHit& hit : hits.contacts) {
-    contacts.push_back({state.x + rotation * shell.points[hit.point],
-                        rotation * shell.normals[hit.point], hit.depth});
+    const Vec3 direction = contact_direction(shell, hit, gains, rotation);
+    const double length = direction.norm();
+    if (!(length > 0)) continue;  // a flat spot of φ: no direction, no force
+    contacts.push_back(
+        {state.x + rotation * shell.points[hit.point], direction / length, hit.depth});
   }
 }
 

@@ -10,7 +10,9 @@
 //   perpendicular to n; when d > 0 it gets F = K_ff d n (Hooke's law).
 //   Signed-distance variant: d = −φ(P), φ interpolated trilinearly from the
 //   voxel-centre signed distances, for points in surface or interior voxels;
-//   same F = K_ff d n when d > 0.
+//   F = K_ff d ∇φ when d > 0: minus the gradient of the potential
+//   ½ K_ff Σ φ(P_i)², so the contact force is conservative (the point's
+//   own normal as direction is not: it gave energy away).
 //   Torque about the centre of mass: s × F.
 //   Averaging: with N points in contact, the net wrench is the sum when
 //   N < 10 and the sum / (N/10) when N ≥ 10.
@@ -104,9 +106,15 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
                                   const PointShellGains& gains, const RigidBodyState& state,
                                   bool with_jacobians);
 
-/// The hits as Contacts at `state`: P (world), n (world, pushes the tool out
-/// of the scene), d. Appends to `contacts`.
+/// The direction (world) of a contact's force: the point's normal n = R n_i
+/// (voxmap variant, unit) or ∇φ at the point (signed distance, about unit).
+Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const PointShellGains& gains,
+                       const Mat3& rotation);
+
+/// The hits as Contacts at `state`: P (world), the unit direction of the
+/// point's force (pushes the tool out of the scene), d. Appends to `contacts`.
 void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const RigidBodyState& state, std::vector<Contact>& contacts);
+                     const PointShellGains& gains, const RigidBodyState& state,
+                     std::vector<Contact>& contacts);
 
 }  // namespace hb
