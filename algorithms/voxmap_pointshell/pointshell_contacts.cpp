@@ -50,9 +50,8 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
   return shell;
 }
 
-Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const PointShellGains& gains,
-                       const Mat3& rotation) {
-  return gains.signed_distance ? hit.reference : Vec3(rotation * shell.normals[hit.point]);
+Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3& rotation) {
+  return hit.field ? hit.reference : Vec3(rotation * shell.normals[hit.point]);
 }
 
 double averaging_divisor(std::size_t n) {
@@ -83,16 +82,15 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
         hits.braking.push_back(i);
         continue;
       }
-      const Vec3 normal = rotation * shell.normals[i];
-      if (!gains.signed_distance) {
-        if (voxel_state != VoxelState::kSurface) continue;  // interior: no force
+      if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
+        const Vec3 normal = rotation * shell.normals[i];
         const Vec3 centre = voxmap.centre_of(voxel);
         const double depth = normal.dot(centre - point);
-        if (depth > 0) hits.contacts.push_back({i, depth, centre});
-      } else {
+        if (depth > 0) hits.contacts.push_back({i, depth, centre, false});
+      } else if (voxmap.has_distances()) {
         Vec3 gradient;
         const double phi = voxmap.interpolated_distance(point, gradient);
-        if (phi < 0) hits.contacts.push_back({i, -phi, gradient});
+        if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
       }
     }
   }
@@ -107,29 +105,30 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
 
   // Contacts. Per point, with a = ∂d/∂x and c = ∂d/∂δθ, m = s × n:
   //   ∂F/∂x = K n aᵀ, ∂τ/∂x = K m aᵀ, and
-  //   voxmap (n the point's normal, turning with the body): a = −n,
+  //   tangent plane (n the point's normal, turning with the body): a = −n,
   //     c = n × (C − x), ∂F/∂δθ = K n cᵀ − K d [n]×, ∂τ/∂δθ = K m cᵀ − K d [m]×;
-  //   signed distance (n = ∇φ, fixed in the world; φ's second derivatives
-  //     left out): a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ,
-  //     ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×.
+  //   field (n = ∇φ, fixed in the world; φ's second derivatives left out):
+  //     a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ, ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×.
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   Mat3 n_a = Mat3::Zero(), n_c = Mat3::Zero(), m_a = Mat3::Zero(), m_c = Mat3::Zero();
-  Mat3 turning = Mat3::Zero();  // signed distance: Σ d [n]×[s]×
+  Mat3 force_turn = Mat3::Zero(), torque_turn = Mat3::Zero();  // the d-terms above
   for (const PointHit& hit : hits.contacts) {
     const Vec3 s = rotation * shell.points[hit.point];
-    const Vec3 n = contact_direction(shell, hit, gains, rotation);
+    const Vec3 n = contact_direction(shell, hit, rotation);
     const Vec3 m = s.cross(n);
     force += hit.depth * n;
     torque += hit.depth * m;
     if (!with_jacobians) continue;
     Vec3 a, c;
-    if (!gains.signed_distance) {
+    if (!hit.field) {
       a = -n;
       c = n.cross(hit.reference - state.x);
+      force_turn -= hit.depth * skew(n);
+      torque_turn -= hit.depth * skew(m);
     } else {
       a = -hit.reference;
       c = hit.reference.cross(s);
-      turning.noalias() += hit.depth * skew(n) * skew(s);
+      torque_turn.noalias() += hit.depth * skew(n) * skew(s);
     }
     n_a.noalias() += n * a.transpose();
     n_c.noalias() += n * c.transpose();
@@ -141,14 +140,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   result.wrench.torque = contact_scale * torque;
   if (with_jacobians && !hits.contacts.empty()) {
     result.stiffness.block<3, 3>(0, 0) = contact_scale * n_a;
+    result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c + force_turn);
     result.stiffness.block<3, 3>(3, 0) = contact_scale * m_a;
-    if (!gains.signed_distance) {
-      result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c - skew(force));
-      result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c - skew(torque));
-    } else {
-      result.stiffness.block<3, 3>(0, 3) = contact_scale * n_c;
-      result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c + turning);
-    }
+    result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c + torque_turn);
   }
 
   // Braking: F = b c u with c = n·u < 0, u = v + ω × s. With A = ∂F/∂u =
@@ -217,11 +211,10 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
 }
 
 void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const PointShellGains& gains, const RigidBodyState& state,
-                     std::vector<Contact>& contacts) {
+                     const RigidBodyState& state, std::vector<Contact>& contacts) {
   const Mat3 rotation = state.q.toRotationMatrix();
   for (const PointHit& hit : hits.contacts) {
-    const Vec3 direction = contact_direction(shell, hit, gains, rotation);
+    const Vec3 direction = contact_direction(shell, hit, rotation);
     const double length = direction.norm();
     if (!(length > 0)) continue;  // a flat spot of φ: no direction, no force
     contacts.push_back(

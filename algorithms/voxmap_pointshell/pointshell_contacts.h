@@ -7,7 +7,10 @@
 // with normal n = R n_i, lever s = R r_i.
 //   Tangent-plane force (voxmap variant): a point in a surface voxel of
 //   centre C has depth d = n·(C − P) below the plane through C
-//   perpendicular to n; when d > 0 it gets F = K_ff d n (Hooke's law).
+//   perpendicular to n; when d > 0 it gets F = K_ff d n (Hooke's law). A
+//   point past the surface layer, in an interior voxel (where McNeely's
+//   voxmap exerts nothing, so a proxy pushed through the layer stayed
+//   trapped), acts as in the signed-distance variant below.
 //   Signed-distance variant: d = −φ(P), φ interpolated trilinearly from the
 //   voxel-centre signed distances, for points in surface or interior voxels;
 //   F = K_ff d ∇φ when d > 0: minus the gradient of the potential
@@ -59,9 +62,10 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
 struct PointHit {
   int32_t point = 0;  ///< index into PointShell::points
   double depth = 0;   ///< d (m), > 0
-  /// Voxmap variant: the surface voxel's centre C (m, world).
-  /// Signed-distance variant: ∇φ at the point (world, dimensionless).
+  /// Tangent-plane hit: the surface voxel's centre C (m, world).
+  /// Field hit: ∇φ at the point (world, dimensionless).
   Vec3 reference = Vec3::Zero();
+  bool field = false;  ///< d = −φ(P) and F = K d ∇φ (else the tangent plane)
 };
 
 /// What the points meet at one pose.
@@ -107,14 +111,12 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
                                   bool with_jacobians);
 
 /// The direction (world) of a contact's force: the point's normal n = R n_i
-/// (voxmap variant, unit) or ∇φ at the point (signed distance, about unit).
-Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const PointShellGains& gains,
-                       const Mat3& rotation);
+/// (tangent-plane hit, unit) or ∇φ at the point (field hit, about unit).
+Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3& rotation);
 
 /// The hits as Contacts at `state`: P (world), the unit direction of the
 /// point's force (pushes the tool out of the scene), d. Appends to `contacts`.
 void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const PointShellGains& gains, const RigidBodyState& state,
-                     std::vector<Contact>& contacts);
+                     const RigidBodyState& state, std::vector<Contact>& contacts);
 
 }  // namespace hb

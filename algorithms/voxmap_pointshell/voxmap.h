@@ -39,8 +39,8 @@ namespace hb {
 struct VoxmapSettings {
   double voxel_size_m = 0.002;   ///< h, m
   int proximity_layers = 2;      ///< L, voxels of proximity state outside the surface layer
-  bool signed_distance = false;  ///< keep φ per voxel for the signed-distance variant
-  int interior_layers = 3;       ///< voxels of exact φ inside the surface (signed distance)
+  bool signed_distance = false;  ///< keep φ per voxel (for depths past the surface layer)
+  int interior_layers = 3;       ///< voxels of exact φ inside the surface (with φ kept)
 };
 
 /// Where and whether to cache (voxmap_cache.cpp resolves the folder).

@@ -53,8 +53,10 @@ VoxmapPointShellSettings read_settings(const RenderContext& context, const Param
     }
   }
   settings.gains.signed_distance = settings.voxmap.signed_distance;
-  if (settings.voxmap.signed_distance)
-    settings.voxmap.interior_layers = static_cast<int>(params.integer("interior_layers", 3, 1, 64));
+  // Both variants keep φ: the voxmap variant takes a point's depth from it
+  // once the point is past the surface layer (pointshell_contacts.h).
+  settings.voxmap.signed_distance = true;
+  settings.voxmap.interior_layers = static_cast<int>(params.integer("interior_layers", 3, 1, 64));
   settings.voxmap.proximity_layers = static_cast<int>(params.integer("proximity_layers", 2, 0, 64));
   settings.gains.braking_viscosity = params.number("braking_viscosity", 5, 0, 1e9);
   settings.proxy = read_proxy_settings(params, context.tool);
@@ -169,7 +171,7 @@ class VoxmapPointShellRenderer : public Renderer {
     // contact set the next tick starts from.
     find_hits(proxy_.state(), result.work);
     contacts_.clear();
-    report_contacts(shell_, hits_, gains_, proxy_.state(), contacts_);
+    report_contacts(shell_, hits_, proxy_.state(), contacts_);
     result.display = device_output(raw, limits_, result.flags);
     result.proxy = proxy_.tool_pose();
     result.contacts = contacts_;

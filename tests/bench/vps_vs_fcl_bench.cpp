@@ -108,7 +108,7 @@ struct Setup {
     find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
     const ForceEvaluation evaluation = pointshell_wrench(shell, hits, gains, state, true);
     contacts.clear();
-    report_contacts(shell, hits, gains, state, contacts);
+    report_contacts(shell, hits, state, contacts);
     return evaluation.wrench.force.norm();
   }
 

@@ -113,6 +113,45 @@ TEST_CASE("the tangent-plane depth is measured from the voxel centre along the p
   CHECK(in_contact > 20);
 }
 
+TEST_CASE("past the surface layer a voxmap point takes its depth and direction from φ",
+          "[voxmap_pointshell]") {
+  // McNeely's interior voxels exert nothing, so a proxy pushed through the
+  // one-voxel surface layer stayed trapped; with φ kept, a point in an
+  // interior voxel acts as in the signed-distance variant: d = −φ(P),
+  // F = K d ∇φ (the slab's φ is −z below its top face z = 0).
+  const double h = 0.002;
+  const SceneVoxmap voxmap = slab_voxmap(h, true);
+  PointShellGains gains;  // the voxmap variant
+  gains.braking_viscosity = 0;
+  const Vec3 normal = Vec3(0.3, -0.2, 1).normalized();
+  const PointShell shell = repeated_point(1, Vec3::Zero(), normal);
+  int interior = 0, surface = 0;
+  for (double z = -0.0057; z <= -0.0003; z += 0.0001) {
+    RigidBodyState state;
+    state.x = Vec3(0.0011, 0.0007, z);
+    PointShellHits hits;
+    WorkCounters work;
+    find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+    INFO("z " << z);
+    REQUIRE(hits.contacts.size() == 1);
+    const PointHit& hit = hits.contacts[0];
+    const ForceEvaluation f = pointshell_wrench(shell, hits, gains, state, false);
+    if (z < -0.5 * h - 1e-9) {  // an interior voxel
+      ++interior;
+      CHECK(hit.field);
+      CHECK(hit.depth == Approx(-z).margin(1e-6));
+      CHECK((f.wrench.force - gains.stiffness * (-z) * Vec3::UnitZ()).norm() <=
+            gains.stiffness * 1e-6);
+    } else if (z > -0.5 * h + 1e-9) {  // the surface layer: the tangent plane
+      ++surface;
+      CHECK_FALSE(hit.field);
+      CHECK(hit.depth == Approx(normal.dot(Vec3(0.002, 0, 0) - state.x)).margin(1e-12));
+    }
+  }
+  CHECK(interior > 20);
+  CHECK(surface > 5);
+}
+
 TEST_CASE("braking viscosity opposes motion towards the scene and is zero moving away",
           "[voxmap_pointshell]") {
   PointShellGains gains;
