@@ -124,9 +124,10 @@ json run_json(const AlgorithmRun& run) {
                       {"calibration_drift", n.calibration_drift},
                       {"load_average_1m", n.load_average_1m},
                       {"logical_cores", n.logical_cores},
+                      {"other_runnable", n.other_runnable},
                       {"rule",
                        "quiet: cpu_share >= 0.97, calibration spread and drift <= 0.10, "
-                       "load average <= cores - 0.5"}};
+                       "load average <= cores - 0.5, other runnable tasks <= max(0, cores - 2)"}};
   json repeats = nullptr;
   if (run.repeats) {
     auto spread = [](const Spread& s) {

@@ -27,6 +27,17 @@ double calibration_workload() {
   return x;
 }
 
+// Runnable tasks besides this one, from /proc/loadavg's "running/total"
+// field (this thread counts one); −1 when it cannot be read.
+int other_runnable_tasks() {
+  std::ifstream file("/proc/loadavg");
+  double one = 0, five = 0, fifteen = 0;
+  int running = 0;
+  char slash = 0;
+  if (!(file >> one >> five >> fifteen >> running >> slash) || slash != '/') return -1;
+  return std::max(0, running - 1);
+}
+
 struct CalibrationBatch {
   double p50_ns = 0, p90_ns = 0;
 };
@@ -50,6 +61,7 @@ CalibrationBatch time_calibration() {
 NoiseFloorProbe::NoiseFloorProbe() {
   std::ifstream("/proc/loadavg") >> load_average_1m_;
   logical_cores_ = std::max(1, static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN)));
+  other_runnable_start_ = other_runnable_tasks();
   const CalibrationBatch before = time_calibration();
   calibration_before_ns_ = before.p50_ns;
   calibration_before_p90_ns_ = before.p90_ns;
@@ -73,9 +85,14 @@ NoiseFloor NoiseFloorProbe::finish() const {
       calibration_before_ns_ > 0 ? std::abs(after.p50_ns / calibration_before_ns_ - 1) : 0;
   noise.load_average_1m = load_average_1m_;
   noise.logical_cores = logical_cores_;
+  const int other_runnable_end = other_runnable_tasks();
+  noise.other_runnable = other_runnable_start_ < 0 || other_runnable_end < 0
+                             ? -1
+                             : std::max(other_runnable_start_, other_runnable_end);
   noise.quiet = noise.cpu_share >= kQuietCpuShare && noise.calibration_spread <= kQuietSpread &&
                 noise.calibration_drift <= kQuietDrift &&
-                noise.load_average_1m <= logical_cores_ - 0.5;
+                noise.load_average_1m <= logical_cores_ - 0.5 &&
+                noise.other_runnable <= std::max(0, logical_cores_ - 2);
   return noise;
 }
 

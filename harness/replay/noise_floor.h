@@ -21,8 +21,15 @@ struct NoiseFloor {
   /// /proc/loadavg (1 min) at the start of the pass, and the online logical CPUs.
   double load_average_1m = 0;
   int logical_cores = 1;
-  /// cpu_share >= kQuietCpuShare, spread <= kQuietSpread, drift <= kQuietDrift
-  /// and load_average_1m <= logical_cores - 0.5 (this process counts one).
+  /// Other runnable tasks (/proc/loadavg's running count less this one),
+  /// the larger of the counts at the start and at the end of the pass; −1
+  /// when unreadable. The load average lags by a minute; this does not, and
+  /// a busy neighbour (an SMT sibling, a shared cache) slows the steps
+  /// without taking this thread's CPU or slowing the calibration workload.
+  int other_runnable = -1;
+  /// cpu_share >= kQuietCpuShare, spread <= kQuietSpread, drift <= kQuietDrift,
+  /// load_average_1m <= logical_cores - 0.5 (this process counts one) and
+  /// other_runnable <= max(0, logical_cores - 2) (a core besides this one idle).
   bool quiet = false;
 };
 
@@ -43,6 +50,7 @@ class NoiseFloorProbe {
   double calibration_before_p90_ns_ = 0;
   double load_average_1m_ = 0;
   int logical_cores_ = 1;
+  int other_runnable_start_ = -1;
 };
 
 }  // namespace hb
