@@ -50,10 +50,6 @@ bool HapticProxy::within_reach(const ProximityCertificate& certificate,
          certificate.clearance_m - settings_.standoff_m;
 }
 
-double HapticProxy::reach_from_anchor(const Pose& com_pose) const {
-  return point_reach(displacement(certificate_.anchor, com_pose), radius_);
-}
-
 double HapticProxy::coupling_energy(const Pose& tool_pose, const Pose& target) const {
   const Vec3 dx = target.p - tool_pose.p;
   const Vec3 dphi = rotation_vector(target.q * tool_pose.q.conjugate());
@@ -64,8 +60,7 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
                         const Pose& target) {
   ProximityCertificate previous = std::move(certificate_);
   certificate_ = std::move(certificate);
-  const double reach = certificate_.clearance_m - settings_.standoff_m;
-  if (reach_from_anchor(frames_.com_frame(pose_)) <= reach) {
+  if (within_reach(certificate_, pose_)) {
     warm_active_.clear();
     return true;
   }

@@ -79,7 +79,6 @@ class HapticProxy {
   const ProximityCertificate& certificate() const { return certificate_; }
 
  private:
-  double reach_from_anchor(const Pose& com_pose) const;
   double coupling_energy(const Pose& tool_pose, const Pose& target) const;
 
   const MeshCcd& ccd_;
