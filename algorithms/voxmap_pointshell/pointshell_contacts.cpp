@@ -8,45 +8,81 @@
 namespace hb {
 
 namespace {
+
 constexpr std::size_t kAveragingThreshold = 10;
+// A node is skipped only when the scene is this much (m) beyond its
+// sphere: room for the rounding of the posed centre.
+constexpr double kRoundingMargin = 1e-9;
+
+// Appends the nodes of the subtree over order[begin, end) depth-first.
+void build_subtree(const std::vector<Vec3>& points, std::vector<int32_t>& order, int32_t begin,
+                   int32_t end, int leaf_points, std::vector<PointShell::Node>& nodes) {
+  Eigen::AlignedBox3d box;
+  for (int32_t k = begin; k < end; ++k) box.extend(points[order[k]]);
+  const std::size_t index = nodes.size();
+  PointShell::Node node;
+  node.centre = box.center();
+  for (int32_t k = begin; k < end; ++k)
+    node.radius = std::max(node.radius, (points[order[k]] - node.centre).norm());
+  node.first = begin;
+  node.count = end - begin;
+  nodes.push_back(node);
+  if (end - begin > leaf_points) {
+    int axis = 0;
+    box.sizes().maxCoeff(&axis);
+    const int32_t middle = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
+                     [&](int32_t a, int32_t b) { return points[a][axis] < points[b][axis]; });
+    build_subtree(points, order, begin, middle, leaf_points, nodes);
+    build_subtree(points, order, middle, end, leaf_points, nodes);
+  }
+  nodes[index].skip = static_cast<int32_t>(nodes.size());
+}
+
+// Looks up point i at the pose (x, rotation) and records what it meets.
+inline void look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
+                          const PointShellGains& gains, const Vec3& x, const Mat3& rotation,
+                          int32_t i, PointShellHits& hits) {
+  const Vec3 point = x + rotation * shell.points[i];
+  const Eigen::Vector3i voxel = voxmap.voxel_of(point);
+  const VoxelState voxel_state = voxmap.state(voxel);
+  if (voxel_state == VoxelState::kFree) return;
+  if (voxel_state == VoxelState::kProximity) {
+    hits.braking.push_back(i);
+    return;
+  }
+  if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
+    const Vec3 normal = rotation * shell.normals[i];
+    const Vec3 centre = voxmap.centre_of(voxel);
+    const double depth = normal.dot(centre - point);
+    if (depth > 0) hits.contacts.push_back({i, depth, centre, false});
+  } else if (voxmap.has_distances()) {
+    Vec3 gradient;
+    const double phi = voxmap.interpolated_distance(point, gradient);
+    if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
+  }
+}
+
 }  // namespace
 
 PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                           const Vec3& centre_of_mass, double cluster_size_m) {
+                           const Vec3& centre_of_mass, int leaf_points) {
   PointShell shell;
-  const std::size_t n = points.size();
-  std::vector<std::array<long, 3>> cell(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a)
-      cell[i][a] =
-          static_cast<long>(std::floor((points[i][a] - centre_of_mass[a]) / cluster_size_m));
-  }
-  std::vector<std::size_t> order(n);
+  const auto n = static_cast<int32_t>(points.size());
+  std::vector<Vec3> about_centre(points.size());
+  for (int32_t i = 0; i < n; ++i) about_centre[i] = points[i] - centre_of_mass;
+  std::vector<int32_t> order(points.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return cell[a] < cell[b]; });
-  shell.points.reserve(n);
-  shell.normals.reserve(n);
-  for (std::size_t k = 0; k < n;) {
-    PointShell::Cluster cluster;
-    cluster.first = static_cast<int32_t>(shell.points.size());
-    Eigen::AlignedBox3d box;
-    std::size_t end = k;
-    for (; end < n && cell[order[end]] == cell[order[k]]; ++end) {
-      const Vec3 r = points[order[end]] - centre_of_mass;
-      shell.points.push_back(r);
-      shell.normals.push_back(normals[order[end]]);
-      box.extend(r);
-    }
-    cluster.count = static_cast<int32_t>(end - k);
-    cluster.centre = box.center();
-    for (int32_t i = cluster.first; i < cluster.first + cluster.count; ++i) {
-      cluster.radius = std::max(cluster.radius, (shell.points[i] - cluster.centre).norm());
-      shell.radius = std::max(shell.radius, shell.points[i].norm());
-    }
-    shell.clusters.push_back(cluster);
-    k = end;
+  if (n > 0) build_subtree(about_centre, order, 0, n, std::max(leaf_points, 1), shell.nodes);
+  shell.points.reserve(points.size());
+  shell.normals.reserve(points.size());
+  for (const int32_t i : order) {
+    shell.points.push_back(about_centre[i]);
+    shell.normals.push_back(normals[i]);
+    shell.radius = std::max(shell.radius, about_centre[i].norm());
   }
+  for (std::size_t k = 0; k < shell.nodes.size(); ++k)
+    if (shell.nodes[k].skip == static_cast<int32_t>(k) + 1) ++shell.leaves;
   return shell;
 }
 
@@ -64,36 +100,36 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
   hits.clear();
   work.names = &PointShellWork::kNames;
   const Vec3& x = state.x;
-  // Bounding test: the whole tool clear of every non-free voxel.
-  work.add(PointShellWork::kSphereTests);
-  if (!(voxmap.clearance(x) <= shell.radius)) return;
   const Mat3 rotation = state.q.toRotationMatrix();
-  for (const PointShell::Cluster& cluster : shell.clusters) {
-    work.add(PointShellWork::kSphereTests);
-    if (voxmap.clearance(x + rotation * cluster.centre) > cluster.radius) continue;
-    work.add(PointShellWork::kPointsLookedUp, cluster.count);
-    const int32_t end = cluster.first + cluster.count;
-    for (int32_t i = cluster.first; i < end; ++i) {
-      const Vec3 point = x + rotation * shell.points[i];
-      const Eigen::Vector3i voxel = voxmap.voxel_of(point);
-      const VoxelState voxel_state = voxmap.state(voxel);
-      if (voxel_state == VoxelState::kFree) continue;
-      if (voxel_state == VoxelState::kProximity) {
-        hits.braking.push_back(i);
-        continue;
-      }
-      if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
-        const Vec3 normal = rotation * shell.normals[i];
-        const Vec3 centre = voxmap.centre_of(voxel);
-        const double depth = normal.dot(centre - point);
-        if (depth > 0) hits.contacts.push_back({i, depth, centre, false});
-      } else if (voxmap.has_distances()) {
-        Vec3 gradient;
-        const double phi = voxmap.interpolated_distance(point, gradient);
-        if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
-      }
+  const auto nodes = static_cast<int32_t>(shell.nodes.size());
+  int64_t tests = 0, looked_up = 0;
+  for (int32_t k = 0; k < nodes;) {
+    const PointShell::Node& node = shell.nodes[k];
+    ++tests;
+    if (voxmap.clearance(x + rotation * node.centre) > node.radius + kRoundingMargin) {
+      k = node.skip;
+      continue;
     }
+    if (node.skip != k + 1) {  // not a leaf: descend
+      ++k;
+      continue;
+    }
+    looked_up += node.count;
+    for (int32_t i = node.first; i < node.first + node.count; ++i)
+      look_up_point(shell, voxmap, gains, x, rotation, i, hits);
+    k = node.skip;
   }
+  work.add(PointShellWork::kSphereTests, tests);
+  work.add(PointShellWork::kPointsLookedUp, looked_up);
+}
+
+void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxmap,
+                               const PointShellGains& gains, const RigidBodyState& state,
+                               PointShellHits& hits) {
+  hits.clear();
+  const Mat3 rotation = state.q.toRotationMatrix();
+  for (std::size_t i = 0; i < shell.points.size(); ++i)
+    look_up_point(shell, voxmap, gains, state.x, rotation, static_cast<int32_t>(i), hits);
 }
 
 ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,

@@ -38,25 +38,37 @@
 
 namespace hb {
 
-/// The tool's pointshell for the haptic loop, grouped into clusters of
-/// nearby points so that clusters far from the scene are skipped whole.
+/// The tool's pointshell for the haptic loop, with a bounding-sphere tree
+/// over its points (after Barbič & James's nested pointshells): a subtree
+/// is skipped when the scene is farther from its sphere's centre than the
+/// radius, so the search descends only where the scene is near.
 struct PointShell {
-  struct Cluster {
+  /// A node of the tree. Nodes are stored depth-first: a node's children
+  /// follow it, and `skip` is the first node after its subtree; a leaf is a
+  /// node whose `skip` is the next node.
+  struct Node {
     Vec3 centre = Vec3::Zero();  ///< m, tool axes, about the centre of mass
-    double radius = 0;           ///< m, every point of the cluster is within it
-    int32_t first = 0;           ///< index of its first point
-    int32_t count = 0;
+    double radius = 0;           ///< m, every point of the subtree is within it
+    int32_t first = 0;           ///< index of the subtree's first point
+    int32_t count = 0;           ///< points of the subtree, consecutive
+    int32_t skip = 0;            ///< index of the node after the subtree
   };
   std::vector<Vec3> points;   ///< r_i: m, tool axes, about the centre of mass
   std::vector<Vec3> normals;  ///< n_i: unit, tool axes, pointing into the tool
-  std::vector<Cluster> clusters;
-  double radius = 0;  ///< m, max |r_i|
+  std::vector<Node> nodes;    ///< depth-first; nodes[0] is the root (when any point)
+  double radius = 0;          ///< m, max |r_i|
+  int32_t leaves = 0;
 };
 
-/// Groups tool-frame points (m) and inward normals into clusters of cubic
-/// cells of edge cluster_size_m, expressing them about centre_of_mass (m, tool frame).
+/// Points per leaf of the tree at most.
+inline constexpr int kPointShellLeafPoints = 8;
+
+/// Builds the tree over tool-frame points (m) and inward normals, splitting
+/// at the median along the longest side of each node's box down to leaves of
+/// at most leaf_points points, and expresses them about centre_of_mass (m,
+/// tool frame). The points are reordered so that every subtree's are consecutive.
 PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                           const Vec3& centre_of_mass, double cluster_size_m);
+                           const Vec3& centre_of_mass, int leaf_points = kPointShellLeafPoints);
 
 /// A point of the shell that acts at a pose.
 struct PointHit {
@@ -90,19 +102,26 @@ double averaging_divisor(std::size_t n);
 
 /// The Voxmap PointShell's work counters (WorkCounters slots and names).
 struct PointShellWork {
-  static constexpr std::size_t kSphereTests = 0;     ///< tool and cluster bounding spheres
+  static constexpr std::size_t kSphereTests = 0;     ///< bounding spheres of tree nodes
   static constexpr std::size_t kPointsLookedUp = 1;  ///< points whose voxel was read
   static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up"};
 };
 
-/// Looks up every point of the shell at the proxy pose (x, q of `state`).
-/// Skips everything when the shell's bounding sphere is clear of every
-/// non-free voxel, and each cluster whose sphere is. Counts points looked
-/// up in work (PointShellWork::kPointsLookedUp) and bounding-sphere tests of
-/// the tool and its clusters (kSphereTests).
+/// Finds the points of the shell that act at the proxy pose (x, q of
+/// `state`) by descending the tree: a node whose sphere is clear of every
+/// non-free voxel (VoxelLookup::clearance at its centre) is skipped with its
+/// subtree, a leaf that is not has its points looked up. Hits come in point
+/// order. Counts points looked up in work (PointShellWork::kPointsLookedUp)
+/// and node spheres tested (kSphereTests).
 void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           const PointShellGains& gains, const RigidBodyState& state,
                           PointShellHits& hits, WorkCounters& work);
+
+/// The same hits by looking up every point, without the tree (the reference
+/// the tree's culling is checked against).
+void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxmap,
+                               const PointShellGains& gains, const RigidBodyState& state,
+                               PointShellHits& hits);
 
 /// The net wrench of the hits at `state` about the centre of mass (world),
 /// with Jacobians when asked.

@@ -27,6 +27,7 @@ VoxelLookup::VoxelLookup(double voxel_size_m, const Eigen::Vector3i& block_min,
   block_code_.assign(blocks, uniform_code(VoxelState::kFree));
   if (with_distances_) uniform_distance_.assign(blocks, outside_distance_m);
   clearance_.assign(blocks, kUnreached);
+  clearance_code_.assign(blocks, -static_cast<int32_t>(kUnreached));
 }
 
 void VoxelLookup::set_uniform_block(const Eigen::Vector3i& b, VoxelState state, float distance) {
@@ -45,6 +46,11 @@ void VoxelLookup::set_dense_block(const Eigen::Vector3i& b, const uint8_t* state
 }
 
 void VoxelLookup::finish() {
+  compute_block_clearance();
+  compute_fine_clearance();
+}
+
+void VoxelLookup::compute_block_clearance() {
   // Multi-source breadth-first search over the 26-neighbourhood: the number
   // of steps is the Chebyshev distance in blocks.
   std::deque<Eigen::Vector3i> queue;
@@ -82,6 +88,70 @@ void VoxelLookup::finish() {
         }
       }
     }
+  }
+}
+
+void VoxelLookup::compute_fine_clearance() {
+  // Breadth-first search over voxels (26-neighbourhood) from every non-free
+  // voxel, within the near blocks, kFineCap steps deep. A voxel within
+  // kFineCap of a non-free voxel B has a shortest Chebyshev path inside the
+  // box spanned by the two, every voxel of which is within kFineCap of B, so
+  // in a block within kFineBlocks of B's: the search finds its exact
+  // distance. Farther voxels keep kFineCap + 1 (a lower bound).
+  constexpr uint8_t kFar = kFineCap + 1;
+  clearance_code_.assign(clearance_.size(), -1);
+  fine_.clear();
+  std::vector<Eigen::Vector3i> layer;
+  for (int x = 0; x < block_count_.x(); ++x) {
+    for (int y = 0; y < block_count_.y(); ++y) {
+      for (int z = 0; z < block_count_.z(); ++z) {
+        const std::size_t index = block_index_of_block(Eigen::Vector3i(x, y, z));
+        if (clearance_[index] > kFineBlocks) {
+          clearance_code_[index] = -static_cast<int32_t>(clearance_[index]);
+          continue;
+        }
+        clearance_code_[index] = static_cast<int32_t>(fine_.size() / kBlockVoxels);
+        fine_.resize(fine_.size() + kBlockVoxels, kFar);
+        if (clearance_[index] != 0) continue;
+        uint8_t* fine =
+            fine_.data() + static_cast<std::size_t>(clearance_code_[index]) * kBlockVoxels;
+        const int32_t code = block_code_[index];
+        for (int n = 0; n < kBlockVoxels; ++n) {
+          const Eigen::Vector3i local(n >> (2 * kBlockLog2), (n >> kBlockLog2) & (kBlockEdge - 1),
+                                      n & (kBlockEdge - 1));
+          const bool non_free =
+              code >= 0 ? states_[static_cast<std::size_t>(code) * kBlockVoxels + n] != 0
+                        : code != uniform_code(VoxelState::kFree);
+          if (!non_free) continue;
+          fine[n] = 0;
+          // A uniform non-free block's inner voxels have only non-free neighbours.
+          const bool on_face =
+              (local.array() == 0).any() || (local.array() == kBlockEdge - 1).any();
+          if (code >= 0 || on_face) layer.push_back(Eigen::Vector3i(x, y, z) * kBlockEdge + local);
+        }
+      }
+    }
+  }
+  std::vector<Eigen::Vector3i> next;
+  for (int distance = 1; distance <= kFineCap && !layer.empty(); ++distance) {
+    next.clear();
+    for (const Eigen::Vector3i& v : layer) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dz = -1; dz <= 1; ++dz) {
+            const Eigen::Vector3i n = v + Eigen::Vector3i(dx, dy, dz);
+            if (!inside(n)) continue;
+            const int32_t code = clearance_code_[block_index(n)];
+            if (code < 0) continue;
+            uint8_t& value = fine_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(n)];
+            if (value <= distance) continue;
+            value = static_cast<uint8_t>(distance);
+            next.push_back(n);
+          }
+        }
+      }
+    }
+    layer.swap(next);
   }
 }
 
@@ -128,23 +198,20 @@ double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) con
   return value;
 }
 
-double VoxelLookup::clearance(const Vec3& world) const {
-  if (!world.allFinite()) return std::numeric_limits<double>::infinity();
+double VoxelLookup::clearance_outside(const Vec3& world) const {
+  if (!world.allFinite() || fine_.empty()) return std::numeric_limits<double>::infinity();
   // Every non-free voxel lies inside the arrays' box.
   const Vec3 low = h_ * (voxel_min_.cast<double>().array() - 0.5).matrix();
   const Vec3 high = low + h_ * voxel_count_.cast<double>();
   const Vec3 outside = (low - world).cwiseMax(world - high).cwiseMax(0.0);
-  if (outside.squaredNorm() > 0) return outside.norm();
-  const Eigen::Vector3i v = voxel_of(world) - voxel_min_;
-  if (!inside(v)) return 0.0;  // on the box's boundary
-  const int blocks = clearance_[block_index(v)];
-  return blocks == 0 ? 0.0 : (blocks - 1) * kBlockEdge * h_;
+  return outside.norm();  // 0 on the box's boundary
 }
 
 int64_t VoxelLookup::memory_bytes() const {
   return static_cast<int64_t>(block_code_.size() * sizeof(int32_t) + states_.size() +
                               distances_.size() * sizeof(float) +
-                              uniform_distance_.size() * sizeof(float) + clearance_.size());
+                              uniform_distance_.size() * sizeof(float) + clearance_.size() +
+                              clearance_code_.size() * sizeof(int32_t) + fine_.size());
 }
 
 std::vector<int64_t> VoxelLookup::state_counts() const {

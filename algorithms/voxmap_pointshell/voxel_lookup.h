@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "algorithms/core/pose.h"
@@ -30,6 +31,10 @@ class VoxelLookup {
   static constexpr int kBlockLog2 = 3;
   static constexpr int kBlockEdge = 1 << kBlockLog2;  ///< voxels per block edge
   static constexpr int kBlockVoxels = kBlockEdge * kBlockEdge * kBlockEdge;
+  /// Blocks this close (Chebyshev, in blocks) to a non-free one keep a
+  /// per-voxel clearance, exact up to kFineCap voxels.
+  static constexpr int kFineBlocks = 1;
+  static constexpr int kFineCap = kFineBlocks * kBlockEdge;
 
   /// An empty lookup: every point is free.
   VoxelLookup() = default;
@@ -47,8 +52,11 @@ class VoxelLookup {
   /// distances at the voxel centres, both in OpenVDB's leaf order
   /// (x major: local index (x << 6) | (y << 3) | z).
   void set_dense_block(const Eigen::Vector3i& b, const uint8_t* states, const float* distances);
-  /// Computes, per block, the Chebyshev distance in blocks to the nearest
-  /// block holding a non-free voxel (saturated at 255). Call once after filling.
+  /// Computes the clearance maps: per block, the Chebyshev distance in
+  /// blocks to the nearest block holding a non-free voxel (saturated at
+  /// 255), and per voxel of the blocks at most kFineBlocks from one, the
+  /// Chebyshev distance in voxels to the nearest non-free voxel (exact up to
+  /// kFineCap, kFineCap + 1 beyond). Call once after filling.
   void finish();
 
   double voxel_size() const { return h_; }
@@ -87,8 +95,24 @@ class VoxelLookup {
   /// point (m) and its exact gradient (world, dimensionless). Only with distances.
   double interpolated_distance(const Vec3& world, Vec3& gradient) const;
 
-  /// A lower bound (m) on the distance from a world point to any non-free voxel.
-  double clearance(const Vec3& world) const;
+  /// A lower bound (m) on the distance from a world point to any non-free
+  /// voxel (the voxel's cube): (k − 1) h for a Chebyshev distance of k
+  /// voxels near the scene, (k − 1)·8h for k blocks farther out.
+  double clearance(const Vec3& world) const {
+    // Voxel coordinates relative to the arrays, compared before the cast
+    // (a far point's index would not fit an int; NaN fails the test).
+    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
+    if (!(u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
+          u.y() < voxel_count_.y() && u.z() < voxel_count_.z())) {
+      return clearance_outside(world);
+    }
+    const Eigen::Vector3i v(static_cast<int>(u.x()), static_cast<int>(u.y()),
+                            static_cast<int>(u.z()));
+    const int32_t code = clearance_code_[block_index(v)];
+    if (code < 0) return (-code - 1) * kBlockEdge * h_;
+    const int voxels = fine_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)];
+    return voxels <= 1 ? 0.0 : (voxels - 1) * h_;
+  }
 
   /// Bytes the arrays hold.
   int64_t memory_bytes() const;
@@ -112,6 +136,9 @@ class VoxelLookup {
     constexpr int mask = kBlockEdge - 1;
     return ((v.x() & mask) << (2 * kBlockLog2)) | ((v.y() & mask) << kBlockLog2) | (v.z() & mask);
   }
+  double clearance_outside(const Vec3& world) const;
+  void compute_block_clearance();
+  void compute_fine_clearance();
   std::size_t block_index_of_block(const Eigen::Vector3i& b) const {
     return (static_cast<std::size_t>(b.x()) * block_count_.y() + static_cast<std::size_t>(b.y())) *
                block_count_.z() +
@@ -129,7 +156,11 @@ class VoxelLookup {
   std::vector<float> distances_;     ///< kBlockVoxels per dense block (with distances)
   std::vector<float> uniform_distance_;  ///< per block (with distances)
   std::vector<uint8_t> clearance_;       ///< per block, Chebyshev blocks to a non-free block
-  float outside_distance_ = 0;           ///< m, read outside the arrays
+  /// Per block: its number in fine_ (within kFineBlocks of a non-free
+  /// block), else minus its Chebyshev distance in blocks.
+  std::vector<int32_t> clearance_code_;
+  std::vector<uint8_t> fine_;   ///< kBlockVoxels per near block: Chebyshev voxels, capped
+  float outside_distance_ = 0;  ///< m, read outside the arrays
 };
 
 }  // namespace hb

@@ -18,8 +18,6 @@ namespace hb {
 
 namespace {
 
-// Clusters of the pointshell are cubes of this many pointshell spacings.
-constexpr double kClusterSpacings = 8;
 // Voxel blocks (8³) the lookup arrays may span over the voxelised region.
 constexpr double kMaxBlocks = 64e6;
 // Points the pointshell may have (about the tool's area / spacing²).
@@ -146,8 +144,7 @@ class VoxmapPointShellRenderer : public Renderer {
     check_pointshell_size(context.tool.mesh, settings.pointshell_spacing_m, params);
     const PointShellPoints points =
         build_pointshell(context.tool.mesh, settings.pointshell_spacing_m, cache);
-    shell_ = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass,
-                             kClusterSpacings * settings.pointshell_spacing_m);
+    shell_ = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass);
     shell_stats_ = points.stats;
     scene_ = build_scene_voxmap(context.scene, region, settings.voxmap, cache);
     voxel_size_m_ = settings.voxmap.voxel_size_m;
@@ -180,16 +177,16 @@ class VoxmapPointShellRenderer : public Renderer {
 
   BuildReport build_report() const override {
     BuildReport report;
-    const int64_t shell_bytes =
-        static_cast<int64_t>(shell_.points.size() * 2 * sizeof(Vec3) +
-                             shell_.clusters.size() * sizeof(PointShell::Cluster));
+    const int64_t shell_bytes = static_cast<int64_t>(
+        shell_.points.size() * 2 * sizeof(Vec3) + shell_.nodes.size() * sizeof(PointShell::Node));
     report.memory_bytes = scene_.lookup.memory_bytes() + shell_bytes;
     report.cache_hit = scene_.stats.cache_hit && shell_stats_.cache_hit;
     const std::vector<int64_t> states = scene_.lookup.state_counts();
     report.details = {
         {"voxel_size_m", voxel_size_m_},
         {"pointshell_points", static_cast<double>(shell_.points.size())},
-        {"pointshell_clusters", static_cast<double>(shell_.clusters.size())},
+        {"pointshell_tree_nodes", static_cast<double>(shell_.nodes.size())},
+        {"pointshell_tree_leaves", static_cast<double>(shell_.leaves)},
         {"pointshell_bytes", static_cast<double>(shell_bytes)},
         {"pointshell_seconds", shell_stats_.seconds},
         {"pointshell_cache_hit", shell_stats_.cache_hit ? 1.0 : 0.0},

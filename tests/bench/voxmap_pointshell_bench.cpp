@@ -1,6 +1,6 @@
 // Cost of one Voxmap PointShell tick (Renderer::step) against voxel size:
 // a 2 cm sphere over a slab, far away (the bounding test alone), hovering
-// 1 mm above it (clusters near the proximity layers looked up) and pressed
+// 1 mm above it (tree leaves near the proximity layers looked up) and pressed
 // 3 mm in. Run: build/tests/bench/voxmap_pointshell_bench
 #include <benchmark/benchmark.h>
 

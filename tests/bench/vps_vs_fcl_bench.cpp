@@ -11,7 +11,7 @@
 // (0.5 mm voxels, voxmap variant, default gains), the wrench with the
 // Jacobians the default implicit Euler integrator asks for, and the contacts
 // reported. Structures are built as the renderer builds them for this
-// scenario (same region, same cluster size; cached on disk) before timing.
+// scenario (same region, same tree; cached on disk) before timing.
 //
 // FCL query: fcl::collide of BVHModel<OBBRSSd> meshes (built once) with
 // enable_contact and up to kFclMaxContacts contacts.
@@ -55,9 +55,8 @@ constexpr std::size_t kFclMaxContacts = 100000;
 constexpr int kVpsRuns = 5;  // runs per pose, median kept
 constexpr int kFclRuns = 3;
 constexpr std::size_t kMinimumPoses = 200;
-// As the renderer (voxmap_pointshell.cpp): clusters are cubes of 8 spacings,
-// and the reach box grows by a tenth of the tool's radius besides the band.
-constexpr double kClusterSpacings = 8;
+// As the renderer (voxmap_pointshell.cpp): the reach box grows by a tenth
+// of the tool's radius besides the band.
 constexpr double kReachMarginPerToolRadius = 0.1;
 
 using bench::fcl_model;
@@ -80,9 +79,10 @@ struct PoseResult {
   double fcl_distance = 0;  // m, 0 in contact
   bool vps_contact = false, fcl_contact = false;
   std::size_t vps_contacts = 0, vps_braking = 0, fcl_contacts = 0;
-  int64_t vps_points_tested = 0;  // points looked up by one query
-  double vps_depth = 0;           // m, deepest point
-  double fcl_depth = 0;           // m, FCL's largest penetration_depth
+  int64_t vps_points_tested = 0;   // points looked up by one query
+  int64_t vps_spheres_tested = 0;  // tree nodes tested by one query
+  double vps_depth = 0;            // m, deepest point
+  double fcl_depth = 0;            // m, FCL's largest penetration_depth
   double vps_seconds = 0, fcl_seconds = 0;
 };
 
@@ -170,8 +170,7 @@ Setup make_setup() {
   region.max().array() += margin;
   s.voxmap = build_scene_voxmap(context.scene, region, settings, cache);
   const PointShellPoints points = build_pointshell(context.tool.mesh, kVoxelSize, cache);
-  s.shell = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass,
-                            kClusterSpacings * kVoxelSize);
+  s.shell = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass);
   s.hits.contacts.reserve(s.shell.points.size());
   s.hits.braking.reserve(s.shell.points.size());
   s.contacts.reserve(s.shell.points.size());
@@ -231,8 +230,10 @@ void measure_poses() {
     const DeviceSample& sample = s.poses[i];
     PoseResult& r = s.results[i];
     const int64_t tested_before = s.work.get("points_looked_up");
+    const int64_t spheres_before = s.work.get("sphere_tests");
     r.vps_seconds = median_of_runs(kVpsRuns, [&] { force_sink += s.vps_query(sample); });
     r.vps_points_tested = (s.work.get("points_looked_up") - tested_before) / kVpsRuns;
+    r.vps_spheres_tested = (s.work.get("sphere_tests") - spheres_before) / kVpsRuns;
     r.vps_contacts = s.hits.contacts.size();
     r.vps_braking = s.hits.braking.size();
     r.vps_contact = !s.hits.contacts.empty();
@@ -284,9 +285,9 @@ void print_summary() {
       s.tool_triangles, s.scene_triangles, results.size(), s.scenario.trajectory.ticks(),
       1e3 * kNearDistance);
   std::printf(
-      "Voxmap PointShell: %.1f mm voxels, %zu points in %zu clusters, lookup %.1f MB; "
-      "voxmap %s (%.1f s), pointshell built or loaded before timing\n",
-      1e3 * kVoxelSize, s.shell.points.size(), s.shell.clusters.size(),
+      "Voxmap PointShell: %.1f mm voxels, %zu points in a tree of %zu nodes (%d leaves), "
+      "lookup %.1f MB; voxmap %s (%.1f s), pointshell built or loaded before timing\n",
+      1e3 * kVoxelSize, s.shell.points.size(), s.shell.nodes.size(), s.shell.leaves,
       static_cast<double>(s.voxmap.lookup.memory_bytes()) / 1e6,
       s.voxmap.stats.cache_hit ? "from cache" : "built", s.voxmap.stats.seconds);
 
@@ -313,7 +314,7 @@ void print_summary() {
 
   int both = 0, vps_only = 0, fcl_only = 0, neither = 0;
   double vps_only_max_distance = 0, fcl_only_max_depth = 0;
-  std::vector<double> vps_counts, fcl_counts, tested, vps_depths;
+  std::vector<double> vps_counts, fcl_counts, tested, spheres, vps_depths;
   for (const PoseResult& r : results) {
     if (r.vps_contact && r.fcl_contact) ++both;
     if (!r.vps_contact && !r.fcl_contact) ++neither;
@@ -326,6 +327,7 @@ void print_summary() {
       fcl_only_max_depth = std::max(fcl_only_max_depth, r.fcl_depth);
     }
     tested.push_back(static_cast<double>(r.vps_points_tested));
+    spheres.push_back(static_cast<double>(r.vps_spheres_tested));
     if (r.vps_contact) {
       vps_counts.push_back(static_cast<double>(r.vps_contacts));
       vps_depths.push_back(r.vps_depth);
@@ -345,10 +347,12 @@ void print_summary() {
       fcl_counts.empty() ? 0.0 : *std::max_element(fcl_counts.begin(), fcl_counts.end()));
   std::printf(
       "VPS deepest point per pose in contact: median %.3f mm, max %.3f mm; points looked up "
-      "per query: median %.0f, max %.0f of %zu\n",
+      "per query: median %.0f, max %.0f of %zu; tree nodes tested per query: median %.0f, max "
+      "%.0f of %zu\n",
       1e3 * median(vps_depths),
       vps_depths.empty() ? 0.0 : 1e3 * *std::max_element(vps_depths.begin(), vps_depths.end()),
-      median(tested), *std::max_element(tested.begin(), tested.end()), s.shell.points.size());
+      median(tested), *std::max_element(tested.begin(), tested.end()), s.shell.points.size(),
+      median(spheres), *std::max_element(spheres.begin(), spheres.end()), s.shell.nodes.size());
 }
 
 }  // namespace

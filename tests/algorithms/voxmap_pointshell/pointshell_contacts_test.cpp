@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "algorithms/core/shapes.h"
@@ -17,9 +18,9 @@ namespace {
 
 CacheSettings no_cache() { return CacheSettings{false, {}}; }
 
-// A shell of n copies of one point, in one cluster.
+// A shell of n copies of one point.
 PointShell repeated_point(std::size_t n, const Vec3& r, const Vec3& normal) {
-  return make_pointshell(std::vector<Vec3>(n, r), std::vector<Vec3>(n, normal), Vec3::Zero(), 1.0);
+  return make_pointshell(std::vector<Vec3>(n, r), std::vector<Vec3>(n, normal), Vec3::Zero());
 }
 
 // A 40 cm slab whose top face is the plane z = 0, on the voxel-centre plane
@@ -47,7 +48,7 @@ PointShell sphere_shell(double radius, double spacing) {
   sphere.radius = radius;
   sphere.subdivisions = 4;
   const PointShellPoints points = build_pointshell(shape_mesh(sphere), spacing, no_cache());
-  return make_pointshell(points.points, points.normals, Vec3::Zero(), 8 * spacing);
+  return make_pointshell(points.points, points.normals, Vec3::Zero());
 }
 
 TEST_CASE("the averaging rule divides the summed wrench by N/10 from N = 10 on",
@@ -214,7 +215,7 @@ TEST_CASE("a tool clear of the scene costs one bounding test", "[voxmap_pointshe
   CHECK(hits.braking.empty());
   CHECK(work.get("points_looked_up") == 0);
   CHECK(work.get("sphere_tests") == 1);
-  // Close to the slab only the clusters near it are looked up.
+  // Close to the slab only the leaves near it are looked up.
   state.x = Vec3(0, 0, 0.0205);
   work = WorkCounters{};
   find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
@@ -222,6 +223,84 @@ TEST_CASE("a tool clear of the scene costs one bounding test", "[voxmap_pointshe
   CHECK(work.get("points_looked_up") > 0);
   CHECK(work.get("points_looked_up") < static_cast<int64_t>(shell.points.size()) / 3);
   CHECK_FALSE(hits.braking.empty());
+}
+
+bool same_hits(const PointShellHits& a, const PointShellHits& b) {
+  if (a.braking != b.braking || a.contacts.size() != b.contacts.size()) return false;
+  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
+    const PointHit& x = a.contacts[k];
+    const PointHit& y = b.contacts[k];
+    if (x.point != y.point || x.depth != y.depth || x.reference != y.reference ||
+        x.field != y.field)
+      return false;
+  }
+  return true;
+}
+
+TEST_CASE("the tree finds exactly what the flat scan of every point finds", "[voxmap_pointshell]") {
+  // A box with a through-hole (edges, corners, a tunnel) and a sphere; a
+  // capsule tool, posed at random near their surfaces.
+  Shape holed;
+  holed.type = ShapeType::kBoxWithHole;
+  holed.size = Vec3(0.06, 0.06, 0.02);
+  holed.hole_size = Vec3(0.02, 0.02, 0);
+  Shape ball;
+  ball.type = ShapeType::kSphere;
+  ball.radius = 0.015;
+  std::vector<SceneObject> scene(2);
+  scene[0].shape = holed;
+  scene[0].mesh = shape_mesh(holed);
+  scene[1].shape = ball;
+  scene[1].mesh = shape_mesh(ball);
+  scene[1].pose.p = Vec3(0.05, 0, 0.02);
+  const double h = 0.001;
+  for (const bool signed_distance : {false, true}) {
+    VoxmapSettings settings;
+    settings.voxel_size_m = h;
+    settings.signed_distance = true;
+    const SceneVoxmap voxmap = build_scene_voxmap(
+        scene, Eigen::AlignedBox3d(Vec3(-0.06, -0.06, -0.04), Vec3(0.1, 0.06, 0.06)), settings,
+        no_cache());
+    Shape capsule;
+    capsule.type = ShapeType::kCapsule;
+    capsule.radius = 0.004;
+    capsule.length = 0.02;
+    const PointShellPoints points = build_pointshell(shape_mesh(capsule), h, no_cache());
+    const PointShell shell = make_pointshell(points.points, points.normals, Vec3(0, 0, 0.001));
+    PointShellGains gains;
+    gains.signed_distance = signed_distance;
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    int contact_poses = 0, braking_poses = 0;
+    int64_t tree_points = 0;
+    for (int n = 0; n < 400; ++n) {
+      RigidBodyState state;
+      // Near the holed box's top face, its hole, or the sphere.
+      const Vec3 anchors[] = {Vec3(0.02, 0.01, 0.014), Vec3(0.0, 0.009, 0.0), Vec3(0.05, 0, 0.039)};
+      state.x = anchors[n % 3] + 0.006 * Vec3(unit(random), unit(random), unit(random));
+      state.q = quat_from_rotation_vector(3.0 * Vec3(unit(random), unit(random), unit(random)));
+      state.v = Vec3(unit(random), unit(random), unit(random));
+      state.w = 5 * Vec3(unit(random), unit(random), unit(random));
+      PointShellHits tree, flat;
+      WorkCounters work;
+      find_pointshell_hits(shell, voxmap.lookup, gains, state, tree, work);
+      find_pointshell_hits_flat(shell, voxmap.lookup, gains, state, flat);
+      tree_points += work.get("points_looked_up");
+      INFO("pose " << n << " at " << state.x.transpose());
+      REQUIRE(same_hits(tree, flat));
+      const ForceEvaluation a = pointshell_wrench(shell, tree, gains, state, true);
+      const ForceEvaluation b = pointshell_wrench(shell, flat, gains, state, true);
+      CHECK(a.wrench.force == b.wrench.force);
+      CHECK(a.wrench.torque == b.wrench.torque);
+      if (!flat.contacts.empty()) ++contact_poses;
+      if (!flat.braking.empty()) ++braking_poses;
+    }
+    INFO("signed distance " << signed_distance);
+    CHECK(contact_poses > 100);
+    CHECK(braking_poses > 100);
+    // And the tree skips a part of the points, though every pose is near the scene.
+    CHECK(tree_points < 400 * static_cast<int64_t>(shell.points.size()) * 7 / 10);
+  }
 }
 
 TEST_CASE("the contact Jacobians match central differences", "[voxmap_pointshell]") {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -282,6 +283,52 @@ TEST_CASE("clearance is a lower bound on the distance to every non-free voxel",
     if (bound > 0) ++positive;
   }
   CHECK(positive > 1000);  // and it is not trivially zero
+}
+
+TEST_CASE("near the scene, clearance is within a voxel of the distance to the non-free voxels",
+          "[voxmap_pointshell]") {
+  // The bunny, so that surfaces meet the grid at every angle; the distance
+  // to the non-free voxels' cubes by brute force over a window.
+  const std::vector<SceneObject> scene{bunny_object()};
+  VoxmapSettings settings;
+  settings.voxel_size_m = 0.001;
+  settings.signed_distance = true;
+  const Eigen::AlignedBox3d bounds = world_bounds(scene[0]);
+  const SceneVoxmap voxmap = build_scene_voxmap(scene, grown(bounds, 0.01), settings, no_cache());
+  const VoxelLookup& lookup = voxmap.lookup;
+  const double h = settings.voxel_size_m;
+  const int window = VoxelLookup::kFineCap + 2;
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int near = 0, tight = 0;
+  for (int n = 0; n < 3000 && near < 300; ++n) {
+    // Within the object's bounds, so inside the lookup's arrays.
+    const Vec3 p =
+        bounds.min() + bounds.sizes().cwiseProduct(Vec3(unit(random), unit(random), unit(random)));
+    const Eigen::Vector3i centre = lookup.voxel_of(p);
+    double distance = std::numeric_limits<double>::infinity();
+    for (int dx = -window; dx <= window; ++dx) {
+      for (int dy = -window; dy <= window; ++dy) {
+        for (int dz = -window; dz <= window; ++dz) {
+          const Eigen::Vector3i v = centre + Eigen::Vector3i(dx, dy, dz);
+          if (lookup.state(v) == VoxelState::kFree) continue;
+          const Vec3 c = lookup.centre_of(v);
+          const Vec3 gap = ((p - c).cwiseAbs().array() - 0.5 * h).cwiseMax(0.0);
+          distance = std::min(distance, gap.norm());
+        }
+      }
+    }
+    if (!(distance < (VoxelLookup::kFineCap - 1) * h)) continue;  // beyond the fine map
+    ++near;
+    const double bound = lookup.clearance(p);
+    INFO("p " << p.transpose() << " distance " << distance);
+    CHECK(bound <= distance + 1e-12);
+    // Chebyshev: at worst √3 (a diagonal) and one voxel (cube to cube) below.
+    CHECK(bound >= distance / kSqrt3 - 1.0001 * h);
+    if (bound > 0) ++tight;
+  }
+  CHECK(near >= 300);
+  CHECK(tight > 100);
 }
 
 TEST_CASE("pointshell points are surface voxel centres with inward normals",
