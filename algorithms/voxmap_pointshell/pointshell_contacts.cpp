@@ -16,7 +16,8 @@ constexpr double kRoundingMargin = 1e-9;
 
 // Appends the nodes of the subtree over order[begin, end) depth-first.
 void build_subtree(const std::vector<Vec3>& points, std::vector<int32_t>& order, int32_t begin,
-                   int32_t end, int leaf_points, std::vector<PointShell::Node>& nodes) {
+                   int32_t end, int leaf_points, int32_t parent,
+                   std::vector<PointShell::Node>& nodes) {
   Eigen::AlignedBox3d box;
   for (int32_t k = begin; k < end; ++k) box.extend(points[order[k]]);
   const std::size_t index = nodes.size();
@@ -26,6 +27,9 @@ void build_subtree(const std::vector<Vec3>& points, std::vector<int32_t>& order,
     node.radius = std::max(node.radius, (points[order[k]] - node.centre).norm());
   node.first = begin;
   node.count = end - begin;
+  node.parent = parent;
+  node.lever = node.centre.norm();
+  if (parent >= 0) node.parent_distance = (node.centre - nodes[parent].centre).norm();
   nodes.push_back(node);
   if (end - begin > leaf_points) {
     int axis = 0;
@@ -33,19 +37,26 @@ void build_subtree(const std::vector<Vec3>& points, std::vector<int32_t>& order,
     const int32_t middle = begin + (end - begin) / 2;
     std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
                      [&](int32_t a, int32_t b) { return points[a][axis] < points[b][axis]; });
-    build_subtree(points, order, begin, middle, leaf_points, nodes);
-    build_subtree(points, order, middle, end, leaf_points, nodes);
+    const auto self = static_cast<int32_t>(index);
+    build_subtree(points, order, begin, middle, leaf_points, self, nodes);
+    build_subtree(points, order, middle, end, leaf_points, self, nodes);
   }
   nodes[index].skip = static_cast<int32_t>(nodes.size());
 }
+
+// What a descent counts.
+struct DescentWork {
+  int64_t tests = 0;
+  int64_t looked_up = 0;
+};
 
 // Looks up point i at the pose (x, rotation) and records what it meets.
 inline void look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
                           const PointShellGains& gains, const Vec3& x, const Mat3& rotation,
                           int32_t i, PointShellHits& hits) {
   const Vec3 point = x + rotation * shell.points[i];
-  const Eigen::Vector3i voxel = voxmap.voxel_of(point);
-  const VoxelState voxel_state = voxmap.state(voxel);
+  Eigen::Vector3i voxel;
+  const VoxelState voxel_state = voxmap.state_at(point, voxel);
   if (voxel_state == VoxelState::kFree) return;
   if (voxel_state == VoxelState::kProximity) {
     hits.braking.push_back(i);
@@ -63,6 +74,34 @@ inline void look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
   }
 }
 
+// Searches nodes [begin, end) (whole subtrees) at the pose (x, rotation):
+// a node whose sphere is clear is skipped with its subtree, a leaf that is
+// not has its points looked up. With `front`, appends where it stopped.
+void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShellGains& gains,
+             const Vec3& x, const Mat3& rotation, int32_t begin, int32_t end, PointShellHits& hits,
+             DescentWork& work, std::vector<PointShellFront::Entry>* front) {
+  for (int32_t k = begin; k < end;) {
+    const PointShell::Node& node = shell.nodes[k];
+    ++work.tests;
+    const double slack =
+        voxmap.clearance(x + rotation * node.centre) - node.radius - kRoundingMargin;
+    if (slack > 0) {
+      if (front) front->push_back({k, slack});
+      k = node.skip;
+      continue;
+    }
+    if (node.skip != k + 1) {  // not a leaf: descend
+      ++k;
+      continue;
+    }
+    work.looked_up += node.count;
+    for (int32_t i = node.first; i < node.first + node.count; ++i)
+      look_up_point(shell, voxmap, gains, x, rotation, i, hits);
+    if (front) front->push_back({k, -1});
+    k = node.skip;
+  }
+}
+
 }  // namespace
 
 PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
@@ -73,7 +112,7 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
   for (int32_t i = 0; i < n; ++i) about_centre[i] = points[i] - centre_of_mass;
   std::vector<int32_t> order(points.size());
   std::iota(order.begin(), order.end(), 0);
-  if (n > 0) build_subtree(about_centre, order, 0, n, std::max(leaf_points, 1), shell.nodes);
+  if (n > 0) build_subtree(about_centre, order, 0, n, std::max(leaf_points, 1), -1, shell.nodes);
   shell.points.reserve(points.size());
   shell.normals.reserve(points.size());
   for (const int32_t i : order) {
@@ -99,28 +138,67 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           PointShellHits& hits, WorkCounters& work) {
   hits.clear();
   work.names = &PointShellWork::kNames;
-  const Vec3& x = state.x;
+  DescentWork counts;
+  descend(shell, voxmap, gains, state.x, state.q.toRotationMatrix(), 0,
+          static_cast<int32_t>(shell.nodes.size()), hits, counts, nullptr);
+  work.add(PointShellWork::kSphereTests, counts.tests);
+  work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
+}
+
+void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
+                                   const PointShellGains& gains, const RigidBodyState& state,
+                                   PointShellFront& front, PointShellHits& hits,
+                                   WorkCounters& work) {
+  hits.clear();
+  work.names = &PointShellWork::kNames;
   const Mat3 rotation = state.q.toRotationMatrix();
-  const auto nodes = static_cast<int32_t>(shell.nodes.size());
-  int64_t tests = 0, looked_up = 0;
-  for (int32_t k = 0; k < nodes;) {
-    const PointShell::Node& node = shell.nodes[k];
-    ++tests;
-    if (voxmap.clearance(x + rotation * node.centre) > node.radius + kRoundingMargin) {
-      k = node.skip;
-      continue;
+  DescentWork counts;
+  std::vector<PointShellFront::Entry>& next = front.next_;
+  next.clear();
+  const bool moved_finite = state.x.allFinite() && rotation.allFinite();
+  if (!front.valid_ || !moved_finite) {
+    descend(shell, voxmap, gains, state.x, rotation, 0, static_cast<int32_t>(shell.nodes.size()),
+            hits, counts, &next);
+  } else {
+    // How far a node's centre c (tool axes) has moved at most: |Δx| + ‖ΔR‖ |c|.
+    const double shift = (state.x - front.x_).norm();
+    const double turn = (rotation - front.rotation_).norm();
+    int32_t skip_until = 0;  // input entries below this node lie in a subtree lifted
+    for (const PointShellFront::Entry& entry : front.entries_) {
+      if (entry.node < skip_until) continue;
+      const PointShell::Node& node = shell.nodes[entry.node];
+      double slack = entry.slack;
+      if (slack > 0) slack -= shift + turn * node.lever;
+      if (!(slack > 0)) {
+        // Looked up last time, or the scene may have come within the
+        // sphere: search the subtree again.
+        descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, hits, counts,
+                &next);
+        continue;
+      }
+      next.push_back({entry.node, slack});
+      // Coarsen: the scene is beyond the parent's sphere too (the bound
+      // drops at most by the distance between the centres).
+      while (next.back().slack > 0) {
+        const PointShell::Node& child = shell.nodes[next.back().node];
+        if (child.parent < 0) break;
+        const PointShell::Node& parent = shell.nodes[child.parent];
+        const double parent_slack =
+            next.back().slack + child.radius - child.parent_distance - parent.radius;
+        if (!(parent_slack > 0)) break;
+        while (!next.empty() && next.back().node >= child.parent) next.pop_back();
+        next.push_back({child.parent, parent_slack});
+        skip_until = std::max(skip_until, parent.skip);
+      }
     }
-    if (node.skip != k + 1) {  // not a leaf: descend
-      ++k;
-      continue;
-    }
-    looked_up += node.count;
-    for (int32_t i = node.first; i < node.first + node.count; ++i)
-      look_up_point(shell, voxmap, gains, x, rotation, i, hits);
-    k = node.skip;
   }
-  work.add(PointShellWork::kSphereTests, tests);
-  work.add(PointShellWork::kPointsLookedUp, looked_up);
+  front.entries_.swap(next);
+  front.x_ = state.x;
+  front.rotation_ = rotation;
+  front.valid_ = moved_finite;
+  work.add(PointShellWork::kSphereTests, counts.tests);
+  work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
+  work.add(PointShellWork::kFrontEntries, static_cast<int64_t>(front.entries_.size()));
 }
 
 void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxmap,

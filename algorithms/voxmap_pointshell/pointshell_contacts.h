@@ -52,6 +52,9 @@ struct PointShell {
     int32_t first = 0;           ///< index of the subtree's first point
     int32_t count = 0;           ///< points of the subtree, consecutive
     int32_t skip = 0;            ///< index of the node after the subtree
+    int32_t parent = -1;         ///< index of the parent node, −1 at the root
+    double parent_distance = 0;  ///< m, from the centre to the parent's centre
+    double lever = 0;            ///< m, |centre|
   };
   std::vector<Vec3> points;   ///< r_i: m, tool axes, about the centre of mass
   std::vector<Vec3> normals;  ///< n_i: unit, tool axes, pointing into the tool
@@ -97,6 +100,34 @@ struct PointShellGains {
   bool signed_distance = false;  ///< depth from φ instead of the tangent plane
 };
 
+/// What one search leaves for the next at a nearby pose (temporal
+/// coherence): the front of the tree where it stopped, depth-first,
+/// covering every point once: skipped nodes with their slack (m, how far
+/// the scene is beyond the sphere) and the leaves looked up; and the pose.
+class PointShellFront {
+ public:
+  /// A node of the front.
+  struct Entry {
+    int32_t node = 0;
+    double slack = -1;  ///< m, > 0 for a skipped node, < 0 for a leaf looked up
+  };
+
+  /// Forgets the front: the next search descends from the root.
+  void clear() { valid_ = false; }
+  /// Nodes in the front (0 when cleared or never searched).
+  std::size_t size() const { return valid_ ? entries_.size() : 0; }
+
+ private:
+  friend void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
+                                            const PointShellGains& gains,
+                                            const RigidBodyState& state, PointShellFront& front,
+                                            PointShellHits& hits, WorkCounters& work);
+  std::vector<Entry> entries_, next_;
+  Vec3 x_ = Vec3::Zero();  ///< m, world: the centre of mass at the last search
+  Mat3 rotation_ = Mat3::Identity();
+  bool valid_ = false;
+};
+
 /// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
 double averaging_divisor(std::size_t n);
 
@@ -104,7 +135,9 @@ double averaging_divisor(std::size_t n);
 struct PointShellWork {
   static constexpr std::size_t kSphereTests = 0;     ///< bounding spheres of tree nodes
   static constexpr std::size_t kPointsLookedUp = 1;  ///< points whose voxel was read
-  static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up"};
+  static constexpr std::size_t kFrontEntries = 2;    ///< front entries carried between searches
+  static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up",
+                                                 "front_entries"};
 };
 
 /// Finds the points of the shell that act at the proxy pose (x, q of
@@ -116,6 +149,22 @@ struct PointShellWork {
 void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           const PointShellGains& gains, const RigidBodyState& state,
                           PointShellHits& hits, WorkCounters& work);
+
+/// The same hits as find_pointshell_hits, starting from the front the last
+/// search at another pose left (then updated for the next). A skipped
+/// node stays skipped while its slack exceeds how far its sphere's centre
+/// has moved since it was tested (|Δx| + ‖ΔR‖_F |centre|: a lower bound on
+/// the distance to the scene drops at most that much), and is tested again
+/// (and its subtree searched) once it does not; a leaf looked up is looked
+/// up again. A skipped node whose slack, less the offset to its parent's
+/// centre, exceeds the parent's radius is replaced with the parent's
+/// subtree, so the front coarsens again as the tool leaves. Counts front
+/// entries visited in work (PointShellWork::kFrontEntries) besides the
+/// spheres tested and points looked up.
+void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
+                                   const PointShellGains& gains, const RigidBodyState& state,
+                                   PointShellFront& front, PointShellHits& hits,
+                                   WorkCounters& work);
 
 /// The same hits by looking up every point, without the tree (the reference
 /// the tree's culling is checked against).

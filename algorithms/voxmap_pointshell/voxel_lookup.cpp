@@ -1,6 +1,7 @@
 #include "algorithms/voxmap_pointshell/voxel_lookup.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <deque>
 #include <limits>
@@ -91,67 +92,127 @@ void VoxelLookup::compute_block_clearance() {
   }
 }
 
+namespace {
+
+// A block's voxels as bits: word x (0..7), bit 8y + z, so that the bit of
+// voxel (x, y, z) is at local index (x << 6) | (y << 3) | z within the block.
+using BlockBits = std::array<uint64_t, VoxelLookup::kBlockEdge>;
+constexpr uint64_t kZFirst = 0x0101010101010101ULL;  // z = 0 of every (y) row
+constexpr uint64_t kZLast = 0x8080808080808080ULL;   // z = 7
+constexpr uint64_t kYFirst = 0xFFULL;                // y = 0
+constexpr int kYLastShift = 56;                      // y = 7 starts at bit 56
+
+}  // namespace
+
 void VoxelLookup::compute_fine_clearance() {
-  // Breadth-first search over voxels (26-neighbourhood) from every non-free
-  // voxel, within the near blocks, kFineCap steps deep. A voxel within
-  // kFineCap of a non-free voxel B has a shortest Chebyshev path inside the
-  // box spanned by the two, every voxel of which is within kFineCap of B, so
-  // in a block within kFineBlocks of B's: the search finds its exact
-  // distance. Farther voxels keep kFineCap + 1 (a lower bound).
+  // The set of voxels within Chebyshev distance k of a non-free voxel is the
+  // non-free set dilated k times by the 3×3×3 cube, which is separable: one
+  // voxel along z, then y, then x. Done on bit masks, block by block, over
+  // the near blocks; a voxel gets k at the dilation that first reaches it.
+  // Blocks farther than kFineBlocks are never reached within kFineCap steps
+  // (and a dilation's intermediate voxels are within one voxel of what it
+  // reaches), so leaving them out is exact. Voxels not reached keep kFineCap + 1.
   constexpr uint8_t kFar = kFineCap + 1;
   clearance_code_.assign(clearance_.size(), -1);
   fine_.clear();
-  std::vector<Eigen::Vector3i> layer;
+  std::vector<Eigen::Vector3i> near;  // block coordinates of the near blocks, by code
+  std::vector<BlockBits> reached;     // per near block
   for (int x = 0; x < block_count_.x(); ++x) {
     for (int y = 0; y < block_count_.y(); ++y) {
       for (int z = 0; z < block_count_.z(); ++z) {
-        const std::size_t index = block_index_of_block(Eigen::Vector3i(x, y, z));
+        const Eigen::Vector3i b(x, y, z);
+        const std::size_t index = block_index_of_block(b);
         if (clearance_[index] > kFineBlocks) {
           clearance_code_[index] = -static_cast<int32_t>(clearance_[index]);
           continue;
         }
-        clearance_code_[index] = static_cast<int32_t>(fine_.size() / kBlockVoxels);
-        fine_.resize(fine_.size() + kBlockVoxels, kFar);
-        if (clearance_[index] != 0) continue;
-        uint8_t* fine =
-            fine_.data() + static_cast<std::size_t>(clearance_code_[index]) * kBlockVoxels;
+        clearance_code_[index] = static_cast<int32_t>(near.size());
+        near.push_back(b);
+        BlockBits bits{};
         const int32_t code = block_code_[index];
         for (int n = 0; n < kBlockVoxels; ++n) {
-          const Eigen::Vector3i local(n >> (2 * kBlockLog2), (n >> kBlockLog2) & (kBlockEdge - 1),
-                                      n & (kBlockEdge - 1));
           const bool non_free =
               code >= 0 ? states_[static_cast<std::size_t>(code) * kBlockVoxels + n] != 0
                         : code != uniform_code(VoxelState::kFree);
-          if (!non_free) continue;
-          fine[n] = 0;
-          // A uniform non-free block's inner voxels have only non-free neighbours.
-          const bool on_face =
-              (local.array() == 0).any() || (local.array() == kBlockEdge - 1).any();
-          if (code >= 0 || on_face) layer.push_back(Eigen::Vector3i(x, y, z) * kBlockEdge + local);
+          if (non_free) bits[n >> 6] |= uint64_t{1} << (n & 63);
         }
+        reached.push_back(bits);
       }
     }
   }
-  std::vector<Eigen::Vector3i> next;
-  for (int distance = 1; distance <= kFineCap && !layer.empty(); ++distance) {
-    next.clear();
-    for (const Eigen::Vector3i& v : layer) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dz = -1; dz <= 1; ++dz) {
-            const Eigen::Vector3i n = v + Eigen::Vector3i(dx, dy, dz);
-            if (!inside(n)) continue;
-            const int32_t code = clearance_code_[block_index(n)];
-            if (code < 0) continue;
-            uint8_t& value = fine_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(n)];
-            if (value <= distance) continue;
-            value = static_cast<uint8_t>(distance);
-            next.push_back(n);
-          }
+  fine_.assign(near.size() * kBlockVoxels, kFar);
+  for (std::size_t c = 0; c < near.size(); ++c)
+    for (int n = 0; n < kBlockVoxels; ++n)
+      if ((reached[c][n >> 6] >> (n & 63)) & 1) fine_[c * kBlockVoxels + n] = 0;
+
+  // The code of the face neighbour of near block c along an axis, −1 if none.
+  const auto neighbour = [&](std::size_t c, int axis, int step) -> int32_t {
+    Eigen::Vector3i b = near[c];
+    b[axis] += step;
+    if ((b.array() < 0).any() || (b.array() >= block_count_.array()).any()) return -1;
+    return clearance_code_[block_index_of_block(b)];
+  };
+  std::vector<std::array<int32_t, 6>> faces(near.size());
+  for (std::size_t c = 0; c < near.size(); ++c)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side)
+        faces[c][2 * axis + side] = neighbour(c, axis, side == 0 ? -1 : 1);
+  const auto face = [&](const std::vector<BlockBits>& bits, std::size_t c, int axis, int side) {
+    const int32_t n = faces[c][2 * axis + side];
+    return n >= 0 ? &bits[static_cast<std::size_t>(n)] : nullptr;
+  };
+
+  std::vector<BlockBits> along_z(near.size()), along_y(near.size()), grown(near.size());
+  for (int distance = 1; distance <= kFineCap; ++distance) {
+    for (std::size_t c = 0; c < near.size(); ++c) {
+      const BlockBits& w = reached[c];
+      const BlockBits* below = face(reached, c, 2, 0);
+      const BlockBits* above = face(reached, c, 2, 1);
+      for (int x = 0; x < kBlockEdge; ++x) {
+        uint64_t d = w[x] | ((w[x] << 1) & ~kZFirst) | ((w[x] >> 1) & ~kZLast);
+        if (below) d |= ((*below)[x] & kZLast) >> 7;
+        if (above) d |= ((*above)[x] & kZFirst) << 7;
+        along_z[c][x] = d;
+      }
+    }
+    for (std::size_t c = 0; c < near.size(); ++c) {
+      const BlockBits& w = along_z[c];
+      const BlockBits* below = face(along_z, c, 1, 0);
+      const BlockBits* above = face(along_z, c, 1, 1);
+      for (int x = 0; x < kBlockEdge; ++x) {
+        uint64_t d = w[x] | (w[x] << 8) | (w[x] >> 8);
+        if (below) d |= (*below)[x] >> kYLastShift;
+        if (above) d |= ((*above)[x] & kYFirst) << kYLastShift;
+        along_y[c][x] = d;
+      }
+    }
+    bool any = false;
+    for (std::size_t c = 0; c < near.size(); ++c) {
+      const BlockBits& w = along_y[c];
+      const BlockBits* below = face(along_y, c, 0, 0);
+      const BlockBits* above = face(along_y, c, 0, 1);
+      for (int x = 0; x < kBlockEdge; ++x) {
+        uint64_t d = w[x];
+        if (x > 0)
+          d |= w[x - 1];
+        else if (below)
+          d |= (*below)[kBlockEdge - 1];
+        if (x < kBlockEdge - 1)
+          d |= w[x + 1];
+        else if (above)
+          d |= (*above)[0];
+        grown[c][x] = d;
+        // Voxels first reached by this dilation.
+        for (uint64_t fresh = d & ~reached[c][x]; fresh != 0; fresh &= fresh - 1) {
+          const int bit = __builtin_ctzll(fresh);
+          fine_[c * kBlockVoxels + static_cast<std::size_t>((x << 6) | bit)] =
+              static_cast<uint8_t>(distance);
+          any = true;
         }
       }
     }
-    layer.swap(next);
+    reached.swap(grown);
+    if (!any) break;
   }
 }
 

@@ -81,6 +81,24 @@ class VoxelLookup {
         states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
   }
 
+  /// State of the voxel containing a world point (m), and that voxel's
+  /// index; free outside the arrays (voxel then left unset).
+  VoxelState state_at(const Vec3& world, Eigen::Vector3i& voxel) const {
+    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
+    if (!(u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
+          u.y() < voxel_count_.y() && u.z() < voxel_count_.z())) {
+      return VoxelState::kFree;
+    }
+    // Truncation is the floor here: u ≥ 0.
+    const Eigen::Vector3i v(static_cast<int>(u.x()), static_cast<int>(u.y()),
+                            static_cast<int>(u.z()));
+    voxel = v + voxel_min_;
+    const int32_t code = block_code_[block_index(v)];
+    if (code < 0) return static_cast<VoxelState>(-(code + 1));
+    return static_cast<VoxelState>(
+        states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
+  }
+
   /// Signed distance stored at a voxel centre (m, negative inside); the
   /// exterior band value outside the arrays. Only with distances.
   float distance(const Eigen::Vector3i& voxel) const {

@@ -155,6 +155,7 @@ class VoxmapPointShellRenderer : public Renderer {
 
   void reset(const Pose& start) override {
     proxy_.reset(start);
+    front_.clear();
     hits_valid_ = false;
     hits_.clear();
     contacts_.clear();
@@ -227,7 +228,7 @@ class VoxmapPointShellRenderer : public Renderer {
   };
 
   void find_hits(const RigidBodyState& state, WorkCounters& work) {
-    find_pointshell_hits(shell_, scene_.lookup, gains_, state, hits_, work);
+    find_pointshell_hits_coherent(shell_, scene_.lookup, gains_, state, front_, hits_, work);
     hits_pose_ = Pose{state.x, state.q};
     hits_valid_ = true;
   }
@@ -240,8 +241,9 @@ class VoxmapPointShellRenderer : public Renderer {
   BuildStats shell_stats_;
   SceneVoxmap scene_;
   double voxel_size_m_ = 0;
-  PointShellHits hits_;  ///< at hits_pose_
-  Pose hits_pose_;       ///< proxy pose (centre of mass, orientation) of the last lookup
+  PointShellFront front_;  ///< where the last lookup's tree search stopped
+  PointShellHits hits_;    ///< at hits_pose_
+  Pose hits_pose_;         ///< proxy pose (centre of mass, orientation) of the last lookup
   bool hits_valid_ = false;
   std::vector<Contact> contacts_;  ///< reported by the last step
 };

@@ -79,11 +79,14 @@ struct PoseResult {
   double fcl_distance = 0;  // m, 0 in contact
   bool vps_contact = false, fcl_contact = false;
   std::size_t vps_contacts = 0, vps_braking = 0, fcl_contacts = 0;
-  int64_t vps_points_tested = 0;   // points looked up by one query
-  int64_t vps_spheres_tested = 0;  // tree nodes tested by one query
-  double vps_depth = 0;            // m, deepest point
-  double fcl_depth = 0;            // m, FCL's largest penetration_depth
-  double vps_seconds = 0, fcl_seconds = 0;
+  int64_t vps_points_tested = 0;    // points looked up by one query
+  int64_t vps_spheres_tested = 0;   // tree nodes tested by one query
+  double vps_depth = 0;             // m, deepest point
+  double fcl_depth = 0;             // m, FCL's largest penetration_depth
+  double vps_seconds = 0;           // from the root
+  double vps_coherent_seconds = 0;  // from the previous pose's front
+  double fcl_seconds = 0;
+  int64_t vps_coherent_spheres = 0;  // tree nodes tested from the front
 };
 
 struct Setup {
@@ -94,6 +97,7 @@ struct Setup {
   SceneVoxmap voxmap;
   PointShellGains gains;
   PointShellHits hits;
+  PointShellFront front;
   std::vector<Contact> contacts;
   WorkCounters work;
   // FCL
@@ -102,10 +106,16 @@ struct Setup {
   std::vector<DeviceSample> poses;
   std::vector<PoseResult> results;
 
-  /// The Voxmap PointShell query at one pose; returns the net force's norm (N).
-  double vps_query(const DeviceSample& sample) {
+  /// The Voxmap PointShell query at one pose, searching the tree from the
+  /// root or (coherent) from the front the last query left; returns the
+  /// net force's norm (N).
+  double vps_query(const DeviceSample& sample, bool coherent) {
     const RigidBodyState state = state_of(sample, scenario.context.tool.mass.centre_of_mass);
-    find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+    if (coherent) {
+      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, front, hits, work);
+    } else {
+      find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+    }
     const ForceEvaluation evaluation = pointshell_wrench(shell, hits, gains, state, true);
     contacts.clear();
     report_contacts(shell, hits, state, contacts);
@@ -231,7 +241,7 @@ void measure_poses() {
     PoseResult& r = s.results[i];
     const int64_t tested_before = s.work.get("points_looked_up");
     const int64_t spheres_before = s.work.get("sphere_tests");
-    r.vps_seconds = median_of_runs(kVpsRuns, [&] { force_sink += s.vps_query(sample); });
+    r.vps_seconds = median_of_runs(kVpsRuns, [&] { force_sink += s.vps_query(sample, false); });
     r.vps_points_tested = (s.work.get("points_looked_up") - tested_before) / kVpsRuns;
     r.vps_spheres_tested = (s.work.get("sphere_tests") - spheres_before) / kVpsRuns;
     r.vps_contacts = s.hits.contacts.size();
@@ -244,15 +254,34 @@ void measure_poses() {
     for (std::size_t c = 0; c < collision.numContacts(); ++c)
       r.fcl_depth = std::max(r.fcl_depth, collision.getContact(c).penetration_depth);
   }
+  // From the front: the poses in trace order, each query starting from the
+  // previous pose's front (as the renderer's ticks do), a few passes; per
+  // pose the median over the passes.
+  std::vector<std::vector<double>> coherent(s.poses.size());
+  for (int run = 0; run < kVpsRuns; ++run) {
+    s.front.clear();
+    for (std::size_t i = 0; i < s.poses.size(); ++i) {
+      const int64_t spheres_before = s.work.get("sphere_tests");
+      const auto begin = std::chrono::steady_clock::now();
+      force_sink += s.vps_query(s.poses[i], true);
+      coherent[i].push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
+      if (run == 0) s.results[i].vps_coherent_spheres = s.work.get("sphere_tests") - spheres_before;
+    }
+  }
+  for (std::size_t i = 0; i < s.poses.size(); ++i)
+    s.results[i].vps_coherent_seconds = median(coherent[i]);
   benchmark::DoNotOptimize(force_sink);
 }
 
-/// Google Benchmark's view: one pose per iteration, cycling.
-void BM_VoxmapPointShell(benchmark::State& state) {
+/// Google Benchmark's view: one pose per iteration, cycling through the
+/// poses in order; from the root, or from the last pose's front.
+void BM_VoxmapPointShell(benchmark::State& state, bool coherent) {
   Setup& s = setup();
+  s.front.clear();
   std::size_t next = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(s.vps_query(s.poses[next]));
+    benchmark::DoNotOptimize(s.vps_query(s.poses[next], coherent));
     if (++next == s.poses.size()) next = 0;
   }
 }
@@ -268,11 +297,11 @@ void BM_FclCollide(benchmark::State& state) {
   }
 }
 
-std::vector<double> seconds_of(const std::vector<PoseResult>& results, bool vps,
+std::vector<double> seconds_of(const std::vector<PoseResult>& results, double PoseResult::*seconds,
                                const std::function<bool(const PoseResult&)>& keep) {
   std::vector<double> out;
   for (const PoseResult& r : results)
-    if (keep(r)) out.push_back(vps ? r.vps_seconds : r.fcl_seconds);
+    if (keep(r)) out.push_back(r.*seconds);
   return out;
 }
 
@@ -301,20 +330,31 @@ void print_summary() {
   const Row rows[] = {{"all poses", all},
                       {"poses FCL finds in contact", touching},
                       {"poses FCL finds apart", apart}};
-  std::printf("\n%-28s %6s | %12s %12s | %12s %12s | %10s\n", "poses", "count", "VPS median_us",
-              "VPS p99_us", "FCL median_us", "FCL p99_us", "FCL/VPS");
-  for (const Row& row : rows) {
-    const std::vector<double> vps = seconds_of(results, true, row.keep);
-    const std::vector<double> fcl = seconds_of(results, false, row.keep);
-    const double vps_median = median(vps), fcl_median = median(fcl);
-    std::printf("%-28s %6zu | %12.2f %12.2f | %12.1f %12.1f | %9.1fx\n", row.name, vps.size(),
-                1e6 * vps_median, 1e6 * percentile(vps, 0.99), 1e6 * fcl_median,
-                1e6 * percentile(fcl, 0.99), fcl_median / vps_median);
+  const struct {
+    const char* title;
+    double PoseResult::*seconds;
+  } searches[] = {{"each pose searched from the tree's root", &PoseResult::vps_seconds},
+                  {"poses in trace order, each search from the last one's front (as the "
+                   "renderer)",
+                   &PoseResult::vps_coherent_seconds}};
+  for (const auto& search : searches) {
+    std::printf("\nVoxmap PointShell: %s\n", search.title);
+    std::printf("%-28s %6s | %12s %12s | %12s %12s | %10s\n", "poses", "count", "VPS median_us",
+                "VPS p99_us", "FCL median_us", "FCL p99_us", "FCL/VPS");
+    for (const Row& row : rows) {
+      const std::vector<double> vps = seconds_of(results, search.seconds, row.keep);
+      const std::vector<double> fcl = seconds_of(results, &PoseResult::fcl_seconds, row.keep);
+      const double vps_median = median(vps), fcl_median = median(fcl);
+      std::printf("%-28s %6zu | %12.2f %12.2f | %12.1f %12.1f | %9.1fx\n", row.name, vps.size(),
+                  1e6 * vps_median, 1e6 * percentile(vps, 0.99), 1e6 * fcl_median,
+                  1e6 * percentile(fcl, 0.99), fcl_median / vps_median);
+    }
   }
 
   int both = 0, vps_only = 0, fcl_only = 0, neither = 0;
   double vps_only_max_distance = 0, fcl_only_max_depth = 0;
-  std::vector<double> vps_counts, fcl_counts, tested, spheres, vps_depths;
+  std::vector<double> vps_counts, fcl_counts, tested, spheres, coherent_spheres, vps_depths,
+      braking_counts;
   for (const PoseResult& r : results) {
     if (r.vps_contact && r.fcl_contact) ++both;
     if (!r.vps_contact && !r.fcl_contact) ++neither;
@@ -328,8 +368,10 @@ void print_summary() {
     }
     tested.push_back(static_cast<double>(r.vps_points_tested));
     spheres.push_back(static_cast<double>(r.vps_spheres_tested));
+    coherent_spheres.push_back(static_cast<double>(r.vps_coherent_spheres));
     if (r.vps_contact) {
       vps_counts.push_back(static_cast<double>(r.vps_contacts));
+      braking_counts.push_back(static_cast<double>(r.vps_braking));
       vps_depths.push_back(r.vps_depth);
     }
     if (r.fcl_contact) fcl_counts.push_back(static_cast<double>(r.fcl_contacts));
@@ -340,9 +382,9 @@ void print_summary() {
       both + vps_only, both + fcl_only, both, neither, vps_only, 1e3 * vps_only_max_distance,
       fcl_only, 1e3 * fcl_only_max_depth);
   std::printf(
-      "median contacts per pose in contact: VPS %.0f points, FCL %.0f triangle pairs "
-      "(max %.0f / %.0f)\n",
-      median(vps_counts), median(fcl_counts),
+      "median contacts per pose in contact: VPS %.0f points (and %.0f in proximity voxels), FCL "
+      "%.0f triangle pairs (max %.0f / %.0f)\n",
+      median(vps_counts), median(braking_counts), median(fcl_counts),
       vps_counts.empty() ? 0.0 : *std::max_element(vps_counts.begin(), vps_counts.end()),
       fcl_counts.empty() ? 0.0 : *std::max_element(fcl_counts.begin(), fcl_counts.end()));
   std::printf(
@@ -353,6 +395,9 @@ void print_summary() {
       vps_depths.empty() ? 0.0 : 1e3 * *std::max_element(vps_depths.begin(), vps_depths.end()),
       median(tested), *std::max_element(tested.begin(), tested.end()), s.shell.points.size(),
       median(spheres), *std::max_element(spheres.begin(), spheres.end()), s.shell.nodes.size());
+  std::printf("tree nodes tested per query from the last front: median %.0f, max %.0f\n",
+              median(coherent_spheres),
+              *std::max_element(coherent_spheres.begin(), coherent_spheres.end()));
 }
 
 }  // namespace
@@ -370,7 +415,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   measure_poses();
-  benchmark::RegisterBenchmark("BM_VoxmapPointShell", BM_VoxmapPointShell)
+  benchmark::RegisterBenchmark("BM_VoxmapPointShell/from_root", BM_VoxmapPointShell, false)
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("BM_VoxmapPointShell/from_last_front", BM_VoxmapPointShell, true)
       ->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("BM_FclCollide", BM_FclCollide)->Unit(benchmark::kMicrosecond);
   benchmark::RunSpecifiedBenchmarks();

@@ -5,6 +5,7 @@
 // and the on-disk cache. Units m.
 #include "algorithms/voxmap_pointshell/voxmap.h"
 
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -307,6 +308,7 @@ TEST_CASE("near the scene, clearance is within a voxel of the distance to the no
         bounds.min() + bounds.sizes().cwiseProduct(Vec3(unit(random), unit(random), unit(random)));
     const Eigen::Vector3i centre = lookup.voxel_of(p);
     double distance = std::numeric_limits<double>::infinity();
+    int chebyshev = window + 1;  // voxels, to the nearest non-free voxel
     for (int dx = -window; dx <= window; ++dx) {
       for (int dy = -window; dy <= window; ++dy) {
         for (int dz = -window; dz <= window; ++dz) {
@@ -315,6 +317,7 @@ TEST_CASE("near the scene, clearance is within a voxel of the distance to the no
           const Vec3 c = lookup.centre_of(v);
           const Vec3 gap = ((p - c).cwiseAbs().array() - 0.5 * h).cwiseMax(0.0);
           distance = std::min(distance, gap.norm());
+          chebyshev = std::min(chebyshev, std::max({std::abs(dx), std::abs(dy), std::abs(dz)}));
         }
       }
     }
@@ -323,6 +326,9 @@ TEST_CASE("near the scene, clearance is within a voxel of the distance to the no
     const double bound = lookup.clearance(p);
     INFO("p " << p.transpose() << " distance " << distance);
     CHECK(bound <= distance + 1e-12);
+    // Exactly the Chebyshev bound (k − 1) h within the fine map's reach.
+    if (chebyshev <= VoxelLookup::kFineCap)
+      CHECK(bound == Approx(std::max(chebyshev - 1, 0) * h).margin(1e-15));
     // Chebyshev: at worst √3 (a diagonal) and one voxel (cube to cube) below.
     CHECK(bound >= distance / kSqrt3 - 1.0001 * h);
     if (bound > 0) ++tight;
