@@ -104,6 +104,10 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
 
 }  // namespace
 
+double braking_speed(const Vec3& normal, const Vec3& lever, const RigidBodyState& state) {
+  return normal.dot(state.v + state.w.cross(lever));
+}
+
 PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                            const Vec3& centre_of_mass, int leaf_points) {
   PointShell shell;
@@ -283,7 +287,7 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     const Vec3 s = rotation * shell.points[i];
     const Vec3 n = rotation * shell.normals[i];
     const Vec3 u = state.v + w.cross(s);
-    const double c = n.dot(u);
+    const double c = braking_speed(n, s, state);
     if (!(c < 0)) continue;
     ++braking;
     const Vec3 s_u = s.cross(u);
@@ -324,8 +328,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   return result;
 }
 
-void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const RigidBodyState& state, std::vector<Contact>& contacts) {
+void report_contacts(const PointShell& shell, const PointShellHits& hits, const VoxelLookup& voxmap,
+                     const PointShellGains& gains, const RigidBodyState& state,
+                     std::vector<Contact>& contacts) {
   const Mat3 rotation = state.q.toRotationMatrix();
   for (const PointHit& hit : hits.contacts) {
     const Vec3 direction = contact_direction(shell, hit, rotation);
@@ -333,6 +338,17 @@ void report_contacts(const PointShell& shell, const PointShellHits& hits,
     if (!(length > 0)) continue;  // a flat spot of φ: no direction, no force
     contacts.push_back(
         {state.x + rotation * shell.points[hit.point], direction / length, hit.depth});
+  }
+  if (!(gains.braking_viscosity > 0) || !voxmap.has_distances()) return;
+  for (const int32_t i : hits.braking) {
+    const Vec3 s = rotation * shell.points[i];
+    if (!(braking_speed(rotation * shell.normals[i], s, state) < 0)) continue;
+    const Vec3 point = state.x + s;
+    Vec3 gradient;
+    const double phi = voxmap.interpolated_distance(point, gradient);
+    const double length = gradient.norm();
+    if (!(length > 0)) continue;
+    contacts.push_back({point, gradient / length, -phi});
   }
 }
 

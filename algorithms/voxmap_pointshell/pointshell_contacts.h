@@ -128,6 +128,11 @@ class PointShellFront {
   bool valid_ = false;
 };
 
+/// n·u for a point with normal n (world, pointing into the tool) and lever
+/// s (m, world, from the centre of mass) at `state`, u = v + ω × s (m/s): a
+/// braking point acts when it is negative (moving towards the scene).
+double braking_speed(const Vec3& normal, const Vec3& lever, const RigidBodyState& state);
+
 /// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
 double averaging_divisor(std::size_t n);
 
@@ -182,9 +187,15 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
 /// (tangent-plane hit, unit) or ∇φ at the point (field hit, about unit).
 Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3& rotation);
 
-/// The hits as Contacts at `state`: P (world), the unit direction of the
-/// point's force (pushes the tool out of the scene), d. Appends to `contacts`.
-void report_contacts(const PointShell& shell, const PointShellHits& hits,
-                     const RigidBodyState& state, std::vector<Contact>& contacts);
+/// The hits as Contacts at `state`, appended to `contacts`: each point in
+/// contact at P (world) with the unit direction of its force (pushes the
+/// tool out of the scene) and its depth d; and each braking point that acts
+/// (b > 0, moving towards the scene) at P with the scene's outward normal
+/// ∇φ/|∇φ| and depth −φ(P) < 0 (its distance to the scene, m), so that a
+/// tick whose force is braking alone still reports what pushes. Without φ
+/// in the voxmap braking points are not reported.
+void report_contacts(const PointShell& shell, const PointShellHits& hits, const VoxelLookup& voxmap,
+                     const PointShellGains& gains, const RigidBodyState& state,
+                     std::vector<Contact>& contacts);
 
 }  // namespace hb

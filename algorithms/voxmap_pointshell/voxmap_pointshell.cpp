@@ -169,7 +169,7 @@ class VoxmapPointShellRenderer : public Renderer {
     // contact set the next tick starts from.
     find_hits(proxy_.state(), result.work);
     contacts_.clear();
-    report_contacts(shell_, hits_, proxy_.state(), contacts_);
+    report_contacts(shell_, hits_, scene_.lookup, gains_, proxy_.state(), contacts_);
     result.display = device_output(raw, limits_, result.flags);
     result.proxy = proxy_.tool_pose();
     result.contacts = contacts_;

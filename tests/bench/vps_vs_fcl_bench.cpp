@@ -118,7 +118,7 @@ struct Setup {
     }
     const ForceEvaluation evaluation = pointshell_wrench(shell, hits, gains, state, true);
     contacts.clear();
-    report_contacts(shell, hits, state, contacts);
+    report_contacts(shell, hits, voxmap.lookup, gains, state, contacts);
     return evaluation.wrench.force.norm();
   }
 
@@ -173,6 +173,7 @@ Setup make_setup() {
   }
   VoxmapSettings settings;
   settings.voxel_size_m = kVoxelSize;
+  settings.signed_distance = true;  // the renderer keeps φ for both variants
   Eigen::AlignedBox3d region = reach_of(s.scenario);
   const double margin = exterior_band_m(settings) + kVoxelSize +
                         kReachMarginPerToolRadius * context.tool.mesh.radius_about(Vec3::Zero());

@@ -202,6 +202,40 @@ TEST_CASE("braking viscosity opposes motion towards the scene and is zero moving
   CHECK((many.wrench.force - 10 * one.wrench.force).norm() < 1e-12);
 }
 
+TEST_CASE("a braking point that acts is reported with the scene's normal and its distance",
+          "[voxmap_pointshell]") {
+  // Over the slab (top face z = 0), a point 1.73 mm above it in a proximity
+  // voxel; φ is linear there, so its interpolation is exact.
+  const double h = 0.001;
+  const SceneVoxmap voxmap = slab_voxmap(h, true);
+  const PointShell shell = repeated_point(1, Vec3::Zero(), Vec3(0.3, 0, 1).normalized());
+  PointShellGains gains;
+  gains.braking_viscosity = 5;
+  RigidBodyState state;
+  state.x = Vec3(0.0021, -0.0013, 0.00173);
+  PointShellHits hits;
+  WorkCounters work;
+  find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+  REQUIRE(hits.contacts.empty());
+  REQUIRE(hits.braking.size() == 1);
+  std::vector<Contact> contacts;
+  state.v = Vec3(0.01, 0, -0.1);  // towards the slab
+  report_contacts(shell, hits, voxmap.lookup, gains, state, contacts);
+  REQUIRE(contacts.size() == 1);
+  CHECK((contacts[0].point - state.x).norm() < 1e-15);
+  CHECK((contacts[0].normal - Vec3::UnitZ()).norm() < 1e-6);
+  CHECK(contacts[0].depth == Approx(-0.00173).margin(1e-6));
+  // Moving away, or without braking: no force, nothing reported.
+  contacts.clear();
+  state.v = Vec3(0.01, 0, 0.1);
+  report_contacts(shell, hits, voxmap.lookup, gains, state, contacts);
+  CHECK(contacts.empty());
+  state.v = Vec3(0.01, 0, -0.1);
+  gains.braking_viscosity = 0;
+  report_contacts(shell, hits, voxmap.lookup, gains, state, contacts);
+  CHECK(contacts.empty());
+}
+
 TEST_CASE("a tool clear of the scene costs one bounding test", "[voxmap_pointshell]") {
   const SceneVoxmap voxmap = slab_voxmap(0.001, false);
   const PointShell shell = sphere_shell(0.02, 0.001);
