@@ -51,16 +51,19 @@ struct DescentWork {
 };
 
 // Looks up point i at the pose (x, rotation) and records what it meets.
-inline void look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
-                          const PointShellGains& gains, const Vec3& x, const Mat3& rotation,
-                          int32_t i, PointShellHits& hits) {
+// Returns the point's slack: for a free point (with_slack), how far (m) it
+// may move and stay free (0 when next to a non-free voxel); −1 otherwise.
+inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
+                            const PointShellGains& gains, const Vec3& x, const Mat3& rotation,
+                            int32_t i, PointShellHits& hits, bool with_slack) {
   const Vec3 point = x + rotation * shell.points[i];
   Eigen::Vector3i voxel;
   const VoxelState voxel_state = voxmap.state_at(point, voxel);
-  if (voxel_state == VoxelState::kFree) return;
+  if (voxel_state == VoxelState::kFree)
+    return with_slack ? std::max(voxmap.clearance(point) - kRoundingMargin, 0.0) : 0.0;
   if (voxel_state == VoxelState::kProximity) {
     hits.braking.push_back(i);
-    return;
+    return -1;
   }
   if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
     const Vec3 normal = rotation * shell.normals[i];
@@ -72,14 +75,16 @@ inline void look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
     const double phi = voxmap.interpolated_distance(point, gradient);
     if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
   }
+  return -1;
 }
 
 // Searches nodes [begin, end) (whole subtrees) at the pose (x, rotation):
 // a node whose sphere is clear is skipped with its subtree, a leaf that is
-// not has its points looked up. With `front`, appends where it stopped.
+// not has its points looked up. With `front`, appends where it stopped;
+// with `point_slack`, keeps each looked-up point's slack there.
 void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShellGains& gains,
              const Vec3& x, const Mat3& rotation, int32_t begin, int32_t end, PointShellHits& hits,
-             DescentWork& work, std::vector<PointShellFront::Entry>* front) {
+             DescentWork& work, std::vector<PointShellFront::Entry>* front, double* point_slack) {
   for (int32_t k = begin; k < end;) {
     const PointShell::Node& node = shell.nodes[k];
     ++work.tests;
@@ -95,8 +100,11 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
       continue;
     }
     work.looked_up += node.count;
-    for (int32_t i = node.first; i < node.first + node.count; ++i)
-      look_up_point(shell, voxmap, gains, x, rotation, i, hits);
+    for (int32_t i = node.first; i < node.first + node.count; ++i) {
+      const double point =
+          look_up_point(shell, voxmap, gains, x, rotation, i, hits, point_slack != nullptr);
+      if (point_slack) point_slack[i] = point;
+    }
     if (front) front->push_back({k, -1});
     k = node.skip;
   }
@@ -122,7 +130,8 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
   for (const int32_t i : order) {
     shell.points.push_back(about_centre[i]);
     shell.normals.push_back(normals[i]);
-    shell.radius = std::max(shell.radius, about_centre[i].norm());
+    shell.levers.push_back(about_centre[i].norm());
+    shell.radius = std::max(shell.radius, shell.levers.back());
   }
   for (std::size_t k = 0; k < shell.nodes.size(); ++k)
     if (shell.nodes[k].skip == static_cast<int32_t>(k) + 1) ++shell.leaves;
@@ -144,9 +153,10 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
   work.names = &PointShellWork::kNames;
   DescentWork counts;
   descend(shell, voxmap, gains, state.x, state.q.toRotationMatrix(), 0,
-          static_cast<int32_t>(shell.nodes.size()), hits, counts, nullptr);
+          static_cast<int32_t>(shell.nodes.size()), hits, counts, nullptr, nullptr);
   work.add(PointShellWork::kSphereTests, counts.tests);
   work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
+  work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
 }
 
 void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
@@ -159,30 +169,21 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
   DescentWork counts;
   std::vector<PointShellFront::Entry>& next = front.next_;
   next.clear();
+  front.point_slack_.resize(shell.points.size(), -1);
+  double* point_slack = front.point_slack_.data();
   const bool moved_finite = state.x.allFinite() && rotation.allFinite();
   if (!front.valid_ || !moved_finite) {
     descend(shell, voxmap, gains, state.x, rotation, 0, static_cast<int32_t>(shell.nodes.size()),
-            hits, counts, &next);
+            hits, counts, &next, point_slack);
   } else {
-    // How far a node's centre c (tool axes) has moved at most: |Δx| + ‖ΔR‖ |c|.
+    // How far a point r (tool axes) has moved at most: |Δx| + ‖ΔR‖ |r|.
     const double shift = (state.x - front.x_).norm();
     const double turn = (rotation - front.rotation_).norm();
     int32_t skip_until = 0;  // input entries below this node lie in a subtree lifted
-    for (const PointShellFront::Entry& entry : front.entries_) {
-      if (entry.node < skip_until) continue;
-      const PointShell::Node& node = shell.nodes[entry.node];
-      double slack = entry.slack;
-      if (slack > 0) slack -= shift + turn * node.lever;
-      if (!(slack > 0)) {
-        // Looked up last time, or the scene may have come within the
-        // sphere: search the subtree again.
-        descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, hits, counts,
-                &next);
-        continue;
-      }
-      next.push_back({entry.node, slack});
-      // Coarsen: the scene is beyond the parent's sphere too (the bound
-      // drops at most by the distance between the centres).
+    // Coarsens the front's last entry while the scene is beyond its
+    // parent's sphere too (the bound drops at most by the distance between
+    // the centres).
+    const auto lift = [&] {
       while (next.back().slack > 0) {
         const PointShell::Node& child = shell.nodes[next.back().node];
         if (child.parent < 0) break;
@@ -194,6 +195,44 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
         next.push_back({child.parent, parent_slack});
         skip_until = std::max(skip_until, parent.skip);
       }
+    };
+    for (const PointShellFront::Entry& entry : front.entries_) {
+      if (entry.node < skip_until) continue;
+      const PointShell::Node& node = shell.nodes[entry.node];
+      if (entry.slack > 0) {
+        const double slack = entry.slack - (shift + turn * node.lever);
+        if (slack > 0) {
+          next.push_back({entry.node, slack});
+          lift();
+        } else {
+          // The scene may have come within the sphere: search the subtree again.
+          descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, hits, counts,
+                  &next, point_slack);
+        }
+        continue;
+      }
+      // A leaf looked up last time: its points again, skipping those that
+      // were free with room to spare while they have it.
+      bool all_clear = true;
+      for (int32_t i = node.first; i < node.first + node.count; ++i) {
+        double& slack = point_slack[i];
+        if (slack > 0) {
+          slack -= shift + turn * shell.levers[i];
+          if (slack > 0) continue;
+        }
+        ++counts.looked_up;
+        slack = look_up_point(shell, voxmap, gains, state.x, rotation, i, hits, true);
+        if (!(slack > 0)) all_clear = false;
+      }
+      // Every point clear: the leaf's sphere may be too.
+      double leaf_slack = -1;
+      if (all_clear) {
+        ++counts.tests;
+        leaf_slack =
+            voxmap.clearance(state.x + rotation * node.centre) - node.radius - kRoundingMargin;
+      }
+      next.push_back({entry.node, leaf_slack > 0 ? leaf_slack : -1});
+      if (leaf_slack > 0) lift();
     }
   }
   front.entries_.swap(next);
@@ -203,6 +242,7 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
   work.add(PointShellWork::kSphereTests, counts.tests);
   work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
   work.add(PointShellWork::kFrontEntries, static_cast<int64_t>(front.entries_.size()));
+  work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
 }
 
 void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxmap,
@@ -211,7 +251,7 @@ void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxma
   hits.clear();
   const Mat3 rotation = state.q.toRotationMatrix();
   for (std::size_t i = 0; i < shell.points.size(); ++i)
-    look_up_point(shell, voxmap, gains, state.x, rotation, static_cast<int32_t>(i), hits);
+    look_up_point(shell, voxmap, gains, state.x, rotation, static_cast<int32_t>(i), hits, false);
 }
 
 ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,

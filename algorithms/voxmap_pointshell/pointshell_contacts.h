@@ -58,6 +58,7 @@ struct PointShell {
   };
   std::vector<Vec3> points;   ///< r_i: m, tool axes, about the centre of mass
   std::vector<Vec3> normals;  ///< n_i: unit, tool axes, pointing into the tool
+  std::vector<double> levers;  ///< |r_i|, m
   std::vector<Node> nodes;    ///< depth-first; nodes[0] is the root (when any point)
   double radius = 0;          ///< m, max |r_i|
   int32_t leaves = 0;
@@ -123,6 +124,9 @@ class PointShellFront {
                                             const RigidBodyState& state, PointShellFront& front,
                                             PointShellHits& hits, WorkCounters& work);
   std::vector<Entry> entries_, next_;
+  /// Per point of a leaf looked up: how far (m) it may move and stay free,
+  /// ≤ 0 when it must be looked up again.
+  std::vector<double> point_slack_;
   Vec3 x_ = Vec3::Zero();  ///< m, world: the centre of mass at the last search
   Mat3 rotation_ = Mat3::Identity();
   bool valid_ = false;
@@ -141,8 +145,9 @@ struct PointShellWork {
   static constexpr std::size_t kSphereTests = 0;     ///< bounding spheres of tree nodes
   static constexpr std::size_t kPointsLookedUp = 1;  ///< points whose voxel was read
   static constexpr std::size_t kFrontEntries = 2;    ///< front entries carried between searches
+  static constexpr std::size_t kBrakingPoints = 3;   ///< points found in proximity voxels
   static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up",
-                                                 "front_entries"};
+                                                 "front_entries", "braking_points"};
 };
 
 /// Finds the points of the shell that act at the proxy pose (x, q of
