@@ -19,7 +19,11 @@ ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const Penalt
   if (!(depth > 0)) return result;
 
   const Vec3 point_velocity = state.v + state.w.cross(lever);
-  const Vec3 force = (gains.stiffness * depth - gains.damping * n.dot(point_velocity)) * n;
+  // A contact can only push: separating faster than k d / b, the damping
+  // would pull the tool into the surface (sticky contact); then nothing acts.
+  const double magnitude = gains.stiffness * depth - gains.damping * n.dot(point_velocity);
+  if (!(magnitude > 0)) return result;
+  const Vec3 force = magnitude * n;
   result.wrench = Wrench{force, lever.cross(force)};
   if (!with_jacobians) return result;
 

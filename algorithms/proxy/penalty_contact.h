@@ -4,8 +4,10 @@
 // of Jacobians for implicit integration (lecture notes, Otaduy & Lin:
 // F_p = −kN(x + Rr − p₀) − kdn − bN(v + ω × r), T_p = (Rr) × F_p, N = n nᵀ):
 //   depth d = n·(p₀ − (x + R r))
-//   F = k d n − b (n·v_r) n,  v_r = v + ω × (R r),  torque (R r) × F about the COM
-// applied only while d > 0.
+//   F = max(0, k d − b (n·v_r)) n,  v_r = v + ω × (R r),  torque (R r) × F about the COM
+// applied only while d > 0. The clamp: a contact can only push; a point
+// leaving the surface faster than k d / b is not pulled back (the unclamped
+// law made contacts sticky on fast release).
 #pragma once
 
 #include "algorithms/core/pose.h"
@@ -34,7 +36,8 @@ double contact_depth(const ContactPlane& plane, const RigidBodyState& state);
 Vec3 contact_tool_point_world(const ContactPlane& plane, const RigidBodyState& state);
 
 /// Penalty wrench of one contact about the centre of mass and, when asked,
-/// its Jacobians (force_model.h coordinates). Zero when d ≤ 0.
+/// its Jacobians (force_model.h coordinates). Zero when d ≤ 0 or when the
+/// normal force k d − b n·v_r would pull (≤ 0).
 ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const PenaltyGains& gains,
                                          const RigidBodyState& state, bool with_jacobians);
 

@@ -37,6 +37,23 @@ TEST_CASE("penalty contact pushes along the normal by k d minus normal damping",
   CHECK(free.damping.norm() == 0);
 }
 
+TEST_CASE("penalty contact only pushes: leaving faster than k d / b, nothing acts", "[penalty]") {
+  ContactPlane plane;  // the plane z = 0, the tool point at the centre of mass
+  const PenaltyGains gains{3000, 50};
+  RigidBodyState state;
+  state.x = Vec3(0, 0, -0.002);                    // 2 mm deep: k d = 6 N
+  const double release_speed = 3000 * 0.002 / 50;  // 0.12 m/s
+  state.v = Vec3(0.01, 0, 0.9 * release_speed);    // leaving, slower than that
+  ForceEvaluation f = evaluate_penalty_contact(plane, gains, state, true);
+  CHECK(f.wrench.force.z() == Approx(6 - 50 * 0.9 * release_speed).epsilon(1e-12));
+  CHECK(f.damping(2, 2) == Approx(-50).epsilon(1e-12));
+  state.v.z() = 1.1 * release_speed;  // faster: unclamped, it would pull with 0.6 N
+  f = evaluate_penalty_contact(plane, gains, state, true);
+  CHECK(test::as_vector(f.wrench).norm() == 0);
+  CHECK(f.stiffness.norm() == 0);
+  CHECK(f.damping.norm() == 0);
+}
+
 TEST_CASE("penalty contact Jacobians match central differences", "[penalty]") {
   ContactPlane plane;
   plane.tool_point = Vec3(0.03, -0.01, 0.02);
