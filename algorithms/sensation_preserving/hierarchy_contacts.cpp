@@ -108,11 +108,14 @@ ContactCluster summarize(const std::vector<const PieceContact*>& members) {
   ContactCluster cluster;
   cluster.members = static_cast<int>(members.size());
   Vec3 point_sum = Vec3::Zero(), weighted_normal = Vec3::Zero(), plain_normal = Vec3::Zero();
+  cluster.depth = -std::numeric_limits<double>::infinity();
   for (const PieceContact* c : members) {
     point_sum += c->point;
     weighted_normal += c->depth * c->normal;
     plain_normal += c->normal;
-    cluster.depth = std::max(cluster.depth, c->depth);
+    // Signed: a pair within the contact margin counts minus its gap, so a
+    // cluster of such pairs acts only once the gap closes (as unclustered).
+    cluster.depth = std::max(cluster.depth, c->depth - c->gap_m);
   }
   cluster.point = point_sum / static_cast<double>(members.size());
   // Depth-weighted; unweighted when no member penetrates; the deepest

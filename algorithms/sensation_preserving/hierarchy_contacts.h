@@ -70,8 +70,10 @@ void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
 /// members' points, their depth-weighted mean normal (unit), their largest
 /// depth, and how many contacts it stands for.
 struct ContactCluster {
-  Vec3 point;
-  Vec3 normal;
+  Vec3 point;   ///< world, m: the members' mean point
+  Vec3 normal;  ///< world, unit
+  /// m: the members' largest signed depth, depth − gap_m (negative when
+  /// every member is a pair within the contact margin: minus the smallest gap).
   double depth = 0;
   int members = 0;
 };

@@ -775,5 +775,26 @@ TEST_CASE(
   CHECK_THROWS_AS(cluster_contacts(contacts, 0), InputError);
 }
 
+TEST_CASE("k-means: a cluster's depth is signed, pairs within the margin count minus their gap") {
+  // Pairs apart by 0.4 and 0.7 mm (within the contact margin): the cluster
+  // acts only once the nearer gap closes, as the unclustered contacts do.
+  PieceContact near = contact(Vec3(0, 0, 0), Vec3(0, 0, 1), 0);
+  near.gap_m = 0.0004;
+  PieceContact nearer = contact(Vec3(0.01, 0, 0), Vec3(0, 0, 1), 0);
+  nearer.gap_m = 0.0007;
+  const std::vector<ContactCluster> apart = cluster_contacts({near, nearer}, 1);
+  REQUIRE(apart.size() == 1);
+  CHECK(apart[0].depth == -0.0004);
+  // One member penetrating 0.2 mm: the cluster's depth is its depth.
+  const std::vector<ContactCluster> touching =
+      cluster_contacts({near, contact(Vec3(0.02, 0, 0), Vec3(0, 0, 1), 0.0002)}, 1);
+  REQUIRE(touching.size() == 1);
+  CHECK(touching[0].depth == 0.0002);
+  // One cluster per contact keeps each signed depth.
+  const std::vector<ContactCluster> each = cluster_contacts({near, nearer}, 2);
+  REQUIRE(each.size() == 2);
+  CHECK(std::min(each[0].depth, each[1].depth) == -0.0007);
+}
+
 }  // namespace
 }  // namespace hb
