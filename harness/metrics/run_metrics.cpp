@@ -197,6 +197,12 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
                 oracle.backends[i]->ns, backend_sums_[i].ns, backend_sums_[i].depth_sq);
   }
   m.inside_disagreements += oracle.inside_disagreements;
+  if (oracle.min_distance_m) {
+    m.distance_min_m =
+        std::min(m.distance_min_m.value_or(*oracle.min_distance_m), *oracle.min_distance_m);
+    m.distance_max_m =
+        std::max(m.distance_max_m.value_or(*oracle.min_distance_m), *oracle.min_distance_m);
+  }
   if (oracle.intersection_volume_m3) {
     ++m.volume_evaluations;
     volume_ns_.add(oracle.volume_ns);

@@ -117,6 +117,10 @@ struct OracleMetrics {
   int64_t inside_disagreements = 0;       ///< samples Embree and CGAL classified differently
   std::optional<double> intersection_volume_max_m3;
   int64_t volume_evaluations = 0;
+  /// Distance-only scenes: the least and greatest of the per-tick distances
+  /// from the tool to the scene (m) over the ticks evaluated.
+  std::optional<double> distance_min_m;
+  std::optional<double> distance_max_m;
   std::optional<Percentiles> volume_ns;
   int64_t contacts_checked = 0;  ///< reported contacts checked against the oracle
   std::optional<double> contact_normal_err_rms_deg;

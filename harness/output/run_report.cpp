@@ -48,6 +48,8 @@ json oracle_json(const std::optional<OracleMetrics>& o) {
               {"intersection_volume_max_m3", or_null(o->intersection_volume_max_m3)},
               {"volume_evaluations", o->volume_evaluations},
               {"volume_ns", percentiles_json(o->volume_ns)},
+              {"distance_min_m", or_null(o->distance_min_m)},
+              {"distance_max_m", or_null(o->distance_max_m)},
               {"contacts_checked", o->contacts_checked},
               {"contact_normal_err_rms_deg", or_null(o->contact_normal_err_rms_deg)},
               {"contact_normal_err_max_deg", or_null(o->contact_normal_err_max_deg)},

@@ -22,6 +22,8 @@ const std::string& ticks_csv_header() {
     }
     for (const OracleBackendEntry& entry : oracle_backends())
       if (entry.intersection_volume) column(entry.name, "_volume_m3");
+    // Distance-only scenes: the tool's distance to the scene.
+    text.append(",oracle_distance_m");
     text.append(",oracle_ns");
     return text;
   }();
@@ -123,6 +125,9 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
     if (evaluation.oracle && evaluation.oracle->intersection_volume_m3)
       append_number(oracle, *evaluation.oracle->intersection_volume_m3);
   }
+  oracle += ',';
+  if (evaluation.oracle && evaluation.oracle->min_distance_m)
+    append_number(oracle, *evaluation.oracle->min_distance_m);
   if (evaluation.oracle && !evaluation.oracle->broad_phase_skipped)
     append_integer(oracle_ns, evaluation.oracle->total_ns());
 

@@ -41,7 +41,7 @@ const PenetrationResult* OracleTickEvaluation::first_penetration() const {
 }
 
 int64_t OracleTickEvaluation::total_ns() const {
-  int64_t ns = volume_ns;
+  int64_t ns = volume_ns + distance_ns;
   for (const auto& backend : backends)
     if (backend) ns += backend->ns;
   return ns;
@@ -96,7 +96,15 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
                                                std::span<const Contact> contacts) {
   OracleTickEvaluation out;
   if (backends_.empty()) return out;
-  if (!is_finite(tool_pose) || !world_bounds(tool_bounds_, tool_pose).intersects(scene_bounds_)) {
+  // Distance-only scenes are measured from one tool diagonal out, where
+  // there is a distance worth reporting but nothing to touch yet.
+  Eigen::AlignedBox3d reach = scene_bounds_;
+  if (!measures_penetration_ && !reach.isEmpty()) {
+    const double margin = tool_bounds_.diagonal().norm();
+    reach.min().array() -= margin;
+    reach.max().array() += margin;
+  }
+  if (!is_finite(tool_pose) || !world_bounds(tool_bounds_, tool_pose).intersects(reach)) {
     out.broad_phase_skipped = true;
     return out;
   }
@@ -133,6 +141,18 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
           backend.oracle->intersection_volume(transformed(tool_mesh_, tool_pose));
       out.volume_ns = ns_since(volume_start);
     }
+  }
+
+  if (!measures_penetration_) {
+    const auto start = std::chrono::steady_clock::now();
+    PointQueryRequest request;
+    request.points = world_samples_;
+    request.want_inside = false;
+    request.want_closest = true;
+    backends_.front().oracle->query_points(request, inside_);
+    if (!inside_.distance.empty())
+      out.min_distance_m = *std::min_element(inside_.distance.begin(), inside_.distance.end());
+    out.distance_ns = ns_since(start);
   }
 
   if (!contacts.empty()) {

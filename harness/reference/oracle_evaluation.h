@@ -47,6 +47,12 @@ struct OracleTickEvaluation {
   std::vector<std::optional<BackendPenetration>> backends;
   std::optional<double> intersection_volume_m3;  ///< when the tool touches the scene
   int64_t volume_ns = 0;
+  /// Scenes whose objects are all distance_only (no inside, so no
+  /// penetration): the smallest distance (m) from the tool's surface samples
+  /// to the scene's surface, by the primary backend, while the tool's bounds
+  /// are within one tool diagonal of the scene's; null otherwise.
+  std::optional<double> min_distance_m;
+  int64_t distance_ns = 0;
   int64_t inside_disagreements = 0;  ///< samples a backend classifies unlike the primary
   std::vector<ContactCheck> contact_checks;
 
@@ -74,7 +80,8 @@ class OracleEvaluator {
   /// Name of the primary backend (the first built).
   std::string_view primary_name() const;
   /// False when every scene object is distance_only: no inside/outside, so
-  /// no penetration (contacts are still checked by distance).
+  /// no penetration; the distance to the scene is reported instead
+  /// (OracleTickEvaluation::min_distance_m) and contacts are checked by distance.
   bool measures_penetration() const { return measures_penetration_; }
 
  private:

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "algorithms/core/shapes.h"
@@ -195,6 +196,57 @@ TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
     }
   }
   CHECK(scenarios >= 5);
+}
+
+TEST_CASE("a distance-only scene reports the tool's distance to it, per tick and over the run") {
+  // An open surface (one square at z = 0, marked distance_only): no
+  // inside, so no penetration; a 4 cm box tool rests with its bottom face
+  // 3 mm above it, then 1 mm above it (the rest generator holds one pose,
+  // so two runs).
+  const hb::test::ScratchDir work_dir("e2e_oracle_distance_only");
+  const fs::path& work = work_dir.path();
+  std::ofstream(work / "square.off") << "OFF\n4 2 0\n-0.1 -0.1 0\n0.1 -0.1 0\n0.1 0.1 0\n"
+                                        "-0.1 0.1 0\n3 0 1 2\n3 0 2 3\n";
+  for (const double gap : {0.003, 0.001}) {
+    std::ofstream(work / "scenario.json") << R"({ "name": "over_square",
+      "scene": [ { "mesh": "square.off", "distance_only": true } ],
+      "tool": { "shape": { "type": "box", "size": [0.04, 0.04, 0.04] }, "density": 1000 },
+      "trace": { "generator": "rest", "duration_s": 0.02,
+                 "params": { "p": [0.01, 0.02, )" +
+                                                 std::to_string(0.02 + gap) + R"(] } },
+      "algorithms": [ { "name": "coupling_only" } ],
+      "reference": { "oracle": "both", "exact_every": 1, "analytic": "none",
+                     "sample_spacing_m": 0.002 } })";
+    fs::remove_all(work / "run");
+    const hb::test::CommandResult result =
+        hb::test::run_hapticbench("run scenario.json --out run", work);
+    INFO(result.stderr_text);
+    REQUIRE(result.exit_code == 0);
+    const json oracle = json::parse(hb::test::read_text_file(work / "run/summary.json"))
+                            .at("runs")
+                            .at(0)
+                            .at("oracle");
+    // The bottom face's samples are the nearest points: the distance is the gap.
+    CHECK(oracle.at("distance_min_m").get<double>() == Approx(gap).margin(1e-9));
+    CHECK(oracle.at("distance_max_m").get<double>() == Approx(gap).margin(1e-9));
+    // And every tick's row carries it in the oracle_distance_m column.
+    std::istringstream ticks(hb::test::read_text_file(work / "run/ticks_coupling_only.csv"));
+    std::string line, cell;
+    std::getline(ticks, line);
+    std::istringstream header(line);
+    int column = 0, distance_column = -1;
+    for (; std::getline(header, cell, ','); ++column)
+      if (cell == "oracle_distance_m") distance_column = column;
+    REQUIRE(distance_column >= 0);
+    int rows = 0;
+    while (std::getline(ticks, line)) {
+      std::istringstream row(line);
+      for (int c = 0; c <= distance_column; ++c) std::getline(row, cell, ',');
+      CHECK(std::stod(cell) == Approx(gap).margin(1e-9));
+      ++rows;
+    }
+    CHECK(rows == 20);
+  }
 }
 
 }  // namespace
