@@ -19,6 +19,7 @@ int compare_command(const std::vector<std::string>& args);   ///< hapticbench co
 int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sweep
 int ccd_command(const std::vector<std::string>& args);       ///< hapticbench ccd
 int export_command(const std::vector<std::string>& args);    ///< hapticbench export
+int stability_command(const std::vector<std::string>& args);  ///< hapticbench stability
 /// hapticbench count-instructions (internal: the child of run --instructions)
 int count_instructions_command(const std::vector<std::string>& args);
 

@@ -20,6 +20,8 @@ constexpr const char* kUsage =
     "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
+    "  stability SCENARIO.json --label L --param PTR --range LO HI [--tolerance R] [--out DIR]\n"
+    "                                              largest stable value of one parameter\n"
     "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
     "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
     "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
@@ -42,6 +44,7 @@ int main(int argc, char** argv) {
     if (command == "compare") return hb::compare_command(args);
     if (command == "sweep") return hb::sweep_command(args);
     if (command == "ccd") return hb::ccd_command(args);
+    if (command == "stability") return hb::stability_command(args);
     if (command == "export") return hb::export_command(args);
     if (command == "count-instructions") return hb::count_instructions_command(args);
     if (command == "-h" || command == "--help" || command == "help") {

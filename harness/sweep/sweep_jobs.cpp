@@ -47,10 +47,8 @@ std::string where(const std::string& pointer) {
   return pointer.empty() ? "the scenario's top level" : "\"" + pointer + "\"";
 }
 
-// Sets `value` at the pointer whose tokens are given. Every component but
-// the last must exist; the last may be a new key of an existing object (a
-// parameter the scenario leaves at its default) but not a new array
-// element. Returns why not, or nullopt when set.
+}  // namespace
+
 std::optional<std::string> set_at_pointer(Json& document, const std::vector<std::string>& tokens,
                                           const Json& value) {
   Json* current = &document;
@@ -78,6 +76,8 @@ std::optional<std::string> set_at_pointer(Json& document, const std::vector<std:
   *current = value;
   return std::nullopt;
 }
+
+namespace {
 
 // Mesh and trace file paths as absolute paths, so that the job's JSON means
 // the same from any folder.

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,15 @@ struct SweepJob {
   /// (so the JSON runs from anywhere, e.g. `hapticbench run scenario.json`).
   nlohmann::ordered_json scenario;
 };
+
+/// Sets `value` in `document` at the JSON pointer whose tokens are given
+/// (json_pointer_tokens). Every component but the last must exist; the last
+/// may be a new key of an existing object (a parameter the scenario leaves
+/// at its default) but not a new array element. Returns why not, or
+/// nullopt when set.
+std::optional<std::string> set_at_pointer(nlohmann::ordered_json& document,
+                                          const std::vector<std::string>& tokens,
+                                          const nlohmann::ordered_json& value);
 
 /// Expands the sweep: scenarios in order, then grid keys in file order, the
 /// last key varying fastest. Reads each scenario file as JSON only (nothing
