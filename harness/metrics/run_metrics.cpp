@@ -131,6 +131,16 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   partial_.stability.passivity_energy_min_j =
       std::min(partial_.stability.passivity_energy_min_j, energy_);
   partial_.stability.passivity_energy_final_j = energy_;
+  {
+    const double t = 1e-9 * static_cast<double>(device.t_ns);
+    ++energy_fit_n_;
+    const double n = static_cast<double>(energy_fit_n_);
+    const double dt_mean = t - energy_fit_mean_t_;
+    energy_fit_mean_t_ += dt_mean / n;
+    energy_fit_mean_e_ += (energy_ - energy_fit_mean_e_) / n;
+    energy_fit_cov_ += dt_mean * (energy_ - energy_fit_mean_e_);
+    energy_fit_var_t_ += dt_mean * (t - energy_fit_mean_t_);
+  }
   if (last_force_) {
     partial_.stability.force_jump_max_n =
         std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
@@ -312,6 +322,8 @@ RunMetrics MetricsAccumulator::finish() const {
     total_weight += variance;
   }
   m.stability.force_hf_energy_fraction = total_weight > 0 ? hf / total_weight : 0.0;
+  if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
+    m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;
   return m;
 }
 

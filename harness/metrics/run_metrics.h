@@ -82,6 +82,10 @@ struct StabilityMetrics {
   double passivity_energy_final_j = 0;
   double force_jump_max_n = 0;          ///< max |F(k) - F(k-1)|
   double force_hf_energy_fraction = 0;  ///< share of force signal energy above 100 Hz (no DC)
+  /// J/s: the least-squares slope of the passivity energy E(t) over the
+  /// run; negative when the rendering gives energy away steadily (drift),
+  /// null for runs shorter than two ticks.
+  std::optional<double> energy_drift_j_per_s;
 };
 
 struct TransparencyMetrics {
@@ -204,6 +208,9 @@ class MetricsAccumulator {
   int64_t ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
   int64_t contacts_sum_ = 0;
   double energy_ = 0;
+  // Streaming least-squares fit of the energy against time (Welford).
+  int64_t energy_fit_n_ = 0;
+  double energy_fit_mean_t_ = 0, energy_fit_mean_e_ = 0, energy_fit_cov_ = 0, energy_fit_var_t_ = 0;
   std::optional<Vec3> last_force_;
 };
 

@@ -58,6 +58,28 @@ struct SyntheticRun {
   }
 };
 
+TEST_CASE("energy drift is the slope of the passivity energy over time") {
+  // The device moves along +x at 0.1 m/s: a display of (−2, 0, 0) N takes
+  // 0.2 J/s from it (E grows at 0.2 J/s), (+3, 0, 0) N gives 0.3 J/s away.
+  for (const double fx : {-2.0, 3.0, 0.0}) {
+    SyntheticRun run;
+    for (int k = 0; k < 5000; ++k)
+      run.tick(Wrench{Vec3(fx, 0, 0), Vec3::Zero()}, std::nullopt, 100);
+    const RunMetrics m = run.metrics.finish();
+    REQUIRE(m.stability.energy_drift_j_per_s);
+    CHECK(*m.stability.energy_drift_j_per_s == Approx(-fx * 0.1).margin(1e-9));
+  }
+  // A periodic exchange (a spring pressed and released) has no trend.
+  SyntheticRun spring;
+  for (int k = 0; k < 4000; ++k)
+    spring.tick(Wrench{Vec3(std::sin(2 * std::numbers::pi * k / 1000.0), 0, 0), Vec3::Zero()},
+                std::nullopt, 100);
+  CHECK(std::abs(*spring.metrics.finish().stability.energy_drift_j_per_s) < 1e-4);
+  SyntheticRun one;
+  one.tick(Wrench{}, std::nullopt, 100);
+  CHECK_FALSE(one.metrics.finish().stability.energy_drift_j_per_s);
+}
+
 TEST_CASE("slow updates: time spread over the ticks until installation, count over 1 ms") {
   // Ten ticks of 100 ns; updates of 3 ms (installed 3 ticks later), 0.5 ms
   // (1 tick) and 2 ms (2 ticks) starting at ticks 0, 3 and 4.
