@@ -34,27 +34,31 @@ RenderContext sphere_over_slab(double top_z = 0) {
 
 using test::params_of;
 
-// The device lowered at 1 cm/s from 4 mm above contact with a surface at
-// z = top_z to `depth` below it, then held (sphere centre on the z axis),
-// then moved sideways.
+// The device lowered at `speed` (m/s) from 4 mm above contact with a
+// surface at z = top_z to `depth` below it, then held (sphere centre on the
+// z axis), then moved sideways for slide_ticks, or with `lift` raised back
+// at the same speed.
 std::vector<DeviceSample> press_trace(double depth, int hold_ticks, int slide_ticks = 0,
-                                      double top_z = 0) {
+                                      double top_z = 0, double speed = 0.01, bool lift = false) {
   std::vector<DeviceSample> samples;
   const double start = top_z + kSphereRadius + 0.004;
   const double end = top_z + kSphereRadius - depth;
-  const double speed = 0.01;
   const int descent = static_cast<int>(std::ceil((start - end) / (speed * 1e-3)));
-  for (int k = 0; k < descent + hold_ticks + slide_ticks; ++k) {
+  const int ticks = descent + hold_ticks + slide_ticks + (lift ? descent : 0);
+  for (int k = 0; k < ticks; ++k) {
     DeviceSample s;
     s.tick = k;
     s.t_ns = k * 1'000'000LL;
+    const double t = (k - descent - hold_ticks) * 1e-3;  // s after the hold
     if (k < descent) {
       s.pose.p = Vec3(0, 0, start - speed * 1e-3 * k);
       s.twist.v = Vec3(0, 0, -speed);
     } else if (k < descent + hold_ticks) {
       s.pose.p = Vec3(0, 0, end);
+    } else if (lift) {
+      s.pose.p = Vec3(0, 0, std::min(start, end + speed * t));
+      s.twist.v = Vec3(0, 0, speed);
     } else {
-      const double t = (k - descent - hold_ticks) * 1e-3;
       s.pose.p = Vec3(0.01 * t, 0.004 * t, end);
       s.twist.v = Vec3(0.01, 0.004, 0);
     }
@@ -176,25 +180,8 @@ TEST_CASE("a fast press: the proxy stays near the surface, contacts push along t
   // the face normal is +z. (With interior voxels exerting nothing, as in
   // McNeely's voxmap, the voxmap variant's proxy sank 5.2 mm here.)
   const RenderContext context = sphere_over_slab();
-  const double h = 0.0005, depth = 0.006, speed = 2.0;
-  std::vector<DeviceSample> trace;
-  const double start = kSphereRadius + 0.004, end = kSphereRadius - depth;
-  const int descent = static_cast<int>(std::ceil((start - end) / (speed * 1e-3)));
-  for (int k = 0; k < 2 * descent + 300; ++k) {
-    DeviceSample s;
-    s.tick = k;
-    s.t_ns = k * 1'000'000LL;
-    if (k < descent) {
-      s.pose.p = Vec3(0, 0, start - speed * 1e-3 * k);
-      s.twist.v = Vec3(0, 0, -speed);
-    } else if (k < descent + 300) {
-      s.pose.p = Vec3(0, 0, end);
-    } else {
-      s.pose.p = Vec3(0, 0, std::min(start, end + speed * 1e-3 * (k - descent - 300)));
-      s.twist.v = Vec3(0, 0, speed);
-    }
-    trace.push_back(s);
-  }
+  const double h = 0.0005, depth = 0.006;
+  const std::vector<DeviceSample> trace = press_trace(depth, 300, 0, 0, 2.0, true);
   for (const char* variant : {"voxmap", "signed_distance"}) {
     auto renderer = create_voxmap_pointshell(context, params_of({{"voxel_size", h},
                                                                  {"variant", std::string(variant)},
