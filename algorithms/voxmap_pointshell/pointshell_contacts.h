@@ -56,11 +56,11 @@ struct PointShell {
     double parent_distance = 0;  ///< m, from the centre to the parent's centre
     double lever = 0;            ///< m, |centre|
   };
-  std::vector<Vec3> points;   ///< r_i: m, tool axes, about the centre of mass
-  std::vector<Vec3> normals;  ///< n_i: unit, tool axes, pointing into the tool
+  std::vector<Vec3> points;    ///< r_i: m, tool axes, about the centre of mass
+  std::vector<Vec3> normals;   ///< n_i: unit, tool axes, pointing into the tool
   std::vector<double> levers;  ///< |r_i|, m
-  std::vector<Node> nodes;    ///< depth-first; nodes[0] is the root (when any point)
-  double radius = 0;          ///< m, max |r_i|
+  std::vector<Node> nodes;     ///< depth-first; nodes[0] is the root (when any point)
+  double radius = 0;           ///< m, max |r_i|
   int32_t leaves = 0;
 };
 
@@ -165,8 +165,11 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
 /// node stays skipped while its slack exceeds how far its sphere's centre
 /// has moved since it was tested (|Δx| + ‖ΔR‖_F |centre|: a lower bound on
 /// the distance to the scene drops at most that much), and is tested again
-/// (and its subtree searched) once it does not; a leaf looked up is looked
-/// up again. A skipped node whose slack, less the offset to its parent's
+/// (and its subtree searched) once it does not. A leaf looked up stays in
+/// the front: its points are looked up again, but a point that was free
+/// with room to spare (its own slack, from the clearance) is skipped while
+/// it has moved less; once all its points are clear its sphere is tested
+/// again. A skipped node whose slack, less the offset to its parent's
 /// centre, exceeds the parent's radius is replaced with the parent's
 /// subtree, so the front coarsens again as the tool leaves. Counts front
 /// entries visited in work (PointShellWork::kFrontEntries) besides the
