@@ -281,6 +281,33 @@ TEST_CASE("every shipped scenario validates") {
   }
 }
 
+TEST_CASE(
+    "every stress scenario runs every algorithm it lists without a crash or a non-finite force") {
+  const hb::test::ScratchDir work_dir("e2e_stress_suite");
+  const fs::path& work = work_dir.path();
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
+      "run " + (kSource / "scenarios/stress").string() + "/*.json --out stress", work);
+  INFO(result.stderr_text);
+  CHECK(result.exit_code == 0);  // every nonfinite budget (0) holds
+  int scenarios = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(kSource / "scenarios/stress")) {
+    if (entry.path().extension() != ".json") continue;
+    ++scenarios;
+    const json scenario = json::parse(hb::test::read_text_file(entry.path()));
+    const std::string name = scenario.at("name");
+    const json summary =
+        json::parse(hb::test::read_text_file(work / "stress" / name / "summary.json"));
+    INFO(name);
+    REQUIRE(summary.at("runs").size() == scenario.at("algorithms").size());
+    for (const json& run : summary.at("runs")) {
+      INFO(run.at("label").get<std::string>());
+      CHECK(run.at("stability").at("nonfinite") == 0);
+      CHECK(run.at("timing").at("ticks").get<int64_t>() > 0);
+    }
+  }
+  CHECK(scenarios >= 8);
+}
+
 TEST_CASE("usage errors exit with 2") {
   const hb::test::ScratchDir work_dir("e2e_usage");
   const fs::path& work = work_dir.path();
