@@ -83,6 +83,8 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   if (result.flags & (kFlagForceSaturated | kFlagTorqueSaturated))
     ++partial_.stability.saturated_ticks;
 
+  if (evaluation.tunnelled)
+    partial_.stability.tunnelled = partial_.stability.tunnelled.value_or(0) + *evaluation.tunnelled;
   const bool reported_contact = !result.contacts.empty();
   const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
   add_timing(record, in_contact);

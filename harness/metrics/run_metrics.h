@@ -27,6 +27,9 @@ struct TickEvaluation {
   std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
   std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
+  /// With the analytic scene: whether the proxy's tool origin has just
+  /// passed through the box (BoxTunnellingDetector); null without it.
+  std::optional<bool> tunnelled;
 };
 
 /// CPU time per tick of both loops together: the tick's step() plus, for
@@ -86,6 +89,9 @@ struct StabilityMetrics {
   /// run; negative when the rendering gives energy away steadily (drift),
   /// null for runs shorter than two ticks.
   std::optional<double> energy_drift_j_per_s;
+  /// Times the proxy's tool origin passed through a scene object
+  /// (BoxTunnellingDetector); null where it is not measured (no analytic scene).
+  std::optional<int64_t> tunnelled;
 };
 
 struct TransparencyMetrics {

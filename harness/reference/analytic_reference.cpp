@@ -409,4 +409,41 @@ double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose
                                    half_extents_of(scene.tool_shape));
 }
 
+namespace {
+
+// Whether the segment a–b (box frame) meets the box |x_i| ≤ h_i (slabs).
+bool segment_meets_box(const Vec3& a, const Vec3& b, const Vec3& h) {
+  double enter = 0, leave = 1;
+  const Vec3 d = b - a;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0) {
+      if (std::abs(a[i]) > h[i]) return false;
+      continue;
+    }
+    double t0 = (-h[i] - a[i]) / d[i], t1 = (h[i] - a[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool BoxTunnellingDetector::update(const Vec3& origin_world) {
+  if (!origin_world.allFinite()) return false;
+  const Vec3 p = scene_.box_pose.inverse_transform_point(origin_world);
+  const Vec3 h = scene_.box_half_extents;
+  const Vec3 gap = p - p.cwiseMax(-h).cwiseMin(h);
+  const double distance = gap.norm();
+  if (!(distance > 0)) return false;  // inside or on the surface: wait for it to come out
+  const Vec3 side = gap / distance;
+  const bool passed =
+      last_point_ && last_side_.dot(side) < 0 && segment_meets_box(*last_point_, p, h);
+  last_point_ = p;
+  last_side_ = side;
+  return passed;
+}
+
 }  // namespace hb

@@ -112,4 +112,26 @@ IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& devic
 /// through that face alone and the vertex is nearer that face than any other.
 double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose);
 
+/// Tunnelling through the scene box, followed tick by tick: the tool
+/// frame's origin (the proxy's reference point) has passed through the box
+/// when, between two ticks on which it is outside the box, the side it is
+/// on turns by more than 90° (the directions from the box's nearest point
+/// to it point away from each other) and the straight path between those
+/// two positions crosses the box. Going round an edge or a corner turns the
+/// side a little each tick and is not counted; leaving by the face it
+/// entered is not counted.
+class BoxTunnellingDetector {
+ public:
+  explicit BoxTunnellingDetector(const AnalyticScene& scene) : scene_(scene) {}
+  /// Feeds the tool origin's world position at the next tick (m); true when
+  /// it has just passed through the box. Positions inside the box (or
+  /// non-finite ones) are skipped.
+  bool update(const Vec3& origin_world);
+
+ private:
+  const AnalyticScene& scene_;
+  std::optional<Vec3> last_point_;  ///< box frame, m: the last position outside
+  Vec3 last_side_ = Vec3::Zero();   ///< unit, box frame: its side then
+};
+
 }  // namespace hb

@@ -65,6 +65,7 @@ class EvaluatingObserver : public TickObserver {
                      std::ostream& ticks_out)
       : truth_(truth), metrics_(settings), ticks_(ticks_out) {
     if (timing) timing_.emplace(timing->times);
+    if (truth_.analytic) tunnelling_.emplace(*truth_.analytic);
   }
 
   void on_tick(const TickRecord& measured) override {
@@ -89,6 +90,7 @@ class EvaluatingObserver : public TickObserver {
       evaluation.reference_contact = ideal.in_contact;
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
+      evaluation.tunnelled = tunnelling_->update(record.result.proxy.p);
     }
     if (truth_.oracle) {
       evaluation.oracle =
@@ -113,6 +115,7 @@ class EvaluatingObserver : public TickObserver {
 
  private:
   GroundTruth& truth_;
+  std::optional<BoxTunnellingDetector> tunnelling_;  ///< with the analytic scene
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;

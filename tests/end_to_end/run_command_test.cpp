@@ -306,6 +306,15 @@ TEST_CASE(
     }
   }
   CHECK(scenarios >= 8);
+  // The thin wall at 4 m/s: the device (coupling only) passes through the
+  // plate, the god-object does not.
+  const json wall =
+      json::parse(hb::test::read_text_file(work / "stress/thin_wall_4mps/summary.json"));
+  for (const json& run : wall.at("runs")) {
+    const std::string label = run.at("label");
+    if (label == "coupling_only") CHECK(run.at("stability").at("tunnelled").get<int64_t>() >= 1);
+    if (label == "god_object") CHECK(run.at("stability").at("tunnelled").get<int64_t>() == 0);
+  }
 }
 
 TEST_CASE("usage errors exit with 2") {

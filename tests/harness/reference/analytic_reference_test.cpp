@@ -517,5 +517,40 @@ TEST_CASE("box-box penetration depth matches the brute-force Minkowski hull", "[
   CHECK(overlapping >= 6);  // the sample exercises real overlaps, not only separations
 }
 
+TEST_CASE("tunnelling: passing through the box counts, going round it or backing out does not",
+          "[analytic]") {
+  AnalyticScene scene;  // a 2 mm plate: |x|, |y| <= 0.1 m, |z| <= 1 mm, turned and moved
+  scene.box_pose = Pose{Vec3(0.3, -0.2, 0.1), quat_from_rotation_vector(Vec3(0.4, 0.1, -0.3))};
+  scene.box_half_extents = Vec3(0.1, 0.1, 0.001);
+  const auto world = [&](double x, double y, double z) {
+    return scene.box_pose.transform_point(Vec3(x, y, z));
+  };
+  const auto count = [&](const std::vector<Vec3>& box_frame_path) {
+    BoxTunnellingDetector detector(scene);
+    int events = 0;
+    for (const Vec3& p : box_frame_path) events += detector.update(world(p.x(), p.y(), p.z()));
+    return events;
+  };
+  // Straight through in one tick (4 mm a tick), and through over several
+  // ticks spent inside.
+  CHECK(count({{0, 0, 0.01}, {0, 0, 0.006}, {0, 0, 0.002}, {0, 0, -0.002}, {0, 0, -0.006}}) == 1);
+  CHECK(count({{0, 0, 0.002}, {0, 0, 0.0005}, {0, 0, -0.0005}, {0, 0, -0.002}}) == 1);
+  // Down through and back up: two passes.
+  CHECK(count({{0, 0, 0.003}, {0, 0, -0.003}, {0, 0, 0.003}}) == 2);
+  // Into the plate and back out the way it came: none.
+  CHECK(count({{0, 0, 0.002}, {0, 0, 0.0005}, {0, 0, 0.0002}, {0, 0, 0.002}}) == 0);
+  // Round the plate's edge from above to below in 1 mm steps: none.
+  std::vector<Vec3> round;
+  for (int k = 0; k <= 40; ++k) {
+    const double a = std::numbers::pi * k / 40;  // from +z over the +x edge to −z
+    round.push_back(Vec3(0.1 + 0.005 * std::sin(a), 0, 0.005 * std::cos(a)));
+  }
+  CHECK(count(round) == 0);
+  // Past its edge in one tick, 0.05 mm outside it: the side turns by
+  // nearly 180° but the path misses the plate: none.
+  CHECK(count({{0.10005, 0, 0.002}, {0.10005, 0, -0.002}}) == 0);
+  CHECK(count({{0, 0, 0.01}, {std::nan(""), 0, 0}, {0, 0, 0.01}}) == 0);
+}
+
 }  // namespace
 }  // namespace hb
