@@ -327,7 +327,7 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     const Vec3 s = rotation * shell.points[i];
     const Vec3 n = rotation * shell.normals[i];
     const Vec3 u = state.v + w.cross(s);
-    const double c = braking_speed(n, s, state);
+    const double c = n.dot(u);  // braking_speed(n, s, state), u kept for the sums below
     if (!(c < 0)) continue;
     ++braking;
     const Vec3 s_u = s.cross(u);
