@@ -84,6 +84,10 @@ def finite_number(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
+def number_or_none(value):
+    return value if finite_number(value) else None
+
+
 def microseconds(ns):
     """ns / 1000, or None: divided, not multiplied by 1e-3, so that 8935 ns prints 8.94 µs
     the way C's printf("%.2f", ns / 1000.0) does."""
@@ -132,17 +136,23 @@ class RunFolder:
         self.runs = [Run(self, run) for run in summary["runs"]]
 
 
-def read_summary(folder):
-    path = os.path.join(folder, "summary.json")
+def read_json_object(path):
+    """A JSON file holding an object; bad input names the file and the line."""
     try:
         with open(path, encoding="utf-8") as f:
-            summary = json.load(f)
+            data = json.load(f)
     except OSError as error:
         raise ReportInputError(path, "", "cannot read: %s" % error.strerror)
     except json.JSONDecodeError as error:
         raise ReportInputError(path, "line %d" % error.lineno, "not JSON: %s" % error.msg)
-    if not isinstance(summary, dict):
+    if not isinstance(data, dict):
         raise ReportInputError(path, "", "expected a JSON object")
+    return data
+
+
+def read_summary(folder):
+    path = os.path.join(folder, "summary.json")
+    summary = read_json_object(path)
     version = summary.get("schema_version")
     if type(version) is not int or version != 1:  # neither true nor 1.0 is version 1
         raise ReportInputError(path, "/schema_version", "expected 1, got %s"
@@ -1012,7 +1022,180 @@ def stability_html(folders, runs):
     return "".join(parts)
 
 
-def render(folders, template, metric_table):
+# A stress run passes when its passivity energy stays above −ε (J), as in
+# `hapticbench stability`'s default.
+STRESS_PASSIVITY_EPSILON_J = 1e-6
+
+
+def is_stress_folder(folder):
+    """A run of a scenario kept in a folder named stress (scenarios/stress/)."""
+    path = str(dig(folder.summary, "scenario", "path") or "")
+    return os.path.basename(os.path.dirname(path)) == "stress"
+
+
+def stress_verdict(run):
+    """(passed, text): the first failed check of no non-finite, no divergence,
+    no tunnelling, passivity and no chatter, with its figure; else the
+    largest penetration (or the passivity minimum) behind the pass."""
+    stability = run.summary.get("stability") or {}
+    nonfinite = stability.get("nonfinite") or 0
+    if nonfinite:
+        return False, "non-finite on %d ticks" % nonfinite
+    if stability.get("diverged"):
+        tick = stability.get("diverged_at_tick")
+        return False, "diverged" + (" at tick %d" % tick if isinstance(tick, int) else "")
+    tunnelled = stability.get("tunnelled")
+    if isinstance(tunnelled, int) and tunnelled > 0:
+        return False, "tunnelled %d×" % tunnelled
+    energy = number_or_none(stability.get("passivity_energy_min_j"))
+    if energy is not None and energy < -STRESS_PASSIVITY_EPSILON_J:
+        return False, "passivity %s mJ" % fmt(energy, "%.3g", 1e3)
+    if stability.get("chatters"):
+        chatter = number_or_none(stability.get("proxy_chatter_m"))
+        return False, "chatters" + (" %s µm" % fmt(chatter, "%.2g", 1e6) if chatter else "")
+    depth = number_or_none(dig(run.summary, "accuracy", "penetration_max_m"))
+    if depth is not None:
+        return True, "pen %s mm" % fmt(depth, "%.2g", 1e3)
+    if energy is not None:
+        return True, "E_min %s mJ" % fmt(energy, "%.2g", 1e3)
+    return True, "passed"
+
+
+def stress_matrix_html(folders):
+    """Algorithm label × stress scenario, each cell pass/fail with its figure."""
+    stress = [f for f in folders if is_stress_folder(f)]
+    if not stress:
+        return ""
+    labels = []
+    for folder in stress:
+        for run in folder.runs:
+            if run.label not in labels:
+                labels.append(run.label)
+    header = "".join('<th class="text">%s</th>' % esc(f.scenario) for f in stress)
+    rows = []
+    failures = 0
+    for label in labels:
+        cells = []
+        for folder in stress:
+            run = next((r for r in folder.runs if r.label == label), None)
+            if run is None:
+                cells.append('<td class="na">—</td>')
+                continue
+            passed, text = stress_verdict(run)
+            failures += not passed
+            cells.append('<td class="%s" data-pass="%s">%s %s</td>'
+                         % ("pass" if passed else "fail", "true" if passed else "false",
+                            "✓" if passed else "✗", esc(text)))
+        rows.append('<tr><td class="text">%s</td>%s</tr>' % (esc(label), "".join(cells)))
+    return ("<h3 id='stress-matrix'>Stress matrix</h3>"
+            + note("Each run of a scenario in a <code>stress/</code> folder, by algorithm label. "
+                   "A cell fails on the first of: a non-finite wrench, divergence, tunnelling "
+                   "(stability.tunnelled), passivity energy below −%g J, chatter at the end of "
+                   "the run (stability.chatters); a passing cell shows the largest penetration. "
+                   "%d of the cells fail." % (STRESS_PASSIVITY_EPSILON_J, failures))
+            + '<div class="wide"><table class="stress-matrix"><tr><th class="text">label</th>%s'
+              "</tr>%s</table></div>" % (header, "".join(rows)))
+
+
+def read_stability_result(path):
+    """A stability.json as `hapticbench stability` writes it."""
+    data = read_json_object(path)
+    for key in ("scenario", "label", "param"):
+        if not isinstance(data.get(key), str):
+            raise ReportInputError(path, "/" + key, "expected a string")
+    if not isinstance(data.get("runs"), list):
+        raise ReportInputError(path, "/runs", "expected an array of runs")
+    return data
+
+
+def margin_quantity(param):
+    """What a parameter pointer varies, for the margin table's columns."""
+    name = param.rstrip("/").split("/")[-1]
+    if param == "/coupling/k_t":
+        return "coupling stiffness k_t (N/m)"
+    if name in ("contact_stiffness", "point_stiffness"):
+        return "contact stiffness (N/m)"
+    return name
+
+
+def margin_value_html(value, bound, data):
+    if value is None:
+        low = dig(data, "range")
+        return ("none ≥ %s" % fmt(low[0])
+                if isinstance(low, list) and low and finite_number(low[0]) else "none")
+    text = fmt(value, "%.4g")
+    return text + (" (the range's top)" if bound is None else "")
+
+
+def unstable_because(data, smallest):
+    """Why the run at the smallest unstable value was unstable: ' (diverged,
+    passivity, chatter)', or ''."""
+    run = next((r for r in data["runs"] if isinstance(r, dict) and r.get("value") == smallest
+                and r.get("stable") is False), None)
+    if run is None:
+        return ""
+    reasons = [why for why, failed in (
+        ("diverged", run.get("diverged")),
+        ("non-finite", (run.get("nonfinite") or 0) > 0),
+        ("passivity %s mJ" % fmt(run.get("passivity_energy_min_j"), "%.3g", 1e3),
+         number_or_none(run.get("passivity_energy_min_j")) is not None
+         and run["passivity_energy_min_j"] < -(number_or_none(data.get("epsilon_j")) or 0)),
+        ("chatter", run.get("chatters"))) if failed]
+    return " (%s)" % ", ".join(reasons) if reasons else ""
+
+
+def stability_margins_html(results):
+    """The stability-margin table: largest stable value per scenario, label
+    and parameter, from the stability.json files given."""
+    if not results:
+        return ""
+    quantities = []
+    for _, data in results:
+        q = margin_quantity(data["param"])
+        if q not in quantities:
+            quantities.append(q)
+    table = {}
+    for path, data in results:
+        key = (data["scenario"], data["label"])
+        table.setdefault(key, {})[margin_quantity(data["param"])] = (path, data)
+    rows = []
+    for (scenario, label), by_quantity in table.items():
+        cells = []
+        for q in quantities:
+            entry = by_quantity.get(q)
+            if entry is None:
+                cells.append('<td class="na">—</td>')
+                continue
+            path, data = entry
+            largest = number_or_none(data.get("largest_stable"))
+            smallest = number_or_none(data.get("smallest_unstable"))
+            unstable = ('<br><span class="small">unstable at %s%s</span>'
+                        % (esc(fmt(smallest, "%.4g")), esc(unstable_because(data, smallest)))
+                        if smallest is not None else "")
+            cells.append('<td title="%s; %d runs">%s%s</td>'
+                         % (esc(path), len(data["runs"]),
+                            esc(margin_value_html(largest, smallest, data)), unstable))
+        first = next(iter(by_quantity.values()))[1]
+        algorithm = first.get("algorithm") if isinstance(first.get("algorithm"), str) else ""
+        integrator = first.get("integrator") if isinstance(first.get("integrator"), str) else ""
+        rows.append('<tr><td class="text">%s</td><td class="text">%s</td><td class="text">%s</td>'
+                    '<td class="text">%s</td>%s</tr>'
+                    % (esc(scenario), esc(label), esc(algorithm or "—"),
+                       esc(integrator or "—"), "".join(cells)))
+    criteria = sorted({str(data.get("criterion", "")) for _, data in results})
+    return ("<h3 id='stability-margins'>Stability margins</h3>"
+            + note("Largest stable value found by <code>hapticbench stability</code> "
+                   "(bracketing, then bisection on a log scale), and the smallest unstable value "
+                   "with what made it unstable (hover a cell for the file). “the range's top”: no unstable value in the "
+                   "range searched; “none ≥ x”: unstable already at the range's bottom. "
+                   "Criterion: %s" % esc(" / ".join(criteria)))
+            + '<table class="stability-margins"><tr><th class="text">scenario</th>'
+              '<th class="text">label</th><th class="text">algorithm</th>'
+              '<th class="text">integrator</th>%s</tr>%s</table>'
+            % ("".join("<th>%s</th>" % esc(q) for q in quantities), "".join(rows)))
+
+
+def render(folders, template, metric_table, stability_results=()):
     slugs = set()
     for folder in folders:
         slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
@@ -1073,6 +1256,8 @@ def render(folders, template, metric_table):
         body.append(note("Not on the figure (no force error, no penetration or no step time): "
                          "%s." % esc(", ".join(r.name for r in left_out))))
     body.append('</section><section id="stability"><h2>Stability</h2>')
+    body.append(stress_matrix_html(folders))
+    body.append(stability_margins_html(list(stability_results)))
     body.append(stability_html(folders, runs))
     body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
     body.extend(scenario_section(folder) for folder in folders)
@@ -1087,7 +1272,10 @@ def main():
         os.path.abspath(__file__)), "report_template.html"))
     parser.add_argument("--metric-table", help="the metric table as JSON (hapticbench report "
                         "passes it); else the one the first summary carries")
-    parser.add_argument("folders", nargs="+", help="run folders (each with a summary.json)")
+    parser.add_argument("--stability", action="append", default=[],
+                        help="a stability.json of `hapticbench stability` (repeatable): a row "
+                        "of the stability-margin table")
+    parser.add_argument("folders", nargs="*", help="run folders (each with a summary.json)")
     args = parser.parse_args()
     try:
         folders = [load_run_folder(path) for path in args.folders]
@@ -1100,7 +1288,8 @@ def main():
                                  if isinstance(f.summary.get("metric_table"), list)), [])
         with open(args.template, encoding="utf-8") as f:
             template = f.read()
-        page = render(folders, template, metric_table)
+        stability_results = [(path, read_stability_result(path)) for path in args.stability]
+        page = render(folders, template, metric_table, stability_results)
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2

@@ -23,6 +23,9 @@ struct SceneObject {
   /// The mesh may be open or self-intersecting: ground truth uses it for
   /// distances only, never for inside/outside (scenario key "distance_only").
   bool distance_only = false;
+  /// Coulomb friction coefficient μ (≥ 0) of contacts with this object;
+  /// scenario key "friction", default 0 (frictionless).
+  double friction = 0;
 };
 
 /// The virtual tool held by the device at its tool frame.

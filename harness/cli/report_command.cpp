@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -39,7 +39,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kReportUsage =
     "usage: hapticbench report RUN_DIR... [--out report.html]\n"
-    "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth\n"
+    "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth;\n"
+    "           stability.json files beneath it (hapticbench stability) make the margin table\n"
     "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
     "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
     "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n";
@@ -126,8 +127,18 @@ int report_command(const std::vector<std::string>& args) {
   require_replaceable_file(options.out, "report", is_report_page);
 
   // Every run folder once, in the order given, each input's folders sorted;
-  // each summary checked for what the renderer relies on.
-  const std::vector<fs::path> folders = find_run_folders(options.inputs);
+  // each summary checked for what the renderer relies on. Results of
+  // `hapticbench stability` (stability.json) beneath the inputs become the
+  // stability-margin table; an input may hold only those.
+  std::vector<fs::path> run_inputs, stability_files;
+  for (const fs::path& input : options.inputs) {
+    const std::vector<fs::path> margins = find_files_named(input, "stability.json");
+    stability_files.insert(stability_files.end(), margins.begin(), margins.end());
+    if (margins.empty() || !find_files_named(input, "summary.json").empty())
+      run_inputs.push_back(input);
+  }
+  const std::vector<fs::path> folders =
+      run_inputs.empty() ? std::vector<fs::path>() : find_run_folders(run_inputs);
   for (const fs::path& folder : folders) read_run_summary(folder / "summary.json");
 
   const fs::path script =
@@ -175,6 +186,10 @@ int report_command(const std::vector<std::string>& args) {
 
   std::vector<std::string> command = {
       python, "-B", script.string(), "--out", temporary.string(), "--metric-table", table.string()};
+  for (const fs::path& file : stability_files) {
+    command.push_back("--stability");
+    command.push_back(file.string());
+  }
   for (const fs::path& folder : folders) command.push_back(folder.string());
   const int status = run_program(command, false);
   if (status != 0 || !fs::is_regular_file(temporary)) {
@@ -194,7 +209,11 @@ int report_command(const std::vector<std::string>& args) {
     return kExitBadInput;
   }
   std::cout << "report: " << out.string() << " (" << folders.size() << " run folder"
-            << (folders.size() == 1 ? "" : "s") << ")\n";
+            << (folders.size() == 1 ? "" : "s");
+  if (!stability_files.empty())
+    std::cout << ", " << stability_files.size() << " stability margin"
+              << (stability_files.size() == 1 ? "" : "s");
+  std::cout << ")\n";
   return kExitOk;
 }
 

@@ -13,23 +13,29 @@ namespace hb {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> find_run_folders(const fs::path& input) {
+std::vector<fs::path> find_files_named(const fs::path& input, const std::string& name) {
   std::error_code error;
-  if (fs::is_regular_file(input, error) && input.filename() == "summary.json")
-    return {input.parent_path().empty() ? fs::path(".") : input.parent_path()};
+  if (fs::is_regular_file(input, error) && input.filename() == name) return {input};
   if (!fs::is_directory(input, error))
     throw InputError(input.string(), "",
                      fs::exists(input, error)
                          ? "expected a run folder (with summary.json) or a folder of run folders"
                          : "no such folder");
-  std::vector<fs::path> folders;
+  std::vector<fs::path> files;
   fs::recursive_directory_iterator it(input, fs::directory_options::skip_permission_denied, error);
   if (error) throw InputError(input.string(), "", "cannot list the folder: " + error.message());
   for (const fs::recursive_directory_iterator end; it != end; it.increment(error)) {
     if (error) throw InputError(input.string(), "", "cannot list the folder: " + error.message());
-    if (it->path().filename() == "summary.json" && it->is_regular_file(error))
-      folders.push_back(it->path().parent_path());
+    if (it->path().filename() == name && it->is_regular_file(error)) files.push_back(it->path());
   }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<fs::path> find_run_folders(const fs::path& input) {
+  std::vector<fs::path> folders;
+  for (const fs::path& summary : find_files_named(input, "summary.json"))
+    folders.push_back(summary.parent_path().empty() ? fs::path(".") : summary.parent_path());
   if (folders.empty())
     throw InputError(input.string(), "",
                      "no summary.json in this folder or beneath it (expected a run folder or a "

@@ -4,9 +4,16 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 namespace hb {
+
+/// Files called `name` at or beneath `input` (a folder, or such a file),
+/// sorted; none is not an error. Throws InputError naming `input` when it is
+/// neither, or cannot be listed.
+std::vector<std::filesystem::path> find_files_named(const std::filesystem::path& input,
+                                                    const std::string& name);
 
 /// Run folders (folders holding a summary.json) at or beneath `input`,
 /// sorted. Throws InputError naming `input` when it is not a folder, cannot

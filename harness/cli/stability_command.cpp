@@ -3,7 +3,8 @@
 // scenario parameter for one algorithm, by bracketing and bisection on a log
 // scale. Each probe is a full run of the scenario (that algorithm only) with
 // the parameter set; stable means the run did not diverge, displayed no
-// non-finite wrench and its passivity energy stayed above −ε.
+// non-finite wrench, its passivity energy stayed above −ε and the proxy was
+// not still oscillating from tick to tick at the end (stability.chatters).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,7 +38,8 @@ constexpr const char* kStabilityUsage =
     "  finds the largest value of the scenario field at JSON_POINTER (e.g. /coupling/k_t,\n"
     "  /algorithms/2/params/contact_stiffness) in [LO, HI] at which algorithm LABEL is\n"
     "  stable, by bracketing and bisection on a log scale; each probe is a full run.\n"
-    "  stable: not diverged, no non-finite wrench, passivity energy minimum >= -EPSILON\n"
+    "  stable: not diverged, no non-finite wrench, passivity energy minimum >= -EPSILON,\n"
+    "          no chatter at the end of the run (proxy_chatter_m, docs/metrics.md)\n"
     "  --tolerance REL  stop when smallest_unstable / largest_stable - 1 <= REL (default 0.02)\n"
     "  --epsilon J      passivity allowance, J (default 1e-6)\n"
     "  --out DIR        folder for stability.json (default out/stability/<scenario>__<label>)\n";
@@ -115,6 +117,8 @@ struct Probe {
   int64_t nonfinite = 0;
   double passivity_min_j = 0;
   double max_separation_m = 0;
+  bool chatters = false;
+  double proxy_chatter_m = 0;
 };
 
 class StabilitySearch {
@@ -145,7 +149,10 @@ class StabilitySearch {
     p.nonfinite = m.stability.nonfinite;
     p.passivity_min_j = m.stability.passivity_energy_min_j;
     p.max_separation_m = m.stability.max_proxy_separation_m;
-    p.stable = !p.diverged && p.nonfinite == 0 && p.passivity_min_j >= -args_.epsilon_j;
+    p.chatters = m.stability.chatters;
+    p.proxy_chatter_m = m.stability.proxy_chatter_m;
+    p.stable =
+        !p.diverged && p.nonfinite == 0 && p.passivity_min_j >= -args_.epsilon_j && !p.chatters;
     probes_.push_back(p);
     std::cerr << "stability: " << args_.pointer << " = " << value << ": "
               << (p.stable ? "stable" : "unstable") << "\n";
@@ -154,6 +161,9 @@ class StabilitySearch {
 
   const std::vector<Probe>& probes() const { return probes_; }
   const std::string& scenario_name() const { return name_; }
+  const std::string& algorithm() const { return algorithm_; }
+  /// The labelled algorithm's "integrator" parameter; empty when not given.
+  const std::string& integrator() const { return integrator_; }
 
  private:
   Scenario load_at(double value) {
@@ -167,8 +177,15 @@ class StabilitySearch {
     if (algorithms.is_array())
       for (const Json& a : algorithms)
         if (a.is_object() &&
-            (a.value("label", "") == args_.label || a.value("name", "") == args_.label))
+            (a.value("label", "") == args_.label || a.value("name", "") == args_.label)) {
           found = true;
+          algorithm_ = a.value("name", "");
+          const Json params = a.value("params", Json::object());
+          integrator_ = params.is_object() && params.contains("integrator") &&
+                                params["integrator"].is_string()
+                            ? params["integrator"].get<std::string>()
+                            : "";
+        }
     if (!found)
       throw InputError(args_.scenario, "/algorithms",
                        "no algorithm labelled or named \"" + args_.label + "\"");
@@ -181,6 +198,7 @@ class StabilitySearch {
   Json document_;
   fs::path base_dir_;
   std::string name_;
+  std::string algorithm_, integrator_;
   std::vector<Probe> probes_;
 };
 
@@ -190,7 +208,9 @@ Json probe_json(const Probe& p) {
           {"diverged", p.diverged},
           {"nonfinite", p.nonfinite},
           {"passivity_energy_min_j", p.passivity_min_j},
-          {"max_proxy_separation_m", p.max_separation_m}};
+          {"max_proxy_separation_m", p.max_separation_m},
+          {"chatters", p.chatters},
+          {"proxy_chatter_m", p.proxy_chatter_m}};
 }
 
 }  // namespace
@@ -235,14 +255,18 @@ int stability_command(const std::vector<std::string>& args) {
         {"scenario", search.scenario_name()},
         {"scenario_file", parsed->scenario},
         {"label", parsed->label},
+        {"algorithm", search.algorithm()},
+        {"integrator", search.integrator().empty() ? Json(nullptr) : Json(search.integrator())},
         {"param", parsed->pointer},
         {"range", {parsed->low, parsed->high}},
         {"tolerance", parsed->tolerance},
         {"criterion",
          "stable: the run did not diverge (proxy farther than max(0.1 m, 5 tool radii) from the "
-         "device, or reset), displayed no non-finite wrench, and its passivity energy minimum "
+         "device, or reset), displayed no non-finite wrench, its passivity energy minimum "
          "was >= -" +
-             std::to_string(parsed->epsilon_j) + " J"},
+             std::to_string(parsed->epsilon_j) +
+             " J, and the proxy did not chatter (its position's tick-to-tick second difference, "
+             "RMS over the last quarter of the run, below max(1 um, 10 times the device's))"},
         {"epsilon_j", parsed->epsilon_j},
         {"largest_stable", largest_stable ? Json(*largest_stable) : Json(nullptr)},
         {"smallest_unstable", smallest_unstable ? Json(*smallest_unstable) : Json(nullptr)},

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "harness/compare/timing_checks.h"
 #include "harness/metrics/metric_table.h"
@@ -62,35 +63,37 @@ CheckRow tolerance_row(CheckRow row, std::optional<double> baseline,
   return row;
 }
 
-CheckRow nonfinite_row(CheckRow row, int64_t baseline, int64_t candidate) {
+// A count where any increase regresses; `what` says what is counted.
+CheckRow count_row(CheckRow row, int64_t baseline, int64_t candidate, std::string_view what) {
   row.baseline = baseline;
   row.candidate = candidate;
   const int64_t difference = candidate - baseline;
   row.change = difference == 0 ? "0" : (difference > 0 ? "+" : "") + std::to_string(difference);
   if (difference > 0) {
     row.verdict = Verdict::kRegression;
-    row.note = "more ticks with a non-finite wrench (any increase fails)";
+    row.note = "more " + std::string(what) + " (any increase fails)";
   } else if (difference < 0) {
     row.verdict = Verdict::kImproved;
-    row.note = "fewer ticks with a non-finite wrench";
+    row.note = "fewer " + std::string(what);
   } else {
     row.note = "same count";
   }
   return row;
 }
 
-CheckRow diverged_row(CheckRow row, bool baseline, bool candidate) {
+// A flag where false -> true regresses; `what` names the condition.
+CheckRow flag_row(CheckRow row, bool baseline, bool candidate, std::string_view what) {
   row.baseline = baseline;
   row.candidate = candidate;
   row.change = baseline == candidate ? "same" : baseline ? "true -> false" : "false -> true";
   if (!baseline && candidate) {
     row.verdict = Verdict::kRegression;
-    row.note = "the candidate diverged, the baseline did not";
+    row.note = "the candidate " + std::string(what) + ", the baseline not";
   } else if (baseline && !candidate) {
     row.verdict = Verdict::kImproved;
-    row.note = "the baseline diverged, the candidate does not";
+    row.note = "the baseline " + std::string(what) + ", the candidate not";
   } else {
-    row.note = candidate ? "diverged on both sides" : "stable on both sides";
+    row.note = std::string(candidate ? "" : "not ") + std::string(what) + " on both sides";
   }
   return row;
 }
@@ -133,6 +136,15 @@ CheckRow determinism_row(CheckRow row, const ScenarioSummary& baseline_scenario,
   return row;
 }
 
+// How a count's or a flag's notes speak of it.
+std::string_view counted_as(const MetricDefinition& metric) {
+  if (metric.name == "nonfinite") return "ticks with a non-finite wrench";
+  if (metric.name == "tunnelled") return "passes through the scene";
+  if (metric.name == "diverged") return "diverged";
+  if (metric.name == "chatters") return "chatters";
+  return metric.name;
+}
+
 }  // namespace
 
 bool same_build(const BuildContext& a, const BuildContext& b) {
@@ -153,18 +165,27 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
     const std::string check = metric_check_name(metric);
     const std::optional<double> b = baseline.metrics.at(std::string(metric.name));
     const std::optional<double> c = candidate.metrics.at(std::string(metric.name));
+    // A metric compared only when present: absent on both sides, no row;
+    // on one side only, the row says which.
+    if (metric.compare_when_present && (!b || !c)) {
+      if (!b && !c) continue;
+      CheckRow settled = row(check);
+      settle_null_values(settled, b, c);
+      rows.push_back(settled);
+      continue;
+    }
     switch (metric.compare) {
       case CompareRule::kTolerance:
-        if (metric.compare_when_present && !b && !c) break;
         rows.push_back(tolerance_row(row(check), b, c, metric.abs_tol, options.rel_tol,
                                      std::string(metric.unit), metric.better));
         break;
       case CompareRule::kCount:
-        rows.push_back(nonfinite_row(row(check), static_cast<int64_t>(b.value_or(0)),
-                                     static_cast<int64_t>(c.value_or(0))));
+        rows.push_back(count_row(row(check), static_cast<int64_t>(b.value_or(0)),
+                                 static_cast<int64_t>(c.value_or(0)), counted_as(metric)));
         break;
       case CompareRule::kFlag:
-        rows.push_back(diverged_row(row(check), b.value_or(0) != 0, c.value_or(0) != 0));
+        rows.push_back(
+            flag_row(row(check), b.value_or(0) != 0, c.value_or(0) != 0, counted_as(metric)));
         break;
       case CompareRule::kNone:
         break;

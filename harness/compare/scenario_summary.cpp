@@ -60,9 +60,10 @@ std::optional<double> read_metric(const JsonField& run, const MetricDefinition& 
       case CompareRule::kFlag:
         return field.member(keys[i], "true or false").boolean("expected true or false") ? 1.0 : 0.0;
       case CompareRule::kCount:
-        return static_cast<double>(field.member(keys[i], "a count of ticks")
-                                       .integer(0, std::numeric_limits<int64_t>::max(),
-                                                "expected a non-negative whole number of ticks"));
+        return static_cast<double>(
+            field.member(keys[i], "a count")
+                .integer(0, std::numeric_limits<int64_t>::max(),
+                         "expected a non-negative whole number of " + std::string(metric.unit)));
       default:
         return number_or_null(field, keys[i]);
     }

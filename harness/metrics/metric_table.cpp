@@ -113,6 +113,27 @@ constexpr MetricDefinition kMetrics[] = {
        return m.stability.passivity_energy_min_j;
      },
      "minimum over time of the passivity observer's energy (below zero: energy given away)", true},
+    {"tunnelled", "/stability/tunnelled", "passes", Better::kLower, true, 1, CompareRule::kCount, 0,
+     true,
+     [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.stability.tunnelled) return std::nullopt;
+       return static_cast<double>(*m.stability.tunnelled);
+     },
+     "times the proxy's tool origin passed through a scene object (tunnelling)", true},
+    {"energy_drift_j_per_s", "/stability/energy_drift_j_per_s", "J/s", Better::kHigher, false, 1,
+     CompareRule::kTolerance, kEnergyAbsTolJ, true,
+     [](const RunMetrics& m) { return m.stability.energy_drift_j_per_s; },
+     "least-squares slope of the passivity energy over the run (below zero: energy given away "
+     "steadily)"},
+    {"proxy_chatter_m", "/stability/proxy_chatter_m", "m", Better::kLower, true, 1,
+     CompareRule::kNone, 0, false,
+     [](const RunMetrics& m) -> std::optional<double> { return m.stability.proxy_chatter_m; },
+     "RMS tick-to-tick second difference of the proxy's position over the run's last quarter"},
+    {"chatters", "/stability/chatters", "flag", Better::kLower, true, 1, CompareRule::kFlag, 0,
+     true,
+     [](const RunMetrics& m) -> std::optional<double> { return m.stability.chatters ? 1.0 : 0.0; },
+     "the proxy still oscillates from tick to tick at the end of the run (proxy chatter above "
+     "1 um and 10 times the device's)"},
     {"force_jump_max_n", "/stability/force_jump_max_n", "N", Better::kLower, true, 1,
      CompareRule::kTolerance, kForceAbsTolN, false,
      [](const RunMetrics& m) -> std::optional<double> { return m.stability.force_jump_max_n; },

@@ -143,6 +143,32 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     energy_fit_cov_ += dt_mean * (energy_ - energy_fit_mean_e_);
     energy_fit_var_t_ += dt_mean * (t - energy_fit_mean_t_);
   }
+  if (proxy_finite) {
+    if (positions_seen_ >= 2) {
+      if (chatter_blocks_.empty() || chatter_blocks_.back().ticks == chatter_block_ticks_) {
+        if (chatter_blocks_.size() == kMaxChatterBlocks) {
+          for (std::size_t i = 0; i < kMaxChatterBlocks / 2; ++i) {
+            const ChatterBlock& a = chatter_blocks_[2 * i];
+            const ChatterBlock& b = chatter_blocks_[2 * i + 1];
+            chatter_blocks_[i] = {a.proxy_sq + b.proxy_sq, a.device_sq + b.device_sq,
+                                  a.ticks + b.ticks};
+          }
+          chatter_blocks_.resize(kMaxChatterBlocks / 2);
+          chatter_block_ticks_ *= 2;
+        }
+        chatter_blocks_.emplace_back();
+      }
+      ChatterBlock& block = chatter_blocks_.back();
+      block.proxy_sq += (result.proxy.p - 2 * last_proxy_p_[1] + last_proxy_p_[0]).squaredNorm();
+      block.device_sq += (device.pose.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
+      ++block.ticks;
+    }
+    last_proxy_p_ = {last_proxy_p_[1], result.proxy.p};
+    last_device_p_ = {last_device_p_[1], device.pose.p};
+    ++positions_seen_;
+  } else {
+    positions_seen_ = 0;  // a reset proxy starts afresh
+  }
   if (last_force_) {
     partial_.stability.force_jump_max_n =
         std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
@@ -324,6 +350,30 @@ RunMetrics MetricsAccumulator::finish() const {
     total_weight += variance;
   }
   m.stability.force_hf_energy_fraction = total_weight > 0 ? hf / total_weight : 0.0;
+  {
+    // The last quarter of the run (at least one block) and the quarter
+    // before it: an oscillation that dies out shrinks from one to the next.
+    const std::size_t blocks = chatter_blocks_.size();
+    const std::size_t quarter = std::max<std::size_t>(1, blocks / 4);
+    const auto rms_of = [&](std::size_t first, std::size_t end, double ChatterBlock::*sum) {
+      double total = 0;
+      int64_t ticks = 0;
+      for (std::size_t i = first; i < end; ++i) {
+        total += chatter_blocks_[i].*sum;
+        ticks += chatter_blocks_[i].ticks;
+      }
+      return ticks > 0 ? std::sqrt(total / static_cast<double>(ticks)) : 0.0;
+    };
+    const std::size_t last = blocks - std::min(blocks, quarter);
+    const std::size_t before = last - std::min(last, quarter);
+    m.stability.proxy_chatter_m = rms_of(last, blocks, &ChatterBlock::proxy_sq);
+    m.stability.device_chatter_m = rms_of(last, blocks, &ChatterBlock::device_sq);
+    const double earlier_chatter_m = rms_of(before, last, &ChatterBlock::proxy_sq);
+    m.stability.chatters =
+        m.stability.proxy_chatter_m >
+            std::max(kChatterFloorM, kChatterDeviceRatio * m.stability.device_chatter_m) &&
+        m.stability.proxy_chatter_m >= kChatterDecayRatio * earlier_chatter_m;
+  }
   if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
     m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;
   return m;

@@ -27,8 +27,9 @@ struct TickEvaluation {
   std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
   std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
-  /// With the analytic scene: whether the proxy's tool origin has just
-  /// passed through the box (BoxTunnellingDetector); null without it.
+  /// Whether the proxy's tool origin has just passed through the scene
+  /// (tunnelling.h: the analytic box where there is one, else the primary
+  /// oracle); null without ground truth.
   std::optional<bool> tunnelled;
 };
 
@@ -90,9 +91,25 @@ struct StabilityMetrics {
   /// null for runs shorter than two ticks.
   std::optional<double> energy_drift_j_per_s;
   /// Times the proxy's tool origin passed through a scene object
-  /// (BoxTunnellingDetector); null where it is not measured (no analytic scene).
+  /// (tunnelling.h); null where it is not measured (no ground truth).
   std::optional<int64_t> tunnelled;
+  /// m: RMS over the last quarter of the run of the proxy tool origin's
+  /// second difference |p(k+1) − 2 p(k) + p(k−1)|. A proxy that keeps
+  /// oscillating from tick to tick (explicit Euler's bounded bouncing on a
+  /// contact too stiff for it) shows here; a settled or smoothly moving
+  /// proxy is near zero.
+  double proxy_chatter_m = 0;
+  double device_chatter_m = 0;  ///< m: the same for the device's tool origin
+  /// The proxy still oscillates at the end of the run and the oscillation
+  /// is not dying out: proxy_chatter_m > max(kChatterFloorM,
+  /// kChatterDeviceRatio × device_chatter_m), and at least
+  /// kChatterDecayRatio × its value over the quarter before.
+  bool chatters = false;
 };
+
+inline constexpr double kChatterFloorM = 1e-6;  ///< m per tick², a relative 1 m/s²
+inline constexpr double kChatterDeviceRatio = 10;
+inline constexpr double kChatterDecayRatio = 0.9;
 
 struct TransparencyMetrics {
   int64_t free_space_ticks = 0;
@@ -218,6 +235,21 @@ class MetricsAccumulator {
   int64_t energy_fit_n_ = 0;
   double energy_fit_mean_t_ = 0, energy_fit_mean_e_ = 0, energy_fit_cov_ = 0, energy_fit_var_t_ = 0;
   std::optional<Vec3> last_force_;
+  // Chatter: the last two positions of the proxy's and the device's tool
+  // origins (m, world), and sums of squared second differences per block of
+  // kChatterBlockTicks ticks, so finish() can take the run's last quarter.
+  // At most kMaxChatterBlocks blocks: past that, neighbouring blocks are
+  // merged and the block length doubles, so memory stays bounded on long runs.
+  static constexpr int64_t kChatterBlockTicks = 50;
+  static constexpr std::size_t kMaxChatterBlocks = 4096;
+  int64_t chatter_block_ticks_ = kChatterBlockTicks;
+  std::array<Vec3, 2> last_proxy_p_, last_device_p_;
+  int64_t positions_seen_ = 0;
+  struct ChatterBlock {
+    double proxy_sq = 0, device_sq = 0;
+    int64_t ticks = 0;
+  };
+  std::vector<ChatterBlock> chatter_blocks_;
 };
 
 }  // namespace hb

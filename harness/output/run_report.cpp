@@ -76,7 +76,7 @@ void write_table_metrics(json& out, const RunMetrics& m) {
     }
     if (metric.compare == CompareRule::kFlag)
       out[pointer] = *value != 0;
-    else if (metric.unit == "ticks")
+    else if (metric.unit == "ticks" || metric.compare == CompareRule::kCount)
       out[pointer] = static_cast<int64_t>(*value);
     else
       out[pointer] = *value;
@@ -202,8 +202,7 @@ json run_json(const AlgorithmRun& run) {
         {"proxy_nonfinite_ticks", m.stability.proxy_nonfinite_ticks},
         {"passivity_energy_final_j", m.stability.passivity_energy_final_j},
         {"force_hf_energy_fraction", m.stability.force_hf_energy_fraction},
-        {"energy_drift_j_per_s", or_null(m.stability.energy_drift_j_per_s)},
-        {"tunnelled", or_null(m.stability.tunnelled)}}},
+        {"device_chatter_m", m.stability.device_chatter_m}}},
       {"transparency",
        {{"free_space_ticks", m.transparency.free_space_ticks},
         {"free_space_force_rms_n", or_null(m.transparency.free_space_force_rms_n)}}},

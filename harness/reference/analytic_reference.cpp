@@ -391,12 +391,44 @@ std::optional<AnalyticScene> make_analytic_scene(const RenderContext& context,
   scene.tool_shape = *tool.shape;
   scene.tool_centre_of_mass = tool.mass.centre_of_mass;
   scene.coupling = context.coupling;
+  scene.friction = object.friction;
   return scene;
 }
 
 IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& device) {
   if (scene.tool_shape.type == ShapeType::kSphere) return sphere_rendering(scene, device);
   return box_tool_rendering(scene, device);
+}
+
+IdealRendering FrictionalContactReference::update(const Pose& device) {
+  IdealRendering rendering = ideal_rigid_contact(scene_, device);
+  sticking_ = false;
+  if (scene_.friction == 0) return rendering;
+  const Vec3 n = rendering.contact_normal;
+  // One face: the normal is a box axis (a sphere on a rounded edge or corner
+  // has a normal between axes).
+  const bool on_face =
+      rendering.in_contact && (scene_.box_pose.q.conjugate() * n).cwiseAbs().maxCoeff() > 1 - 1e-12;
+  if (!on_face) {
+    last_proxy_p_.reset();
+    return rendering;
+  }
+  const double normal_force = n.dot(rendering.display.force);  // N, ≥ 0: the face pushes
+  const double k_t = scene_.coupling.k_t;
+  Vec3 offset = Vec3::Zero();  // m, ⟂ n: the proxy's place on the face relative to p₀
+  if (last_proxy_p_ && last_normal_.dot(n) > 1 - 1e-12) {
+    const Vec3 kept = *last_proxy_p_ - rendering.proxy.p;
+    offset = kept - n.dot(kept) * n;
+  }
+  const double limit_m = scene_.friction * std::max(normal_force, 0.0) / k_t;
+  const double length = offset.norm();
+  sticking_ = length <= limit_m;
+  if (!sticking_) offset *= limit_m / length;
+  rendering.proxy.p += offset;
+  rendering.display.force += k_t * offset;
+  last_proxy_p_ = rendering.proxy.p;
+  last_normal_ = n;
+  return rendering;
 }
 
 double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose) {

@@ -14,6 +14,7 @@
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/core/shapes.h"
+#include "harness/reference/tunnelling.h"
 
 namespace hb {
 
@@ -29,6 +30,7 @@ struct AnalyticScene {
                                             ///< quasi-static rendering without gravity
                                             ///< does not depend on it.
   CouplingGains coupling;  ///< only k_t (N/m) and k_r (N·m/rad) enter the quasi-static rendering
+  double friction = 0;     ///< Coulomb μ of the box (its scene object's "friction")
 };
 
 /// The analytic scene of a render context, or nullopt when the closed forms do
@@ -93,6 +95,36 @@ struct IdealRendering {
 /// path-following proxy may not reach.
 IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& device);
 
+/// The ideal rendering with Coulomb friction μ = scene.friction at the box,
+/// followed tick by tick, since with friction the ideal proxy depends on the
+/// path. Quasi-static and translational: while the frictionless ideal proxy
+/// (ideal_rigid_contact) rests on one face of the box, with outward normal n
+/// and normal force F_n (its display force along n), the frictional proxy
+/// sits at p = p₀ + d with d ⟂ n. It keeps its place on the face while the
+/// tangential coupling force k_T |d| ≤ μ F_n (stick); otherwise it slides,
+/// staying behind the device in the same direction with k_T |d| = μ F_n
+/// (slip). The display adds k_T d to the frictionless force. Out of contact,
+/// when the face changes, and where the sphere's ideal proxy lies on a
+/// rounded edge or corner rather than on one face, d is dropped. Not
+/// modelled: the friction force's torque about the tool origin (the tool
+/// neither rolls nor twists: orientation and torque are the frictionless
+/// ideal's), and a proxy kept by friction beyond the face's edge. With
+/// μ = 0 it returns ideal_rigid_contact unchanged.
+class FrictionalContactReference {
+ public:
+  explicit FrictionalContactReference(const AnalyticScene& scene) : scene_(scene) {}
+  /// The ideal rendering for the next device pose.
+  IdealRendering update(const Pose& device);
+  /// The last update was in contact on one face and the proxy kept its place.
+  bool sticking() const { return sticking_; }
+
+ private:
+  const AnalyticScene& scene_;
+  std::optional<Vec3> last_proxy_p_;  ///< m, world: the proxy's position at the last face contact
+  Vec3 last_normal_ = Vec3::Zero();   ///< unit, world: that contact's face normal
+  bool sticking_ = false;
+};
+
 /// Exact penetration depth (m, ≥ 0) of the tool placed at tool_pose into the
 /// box: the length of the shortest translation that separates the tool from
 /// the box's interior (zero when they do not overlap).
@@ -112,21 +144,12 @@ IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& devic
 /// through that face alone and the vertex is nearer that face than any other.
 double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose);
 
-/// Tunnelling through the scene box, followed tick by tick: the tool
-/// frame's origin (the proxy's reference point) has passed through the box
-/// when, between two ticks on which it is outside the box, the side it is
-/// on turns by more than 90° (the directions from the box's nearest point
-/// to it point away from each other) and the straight path between those
-/// two positions crosses the box. Going round an edge or a corner turns the
-/// side a little each tick and is not counted; leaving by the face it
-/// entered is not counted.
-class BoxTunnellingDetector {
+/// Tunnelling through the scene box (tunnelling.h gives the definition), in
+/// closed form: the box's nearest point and a segment–box test.
+class BoxTunnellingDetector final : public TunnellingDetector {
  public:
   explicit BoxTunnellingDetector(const AnalyticScene& scene) : scene_(scene) {}
-  /// Feeds the tool origin's world position at the next tick (m); true when
-  /// it has just passed through the box. Positions inside the box (or
-  /// non-finite ones) are skipped.
-  bool update(const Vec3& origin_world);
+  bool update(const Vec3& origin_world) override;
 
  private:
   const AnalyticScene& scene_;

@@ -79,6 +79,11 @@ class OracleEvaluator {
   const std::vector<std::string>& distance_only_objects() const;
   /// Name of the primary backend (the first built).
   std::string_view primary_name() const;
+  /// The primary backend itself, for queries of the harness's own (e.g.
+  /// tunnelling); null without a backend.
+  const Oracle* primary_oracle() const {
+    return backends_.empty() ? nullptr : backends_.front().oracle.get();
+  }
   /// False when every scene object is distance_only: no inside/outside, so
   /// no penetration; the distance to the scene is reported instead
   /// (OracleTickEvaluation::min_distance_m) and contacts are checked by distance.

@@ -15,6 +15,7 @@
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
 #include "harness/reference/analytic_reference.h"
+#include "harness/reference/tunnelling.h"
 #include "harness/replay/noise_floor.h"
 
 namespace hb {
@@ -65,7 +66,12 @@ class EvaluatingObserver : public TickObserver {
                      std::ostream& ticks_out)
       : truth_(truth), metrics_(settings), ticks_(ticks_out) {
     if (timing) timing_.emplace(timing->times);
-    if (truth_.analytic) tunnelling_.emplace(*truth_.analytic);
+    // Tunnelling by the exact box where there is one, else by the oracle.
+    if (truth_.analytic) {
+      tunnelling_ = std::make_unique<BoxTunnellingDetector>(*truth_.analytic);
+      ideal_.emplace(*truth_.analytic);
+    } else if (truth_.oracle && truth_.oracle->primary_oracle())
+      tunnelling_ = std::make_unique<OracleTunnellingDetector>(*truth_.oracle->primary_oracle());
   }
 
   void on_tick(const TickRecord& measured) override {
@@ -85,13 +91,13 @@ class EvaluatingObserver : public TickObserver {
     TickEvaluation evaluation;
     const bool proxy_finite = is_finite(record.result.proxy);
     if (truth_.analytic) {
-      const IdealRendering ideal = ideal_rigid_contact(*truth_.analytic, record.device->pose);
+      const IdealRendering ideal = ideal_->update(record.device->pose);
       evaluation.ideal_display = ideal.display;
       evaluation.reference_contact = ideal.in_contact;
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
-      evaluation.tunnelled = tunnelling_->update(record.result.proxy.p);
     }
+    if (tunnelling_) evaluation.tunnelled = tunnelling_->update(record.result.proxy.p);
     if (truth_.oracle) {
       evaluation.oracle =
           truth_.oracle->evaluate(record.device->tick, record.result.proxy, record.result.contacts);
@@ -115,7 +121,8 @@ class EvaluatingObserver : public TickObserver {
 
  private:
   GroundTruth& truth_;
-  std::optional<BoxTunnellingDetector> tunnelling_;  ///< with the analytic scene
+  std::unique_ptr<TunnellingDetector> tunnelling_;   ///< null without ground truth
+  std::optional<FrictionalContactReference> ideal_;  ///< with the analytic scene
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;

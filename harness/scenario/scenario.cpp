@@ -335,7 +335,8 @@ class ScenarioReader {
 
   SceneObject read_scene_object(const JsonField& entry, std::size_t index) {
     entry.require_object("expected a scene object {\"mesh\"|\"shape\", \"pose\", \"name\"}");
-    entry.reject_unknown_keys({"name", "mesh", "scale", "shape", "pose", "distance_only"});
+    entry.reject_unknown_keys(
+        {"name", "mesh", "scale", "shape", "pose", "distance_only", "friction"});
     SceneObject object;
     // "distance_only": true admits an open or self-intersecting mesh, for
     // which ground truth can give distances but not inside/outside.
@@ -354,6 +355,11 @@ class ScenarioReader {
       if (object.name.empty()) name.fail("expected a non-empty string");
     }
     if (entry.has("pose")) object.pose = read_pose(entry.existing_member("pose"));
+    if (entry.has("friction"))
+      object.friction = entry.existing_member("friction")
+                            .non_negative_number(
+                                "expected a Coulomb friction coefficient, a finite number >= 0 (0: "
+                                "frictionless)");
     return object;
   }
 

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <random>
 #include <sstream>
+#include <variant>
 
 #include "algorithms/core/input_error.h"
 
@@ -22,6 +23,8 @@ namespace {
 constexpr int64_t kSampleNs = 1'000'000;  // generators sample at 1 kHz
 constexpr double kSamplesPerSecond = 1000.0;
 constexpr double kMaxDurationS = kMaxRunDurationS;  // a longer trace could not be replayed
+// The parameter every generator takes: the tick (s) whose sample repeats the previous one.
+constexpr const char* kRepeatSampleKey = "repeat_sample_at_s";
 
 struct MotionState {
   Pose pose;
@@ -218,6 +221,9 @@ GeneratedTrace generate_press(const GeneratorRequest& request) {
   const double approach = params.number("approach_fraction", 0.3, 0.01, 0.97);
   const double press = params.number("press_fraction", 0.1, 0.01, 0.97);
   const double hold = params.number("hold_fraction", 0.4, 0.0, 0.97);
+  // Presses in a row, each over duration / cycles (the fractions are of one
+  // press).
+  const long long cycles = params.integer("cycles", 1, 1, 100000);
   params.reject_unknown();
   if (approach + press + hold > 0.99)
     throw InputError("", params.field("hold_fraction"),
@@ -225,14 +231,22 @@ GeneratedTrace generate_press(const GeneratorRequest& request) {
                      "(time must be left to release), got " +
                          number_text(approach + press + hold));
   const double duration = sampled_duration_s(request);
+  const double period = duration / static_cast<double>(cycles);  // s per press
   const std::vector<Keyframe> keys = {
       {0.0, {g.start, g.q}},
-      {approach * duration, {g.at_surface(), g.q}},
-      {(approach + press) * duration, {g.deepest(), g.q}},
-      {(approach + press + hold) * duration, {g.deepest(), g.q}},
-      {duration, {g.start, g.q}},
+      {approach * period, {g.at_surface(), g.q}},
+      {(approach + press) * period, {g.deepest(), g.q}},
+      {(approach + press + hold) * period, {g.deepest(), g.q}},
+      {period, {g.start, g.q}},
   };
-  return sample_motion("press", request, [=](double t) { return keyframe_state(keys, t); });
+  if (cycles == 1)
+    return sample_motion("press", request, [=](double t) { return keyframe_state(keys, t); });
+  // Each press starts and ends at rest at the start pose, so they join
+  // smoothly.
+  return sample_motion("press", request, [=](double t) {
+    const double completed = std::min(std::floor(t / period), static_cast<double>(cycles - 1));
+    return keyframe_state(keys, t - completed * period);
+  });
 }
 
 GeneratedTrace generate_slide(const GeneratorRequest& request) {
@@ -335,6 +349,9 @@ GeneratedTrace generate_peg_in_hole(const GeneratorRequest& request) {
   const std::vector<double> offset = params.numbers("offset", {0.001, 0.0}, 2);
   const double tilt = params.number("tilt_rad", 0.05, -1.5, 1.5);
   const Quat aligned = orientation_param(params, "q");
+  // Inserted and twisted: amplitude (rad) of one oscillation about the
+  // insertion axis (world z) during the final hold; 0 = no twist.
+  const double twist = params.number("twist_rad", 0.0, -1.5, 1.5);
   params.reject_unknown();
   const double duration = sampled_duration_s(request);
   // Misaligned: shifted laterally by offset and tilted about world x; both
@@ -347,7 +364,59 @@ GeneratedTrace generate_peg_in_hole(const GeneratorRequest& request) {
       {0.8 * duration, {hole - insert_depth * Vec3::UnitZ(), aligned}},
       {duration, {hole - insert_depth * Vec3::UnitZ(), aligned}},
   };
-  return sample_motion("peg_in_hole", request, [=](double t) { return keyframe_state(keys, t); });
+  if (twist == 0.0)
+    return sample_motion("peg_in_hole", request, [=](double t) { return keyframe_state(keys, t); });
+  // angle(t) = twist * sin(2 pi s(u)) over the hold, with a minimum-jerk
+  // phase s so that it starts and ends at rest, aligned.
+  const double twist_begin = 0.8 * duration;
+  return sample_motion("peg_in_hole", request, [=](double t) {
+    if (t <= twist_begin) return keyframe_state(keys, t);
+    const double span = duration - twist_begin;
+    const double u = (t - twist_begin) / span;
+    const double phase = 2.0 * std::numbers::pi * min_jerk(u);
+    const double phase_rate = 2.0 * std::numbers::pi * min_jerk_rate(u) / span;
+    const double angle = twist * std::sin(phase);
+    MotionState state;
+    state.pose.p = hole - insert_depth * Vec3::UnitZ();
+    state.pose.q = (quat_from_rotation_vector(angle * Vec3::UnitZ()) * aligned).normalized();
+    state.twist.w = twist * std::cos(phase) * phase_rate * Vec3::UnitZ();
+    return state;
+  });
+}
+
+GeneratedTrace generate_path(const GeneratorRequest& request) {
+  const ParamSet& params = request.params;
+  // points: [x0, y0, z0, x1, y1, z1, ...], two or more waypoints (m, world).
+  std::size_t count = 6;
+  if (params.has("points")) {
+    const auto* list = std::get_if<std::vector<double>>(&params.values().at("points"));
+    if (list != nullptr) count = list->size();
+    if (count < 6 || count % 3 != 0)
+      throw InputError("", params.field("points"),
+                       "expected two or more waypoints [x0, y0, z0, x1, y1, z1, ...] (m), got " +
+                           std::to_string(count) + " numbers");
+  }
+  const std::vector<double> xyz = params.numbers("points", {0, 0, 0.03, 0.05, 0, 0.03}, count);
+  const Quat q = orientation_param(params, "q");
+  const double speed = params.number("speed_mps", 0.1, 1e-4, 100.0);
+  params.reject_unknown();
+  const double duration = sampled_duration_s(request);
+  // Each segment takes its length / speed_mps with a minimum-jerk profile
+  // (at rest at every waypoint); then the last waypoint is held.
+  std::vector<Keyframe> keys = {{0.0, {Vec3(xyz[0], xyz[1], xyz[2]), q}}};
+  for (std::size_t i = 3; i < xyz.size(); i += 3) {
+    const Vec3 point(xyz[i], xyz[i + 1], xyz[i + 2]);
+    const double length = (point - keys.back().pose.p).norm();
+    if (length == 0.0) continue;
+    keys.push_back({keys.back().t_s + length / speed, {point, q}});
+  }
+  if (keys.back().t_s > duration)
+    throw InputError("", params.field("speed_mps"),
+                     "expected a speed that covers the path within the trace: the path takes " +
+                         number_text(keys.back().t_s) + " s but the trace lasts " +
+                         number_text(duration) + " s");
+  if (keys.size() == 1) keys.push_back({duration, keys.front().pose});
+  return sample_motion("path", request, [=](double t) { return keyframe_state(keys, t); });
 }
 
 GeneratedTrace generate_human_like(const GeneratorRequest& request) {
@@ -533,7 +602,8 @@ GeneratedTrace generate_rest(const GeneratorRequest& request) {
 }
 
 constexpr GeneratorEntry kGenerators[] = {
-    {"press", "approach along axis, press depth past the surface, hold (>= 40%), release",
+    {"press",
+     "approach along axis, press depth past the surface, hold (>= 40%), release; cycles times",
      generate_press},
     {"slide", "press to depth, slide distance along direction on the surface, lift",
      generate_slide},
@@ -541,8 +611,11 @@ constexpr GeneratorEntry kGenerators[] = {
     {"twist", "press to depth and oscillate by angle about the press axis, release",
      generate_twist},
     {"peg_in_hole",
-     "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z",
+     "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z, twist "
+     "by twist_rad",
      generate_peg_in_hole},
+    {"path", "through waypoints points at speed_mps, at rest at each, hold the last",
+     generate_path},
     {"human_like", "band-limited random motion below cutoff_hz (< 10 Hz) around centre",
      generate_human_like},
     {"impact", "reach speed_mps, cross the surface at that speed, stop depth past it, hold",
@@ -563,8 +636,27 @@ GeneratedTrace make_generated_trace(const std::string& name, const GeneratorRequ
     const std::size_t slash = field.rfind('/');
     const std::string duration_field =
         (slash == std::string::npos ? std::string() : field.substr(0, slash + 1)) + "duration_s";
-    sample_intervals(request.duration_s, duration_field);
-    return entry.generate(request);
+    const int64_t intervals = sample_intervals(request.duration_s, duration_field);
+    if (!request.params.has(kRepeatSampleKey)) return entry.generate(request);
+    // A device glitch, for every generator: the sample at repeat_sample_at_s
+    // (to the nearest tick, not the first) repeats the one before it, pose
+    // and twist, with its own time; the samples after it are unchanged.
+    const double repeat_at_s =
+        request.params.number(kRepeatSampleKey, 0.0, 1.0 / kSamplesPerSecond,
+                              static_cast<double>(intervals) / kSamplesPerSecond);
+    GeneratorRequest rest = request;
+    rest.params = ParamSet(request.params.prefix());
+    for (const auto& [key, value] : request.params.values())
+      if (key != kRepeatSampleKey) rest.params.set(key, value);
+    GeneratedTrace trace = entry.generate(rest);
+    const int64_t repeated = std::llround(repeat_at_s * kSamplesPerSecond);
+    trace.source.at = [at = std::move(trace.source.at), repeated](int64_t k) {
+      if (k != repeated) return at(k);
+      TraceSample sample = at(k - 1);
+      sample.t_ns = k * kSampleNs;
+      return sample;
+    };
+    return trace;
   }
   std::string known;
   for (const GeneratorEntry& entry : kGenerators)

@@ -33,8 +33,10 @@ struct GeneratorEntry {
   GeneratedTrace (*generate)(const GeneratorRequest& request);
 };
 
-/// Every generator: press, slide, rub, twist, peg_in_hole, human_like,
-/// impact, jump, rest.
+/// Every generator: press, slide, rub, twist, peg_in_hole, path, human_like,
+/// impact, jump, rest. Every one also takes "repeat_sample_at_s" (s): the
+/// sample at that tick repeats the previous one, pose and twist (a device
+/// that reports the same sample twice).
 std::span<const GeneratorEntry> generator_table();
 
 /// Looks a generator up and runs it; throws InputError naming `field` for

@@ -275,6 +275,41 @@ TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t
                       "\"") != std::string::npos);
 }
 
+TEST_CASE("stress runs and stability results make the stress matrix and the margin table") {
+  const hb::test::ScratchDir work_dir("e2e_report_stress");
+  const fs::path& work = work_dir.path();
+  json summary = sweep_summary(8000);  // explicit Euler diverged, implicit did not
+  summary["scenario"]["name"] = "thin_wall";
+  summary["scenario"]["path"] = "/somewhere/scenarios/stress/thin_wall.json";
+  summary["runs"][1]["stability"]["tunnelled"] = 0;
+  fs::create_directories(work / "stress/runs/thin_wall");
+  std::ofstream(work / "stress/runs/thin_wall/summary.json") << summary.dump(2);
+  // Run the search for real: a margin folder holds only stability.json.
+  const CommandResult search = hapticbench(
+      "stability " + (kSource / "scenarios/margins/sphere_on_box.json").string() +
+          " --label penalty_explicit --param /coupling/k_t --range 1000 100000 --tolerance 0.1"
+          " --out stress/margins/k_t",
+      work);
+  REQUIRE(search.exit_code == 0);
+
+  // Given the margins folder alone, and given both.
+  const CommandResult alone = hapticbench("report stress/margins --out margins.html", work);
+  INFO(alone.stderr_text);
+  REQUIRE(alone.exit_code == 0);
+  CHECK(alone.stdout_text.find("1 stability margin") != std::string::npos);
+  const CommandResult report = hapticbench("report stress --out stress.html", work);
+  INFO(report.stderr_text);
+  REQUIRE(report.exit_code == 0);
+  const std::string html = hb::test::read_text_file(work / "stress.html");
+  CHECK(html.find("id='stress-matrix'") != std::string::npos);
+  CHECK(html.find("data-pass=\"false\">✗ diverged") != std::string::npos);
+  CHECK(html.find("data-pass=\"true\">") != std::string::npos);
+  const std::string margins = row_with(html, "<tr><td class=\"text\">margin_sphere_on_box");
+  CHECK(margins.find("penalty_explicit") != std::string::npos);
+  CHECK(margins.find("explicit_euler") != std::string::npos);
+  CHECK(margins.find("unstable at") != std::string::npos);
+}
+
 TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
   SECTION("a folder without any summary.json") {
     const hb::test::ScratchDir work_dir("e2e_report_no_summary");

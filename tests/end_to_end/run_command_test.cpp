@@ -305,7 +305,7 @@ TEST_CASE(
       CHECK(run.at("timing").at("ticks").get<int64_t>() > 0);
     }
   }
-  CHECK(scenarios >= 8);
+  CHECK(scenarios >= 18);
   // The thin wall at 4 m/s: the device (coupling only) passes through the
   // plate, the god-object does not.
   const json wall =

@@ -62,6 +62,40 @@ TEST_CASE("the stability search finds explicit Euler's coupling limit k_t < b_t 
   CHECK(all.at("smallest_unstable").is_null());
 }
 
+TEST_CASE("the stability search finds explicit Euler's contact limit (k_t + k_c) dt < b_t + b_c") {
+  // A sphere held 5 mm deep in a box face for 10 s by penalty_analytic with
+  // explicit Euler. Linearised about the held contact, the proxy sees the
+  // spring k_t + k_c and the damper b_t + b_c (the contact damping, 2 N·s/m
+  // by default), so explicit Euler is stable while k_c < (b_t + b_c)/dt −
+  // k_t = 7000 − 2000 = 5000 N/m. Above it the oscillation grows until it
+  // lifts the proxy off the face, where it bounces in a bounded cycle: not
+  // divergence, and not seen by the passivity observer with the device
+  // held still; the chatter criterion sees it.
+  const hb::test::ScratchDir work_dir("e2e_stability_contact");
+  const fs::path& work = work_dir.path();
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
+      "stability " + (kSource / "scenarios/margins/sphere_on_box.json").string() +
+          " --label penalty_explicit --param /algorithms/0/params/contact_stiffness"
+          " --range 1000 100000 --tolerance 0.02 --out contact",
+      work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  const json margin = json::parse(hb::test::read_text_file(work / "contact/stability.json"));
+  const double stable = margin.at("largest_stable").get<double>();
+  const double unstable = margin.at("smallest_unstable").get<double>();
+  const double limit = (5.0 + 2.0) / 1e-3 - 2000.0;
+  CHECK(unstable / stable - 1 <= 0.02);
+  // Just below the limit an oscillation dies out slowly, just above it
+  // grows slowly: a 10 s run brackets the bound within a few per cent.
+  CHECK(stable == Approx(limit).epsilon(0.05));
+  CHECK(unstable == Approx(limit).epsilon(0.05));
+  bool chatter_decided = false;
+  for (const json& run : margin.at("runs"))
+    if (!run.at("stable").get<bool>() && !run.at("diverged").get<bool>())
+      chatter_decided = chatter_decided || run.at("chatters").get<bool>();
+  CHECK(chatter_decided);  // some unstable run was bounded: chatter, not divergence, told
+}
+
 TEST_CASE("stability: bad input exits with 2, names what is wrong, and writes nothing") {
   const hb::test::ScratchDir work_dir("e2e_stability_bad");
   const fs::path& work = work_dir.path();

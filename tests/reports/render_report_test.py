@@ -87,5 +87,82 @@ class WorkCountersTest(unittest.TestCase):
         self.assertEqual(render_report.work_counters_html(ScenarioFolder), "")
 
 
+class StressRun:
+    def __init__(self, label, **stability):
+        self.label = label
+        stability.setdefault("nonfinite", 0)
+        stability.setdefault("diverged", False)
+        stability.setdefault("passivity_energy_min_j", 0.0)
+        self.summary = {"label": label, "stability": stability,
+                        "accuracy": {"penetration_max_m": 0.0019}}
+
+
+class StressFolder:
+    def __init__(self, scenario, path, runs):
+        self.scenario = scenario
+        self.summary = {"scenario": {"name": scenario, "path": path}}
+        self.runs = runs
+
+
+class StressMatrixTest(unittest.TestCase):
+    def test_each_check_fails_a_cell_with_its_figure(self):
+        verdict = render_report.stress_verdict
+        self.assertEqual(verdict(StressRun("a", nonfinite=3)), (False, "non-finite on 3 ticks"))
+        self.assertEqual(verdict(StressRun("a", diverged=True, diverged_at_tick=20)),
+                         (False, "diverged at tick 20"))
+        self.assertEqual(verdict(StressRun("a", tunnelled=9)), (False, "tunnelled 9×"))
+        self.assertEqual(verdict(StressRun("a", passivity_energy_min_j=-0.0169)),
+                         (False, "passivity -16.9 mJ"))
+        self.assertEqual(verdict(StressRun("a", chatters=True, proxy_chatter_m=1.4e-5)),
+                         (False, "chatters 14 µm"))
+        # Within ε of zero passes; a pass shows the largest penetration.
+        self.assertEqual(verdict(StressRun("a", passivity_energy_min_j=-1e-7, tunnelled=0)),
+                         (True, "pen 1.9 mm"))
+
+    def test_only_stress_folders_make_the_matrix(self):
+        stress = StressFolder("thin_wall", "/x/scenarios/stress/thin_wall.json",
+                              [StressRun("coupling_only", tunnelled=1),
+                               StressRun("god_object", tunnelled=0)])
+        other = StressFolder("press", "/x/scenarios/smoke/press.json", [StressRun("other")])
+        page = render_report.stress_matrix_html([stress, other])
+        self.assertIn("thin_wall", page)
+        self.assertNotIn(">other<", page)
+        self.assertIn('data-pass="false">✗ tunnelled 1×', page)
+        self.assertIn('data-pass="true">✓ pen 1.9 mm', page)
+        self.assertIn("1 of the cells fail", page)
+        self.assertEqual(render_report.stress_matrix_html([other]), "")
+
+
+class StabilityMarginsTest(unittest.TestCase):
+    def result(self, label, param, largest, smallest, **unstable):
+        runs = [{"value": 100.0, "stable": True}]
+        if smallest is not None:
+            runs.append(dict({"value": smallest, "stable": False, "diverged": False,
+                              "nonfinite": 0, "passivity_energy_min_j": 0.0,
+                              "chatters": False}, **unstable))
+        return ("/m/%s%s/stability.json" % (label, param.replace("/", "_")),
+                {"scenario": "box", "label": label, "param": param, "algorithm": "penalty_analytic",
+                 "integrator": "explicit_euler", "epsilon_j": 1e-6, "range": [100.0, 1e6],
+                 "largest_stable": largest, "smallest_unstable": smallest, "runs": runs,
+                 "criterion": "stable: ..."})
+
+    def test_one_row_per_label_one_column_per_quantity(self):
+        page = render_report.stability_margins_html([
+            self.result("explicit", "/coupling/k_t", 3924.19, 3995.42, chatters=True),
+            self.result("explicit", "/algorithms/0/params/contact_stiffness", 4946.9, 5002.9,
+                        passivity_energy_min_j=-0.002),
+            self.result("implicit", "/coupling/k_t", 1e6, None),
+            self.result("vps", "/algorithms/3/params/point_stiffness", None, 100.0,
+                        diverged=True)])
+        self.assertIn("coupling stiffness k_t (N/m)", page)
+        self.assertIn("contact stiffness (N/m)", page)
+        self.assertIn("3924<br><span class=\"small\">unstable at 3995 (chatter)", page)
+        self.assertIn("4947<br><span class=\"small\">unstable at 5003 (passivity -2 mJ)", page)
+        self.assertIn("1e+06 (the range&#x27;s top)", page)
+        self.assertIn("none ≥ 100<br><span class=\"small\">unstable at 100 (diverged)", page)
+        self.assertEqual(page.count("<tr>"), 4)  # the header and three labels
+        self.assertEqual(render_report.stability_margins_html([]), "")
+
+
 if __name__ == "__main__":
     unittest.main()

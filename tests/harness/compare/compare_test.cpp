@@ -215,6 +215,28 @@ TEST_CASE("stability: divergence, non-finite ticks, passivity and force jumps") 
     CHECK(row.verdict == Verdict::kRegression);
     CHECK(row.change == "+1");
   }
+  SECTION("any increase of tunnelling passes fails, and says what it counts") {
+    Json none = summary(), once = summary();
+    first_run(none)["stability"]["tunnelled"] = 0;
+    first_run(once)["stability"]["tunnelled"] = 1;
+    const CheckRow row = row_named(compare(none, once), "stability.tunnelled");
+    CHECK(row.verdict == Verdict::kRegression);
+    CHECK(row.change == "+1");
+    CHECK(row.note.find("passes through the scene") != std::string::npos);
+    CHECK(row_named(compare(once, none), "stability.tunnelled").verdict == Verdict::kImproved);
+  }
+  SECTION("a proxy that starts to chatter fails") {
+    Json calm = summary(), chatters = summary();
+    first_run(calm)["stability"]["chatters"] = false;
+    first_run(chatters)["stability"]["chatters"] = true;
+    const CheckRow row = row_named(compare(calm, chatters), "stability.chatters");
+    CHECK(row.verdict == Verdict::kRegression);
+    CHECK(row.note == "the candidate chatters, the baseline not");
+    // A baseline from before the metric existed: informative, not a failure.
+    const CheckRow appeared = row_named(compare(summary(), chatters), "stability.chatters");
+    CHECK(appeared.verdict == Verdict::kInfo);
+    CHECK(appeared.note == "metric appeared: null in the baseline");
+  }
   SECTION("passivity energy: a decrease beyond tolerance fails") {
     // Baseline -0.001 J: tolerance max(1e-9 J, 5e-5 J) = 5e-5 J.
     Json lower = summary(), slightly = summary(), higher = summary();

@@ -80,6 +80,53 @@ TEST_CASE("energy drift is the slope of the passivity energy over time") {
   CHECK_FALSE(one.metrics.finish().stability.energy_drift_j_per_s);
 }
 
+TEST_CASE(
+    "chatter: a proxy alternating from tick to tick at the end of the run, not a smooth one") {
+  // The device moves along x at a constant 0.1 m/s (no second difference).
+  // A proxy offset by ±a on alternate ticks has a second difference of 4a.
+  const double a = 20e-6;
+  SyntheticRun late;  // settled for three quarters of the run, then alternating
+  for (int k = 0; k < 4000; ++k)
+    late.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt,
+              Vec3(0, 0, k >= 3000 ? (k % 2 ? a : -a) : 0.0));
+  const RunMetrics m = late.metrics.finish();
+  CHECK(m.stability.proxy_chatter_m == Approx(4 * a).epsilon(0.01));
+  CHECK(m.stability.device_chatter_m < 1e-12);
+  CHECK(m.stability.chatters);
+  // The same oscillation in the first half only has died out by the end.
+  SyntheticRun early;
+  for (int k = 0; k < 4000; ++k)
+    early.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt,
+               Vec3(0, 0, k < 2000 ? (k % 2 ? a : -a) : 0.0));
+  CHECK_FALSE(early.metrics.finish().stability.chatters);
+  // Below the 1 µm floor; and a proxy lagging the device smoothly by up to
+  // 2 mm at 2 Hz (0.16 m/s² relative acceleration): no chatter.
+  SyntheticRun small, smooth;
+  for (int k = 0; k < 4000; ++k) {
+    small.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt, Vec3(0, 0, k % 2 ? 1e-7 : -1e-7));
+    const double angle = 2 * std::numbers::pi * 2 * k / 1000.0;
+    smooth.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt,
+                Vec3(-0.001 * (1 - std::cos(angle)), 0, 0));
+  }
+  CHECK_FALSE(small.metrics.finish().stability.chatters);
+  const RunMetrics lag = smooth.metrics.finish();
+  CHECK(lag.stability.proxy_chatter_m < 2e-7);
+  CHECK_FALSE(lag.stability.chatters);
+}
+
+TEST_CASE("chatter on a run long enough to merge its blocks is still the last quarter's") {
+  // 4096 blocks of 50 ticks are 204,800 ticks; past that, blocks merge.
+  const double a = 20e-6;
+  const int ticks = 240000;
+  SyntheticRun late;
+  for (int k = 0; k < ticks; ++k)
+    late.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt,
+              Vec3(0, 0, k >= ticks / 4 * 3 ? (k % 2 ? a : -a) : 0.0));
+  const RunMetrics m = late.metrics.finish();
+  CHECK(m.stability.proxy_chatter_m == Approx(4 * a).epsilon(0.01));
+  CHECK(m.stability.chatters);
+}
+
 TEST_CASE("slow updates: time spread over the ticks until installation, count over 1 ms") {
   // Ten ticks of 100 ns; updates of 3 ms (installed 3 ticks later), 0.5 ms
   // (1 tick) and 2 ms (2 ticks) starting at ticks 0, 3 and 4.

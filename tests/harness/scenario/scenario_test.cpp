@@ -416,6 +416,11 @@ TEST_CASE("other rule violations name their field") {
          s["tool"]["inertia"] = Json::parse("[[1, 0, 0], [0, 1, 0], [0, 0, -1]]");
        },
        "/tool/inertia"},
+      {"negative friction", [](Json& s) { s["scene"][0]["friction"] = -0.1; }, "/scene/0/friction"},
+      {"friction not a number", [](Json& s) { s["scene"][0]["friction"] = "high"; },
+       "/scene/0/friction"},
+      {"non-finite friction", [](Json& s) { s["scene"][0]["friction"] = 1e400; },
+       "/scene/0/friction"},
       {"scale on a shape", [](Json& s) { s["scene"][0]["scale"] = 2; }, "/scene/0/scale"},
       {"mesh and shape", [](Json& s) { s["scene"][0]["mesh"] = "x.off"; }, "/scene/0"},
       {"unknown shape type", [](Json& s) { s["tool"]["shape"]["type"] = "cone"; },
@@ -495,6 +500,16 @@ TEST_CASE("settings outside their plausible range are warned about, defaults are
   CHECK(warnings[0].find("/coupling/k_t: 1e+30 N/m is outside the plausible range [10, 1e+06]") ==
         0);
   CHECK(warnings[1].find("/device/max_force_n: 100000 N is outside") == 0);
+}
+
+TEST_CASE("a scene object's friction coefficient is read, frictionless by default") {
+  ScratchDir dir;
+  Json scenario = valid_generated_scenario();
+  CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).context.scene.front().friction ==
+        0);
+  scenario["scene"][0]["friction"] = 0.8;
+  CHECK(load_scenario(dir.write("rough.json", scenario.dump(2))).context.scene.front().friction ==
+        0.8);
 }
 
 TEST_CASE("a missing scenario file is an InputError naming it") {

@@ -131,8 +131,9 @@ double energy_fraction_from(const std::vector<double>& x, std::size_t first_bin,
   return above / total;
 }
 
-const std::vector<std::string> kAllGenerators = {
-    "press", "slide", "rub", "twist", "peg_in_hole", "human_like", "impact", "jump", "rest"};
+const std::vector<std::string> kAllGenerators = {"press",       "slide", "rub",        "twist",
+                                                 "peg_in_hole", "path",  "human_like", "impact",
+                                                 "jump",        "rest"};
 
 }  // namespace
 
@@ -187,6 +188,29 @@ TEST_CASE("press: approach, press depth past the surface, hold >= 40%, release")
   // Touches the surface (z = 0.02) at the end of the approach, 30% in.
   CHECK(s[600].pose.p.z() == Approx(0.02).epsilon(1e-14));
   CHECK(s[600].twist->v.norm() == 0);
+}
+
+TEST_CASE("press: cycles presses in a row, each the same press over duration / cycles") {
+  hb::ParamSet params("/trace/params");
+  params.set("cycles", 4.0);
+  const hb::Trace trace = generate("press", 8.0, 1, params);
+  const hb::Trace one = generate("press", 2.0);
+  const auto& s = trace.samples;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    INFO("k " << k);
+    const auto& match = one.samples[k == s.size() - 1 ? 2000 : k % 2000];
+    CHECK(s[k].pose.p.isApprox(match.pose.p, 1e-13));
+    CHECK((s[k].twist->v - match.twist->v).norm() < 1e-12);
+  }
+  // At rest at the start pose between presses.
+  CHECK(s[4000].pose.p == hb::Vec3(0, 0, 0.03));
+  CHECK(s[4000].twist->v.norm() == 0);
+  check_twists_match_poses(trace);
+  CHECK(identical(one, [] {
+    hb::ParamSet single("/trace/params");
+    single.set("cycles", 1.0);
+    return generate("press", 2.0, 1, single);
+  }()));
 }
 
 TEST_CASE("press follows its axis, distances and orientation parameters") {
@@ -298,6 +322,123 @@ TEST_CASE("peg_in_hole: misalignment and tilt decay linearly with insertion dept
   CHECK(turned.samples[1000].twist->w.x() < -0.1);
 }
 
+TEST_CASE("peg_in_hole: twist_rad turns the inserted peg once about the insertion axis") {
+  hb::ParamSet params("/trace/params");
+  params.set("twist_rad", 0.1);
+  const hb::Trace trace = generate("peg_in_hole", 2.0, 1, params);
+  const hb::Trace plain = generate("peg_in_hole", 2.0);
+  const auto& s = trace.samples;
+  double largest = 0, smallest = 0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    if (k <= 1600) {
+      // Unchanged until the peg is in.
+      CHECK(s[k].pose.p == plain.samples[k].pose.p);
+      CHECK(s[k].pose.q.coeffs() == plain.samples[k].pose.q.coeffs());
+      continue;
+    }
+    CHECK(s[k].pose.p.isApprox(hb::Vec3(0, 0, -0.02), 1e-15));
+    const hb::Vec3 turned = rotation_of(s[k].pose.q);
+    CHECK(std::hypot(turned.x(), turned.y()) < 1e-15);
+    largest = std::max(largest, turned.z());
+    smallest = std::min(smallest, turned.z());
+    CHECK(s[k].twist->v.norm() == 0);
+    CHECK(std::hypot(s[k].twist->w.x(), s[k].twist->w.y()) == 0);
+  }
+  CHECK(largest == Approx(0.1).epsilon(1e-3));
+  CHECK(smallest == Approx(-0.1).epsilon(1e-3));
+  CHECK(s.back().pose.q.isApprox(hb::Quat::Identity(), 1e-15));
+  check_twists_match_poses(trace);
+}
+
+TEST_CASE("path: through the waypoints at speed_mps, at rest at each, then held") {
+  hb::ParamSet params("/trace/params");
+  // 0.02 m along x, a repeated point (no time), 0.01 m down z, 0.03 m back along x.
+  params.set("points", std::vector<double>{0, 0, 0.03, 0.02, 0, 0.03, 0.02, 0, 0.03, 0.02, 0, 0.02,
+                                           -0.01, 0, 0.02});
+  params.set("speed_mps", 0.05);
+  params.set("q", std::vector<double>{0, 1, 0, 0});
+  const hb::Trace trace = generate("path", 2.0, 1, params);
+  const auto& s = trace.samples;
+  // Waypoints at 0, 0.4, 0.6 and 1.2 s, at rest.
+  CHECK(s[0].pose.p == hb::Vec3(0, 0, 0.03));
+  CHECK(s[400].pose.p.isApprox(hb::Vec3(0.02, 0, 0.03), 1e-15));
+  CHECK(s[600].pose.p.isApprox(hb::Vec3(0.02, 0, 0.02), 1e-15));
+  for (std::size_t k : {0, 400, 600}) CHECK(s[k].twist->v.norm() < 1e-15);
+  for (std::size_t k = 1200; k < s.size(); ++k) {
+    CHECK(s[k].pose.p.isApprox(hb::Vec3(-0.01, 0, 0.02), 1e-15));
+    CHECK(s[k].twist->v.norm() == 0);
+  }
+  // On the segment lines in between; mean speed speed_mps on each.
+  for (std::size_t k = 0; k <= 400; ++k) CHECK(s[k].pose.p.z() == 0.03);
+  for (std::size_t k = 400; k <= 600; ++k) CHECK(s[k].pose.p.x() == Approx(0.02).epsilon(1e-15));
+  double fastest = 0;
+  for (const auto& sample : s) {
+    fastest = std::max(fastest, sample.twist->v.norm());
+    CHECK(sample.pose.q.x() == 1.0);
+    CHECK(sample.twist->w.norm() == 0);
+  }
+  CHECK(fastest == Approx(1.875 * 0.05).epsilon(1e-6));  // minimum-jerk peak
+  check_twists_match_poses(trace);
+
+  SECTION("errors name the field") {
+    hb::ParamSet bad("/trace/params");
+    bad.set("points", std::vector<double>{0, 0, 0, 1, 1});
+    CHECK(error_location([&] { generate("path", 2.0, 1, bad); }) == "/trace/params/points");
+    hb::ParamSet one_point("/trace/params");
+    one_point.set("points", std::vector<double>{0, 0, 0});
+    CHECK(error_location([&] { generate("path", 2.0, 1, one_point); }) == "/trace/params/points");
+    hb::ParamSet slow("/trace/params");
+    slow.set("speed_mps", 0.01);  // the default 0.05 m path takes 5 s
+    CHECK(error_location([&] { generate("path", 2.0, 1, slow); }) == "/trace/params/speed_mps");
+  }
+}
+
+TEST_CASE("repeat_sample_at_s: one sample repeats the previous one, for every generator") {
+  for (const std::string& name : kAllGenerators) {
+    INFO(name);
+    hb::ParamSet params("/trace/params");
+    params.set("repeat_sample_at_s", 0.6004);  // tick 600
+    const hb::Trace glitch = generate(name, 2.0, 3, params);
+    const hb::Trace clean = generate(name, 2.0, 3);
+    check_valid_samples(glitch, 2.0);
+    const auto& g = glitch.samples;
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      const auto& expected = clean.samples[k == 600 ? 599 : k];
+      CHECK(g[k].t_ns == static_cast<int64_t>(k) * 1'000'000);
+      CHECK(g[k].pose.p == expected.pose.p);
+      CHECK(g[k].pose.q.coeffs() == expected.pose.q.coeffs());
+      CHECK(g[k].twist->v == expected.twist->v);
+      CHECK(g[k].twist->w == expected.twist->w);
+    }
+  }
+  // Sliding at speed, the repeated tick stands still and the next one
+  // catches up: two ticks' motion in one.
+  hb::ParamSet params("/trace/params");
+  params.set("repeat_sample_at_s", 1.0);
+  const hb::Trace slide = generate("slide", 2.0, 1, params);
+  const auto& s = slide.samples;
+  CHECK(s[1000].pose.p == s[999].pose.p);
+  CHECK(s[1000].twist->v == s[999].twist->v);
+  CHECK(s[1000].twist->w == s[999].twist->w);
+  const double step = (s[999].pose.p - s[998].pose.p).norm();
+  CHECK(step > 0);
+  CHECK((s[1001].pose.p - s[1000].pose.p).norm() == Approx(2 * step).epsilon(1e-3));
+
+  SECTION("errors name the field") {
+    hb::ParamSet bad("/trace/params");
+    bad.set("repeat_sample_at_s", 0.0);  // tick 0 has no previous sample
+    CHECK(error_location([&] { generate("press", 1.0, 1, bad); }) ==
+          "/trace/params/repeat_sample_at_s");
+    bad.set("repeat_sample_at_s", 1.5);
+    CHECK(error_location([&] { generate("press", 1.0, 1, bad); }) ==
+          "/trace/params/repeat_sample_at_s");
+    hb::ParamSet unknown("/trace/params");
+    unknown.set("repeat_sample_at_s", 0.5);
+    unknown.set("dpeth", 0.01);
+    CHECK(error_location([&] { generate("press", 1.0, 1, unknown); }) == "/trace/params/dpeth");
+  }
+}
+
 TEST_CASE("human_like: no energy at or above the cutoff, peak excursion = amplitude") {
   struct Case {
     double duration_s;
@@ -393,8 +534,8 @@ TEST_CASE("bad names, durations and parameters are InputErrors naming the field"
       CHECK(error.location() == "/trace/generator");
       const std::string message = error.what();
       CHECK(message.find("unknown generator \"wobble\"") != std::string::npos);
-      CHECK(message.find("press, slide, rub, twist, peg_in_hole, human_like, impact, jump, rest") !=
-            std::string::npos);
+      CHECK(message.find("press, slide, rub, twist, peg_in_hole, path, human_like, impact, jump, "
+                         "rest") != std::string::npos);
     }
   }
   SECTION("unknown parameter, for every generator") {

@@ -1,0 +1,51 @@
+#include "harness/reference/tunnelling.h"
+
+#include <array>
+
+namespace hb {
+
+bool path_meets_surface(const Oracle& oracle, const Vec3& a, const Vec3& b, double touch_m) {
+  // Each step goes as far as the distance to the surface, so no surface can
+  // lie between two steps. A path grazing a face crawls along it; past the
+  // step limit it is taken as meeting the surface.
+  constexpr int kMaxSteps = 100000;
+  const double length = (b - a).norm();
+  if (!(length > 0)) return false;
+  const Vec3 direction = (b - a) / length;
+  PointQueryRequest request;
+  request.want_inside = false;
+  request.want_closest = true;
+  PointQueryResult result;
+  double travelled = 0;
+  for (int step = 0; step < kMaxSteps; ++step) {
+    const std::array<Vec3, 1> point = {a + travelled * direction};
+    request.points = point;
+    oracle.query_points(request, result);
+    const double distance = result.distance[0];
+    if (!(distance > touch_m)) return true;
+    travelled += distance;
+    if (travelled >= length) return false;
+  }
+  return true;
+}
+
+bool OracleTunnellingDetector::update(const Vec3& origin_world) {
+  if (!origin_world.allFinite()) return false;
+  const std::array<Vec3, 1> point = {origin_world};
+  PointQueryRequest request;
+  request.points = point;
+  request.want_inside = true;
+  request.want_closest = true;
+  oracle_.query_points(request, query_);
+  if (query_.inside[0]) return false;  // wait for it to come out
+  const double distance = query_.distance[0];
+  if (!(distance > 0)) return false;  // on the surface, or no surface at all
+  const Vec3 side = (origin_world - query_.closest[0]) / distance;
+  const bool passed = last_point_ && last_side_.dot(side) < 0 &&
+                      path_meets_surface(oracle_, *last_point_, origin_world);
+  last_point_ = origin_world;
+  last_side_ = side;
+  return passed;
+}
+
+}  // namespace hb
