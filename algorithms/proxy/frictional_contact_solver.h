@@ -1,0 +1,98 @@
+// Hard contacts with Coulomb friction on a rigid proxy, solved at velocity
+// level (Duriez, Dubois, Kheddar & Andriot 2006; the lecture notes'
+// "Constrained Dynamics" cell of the proxy taxonomy). With u = (v, ω) the
+// generalised velocity after the step, u_free the velocity without contact
+// forces and R the response (the inverse of the step's effective mass, so
+// that u = u_free + R Σ J_kᵀ λ_k), each contact k with normal n_k, lever
+// r_k (contact point − centre of mass) and tangents t1_k, t2_k has
+//   J_k = [ (n, r × n); (t1, r × t1); (t2, r × t2) ]   (3 × 6)
+// and impulses λ_k = (λ_n, λ_t1, λ_t2) that satisfy
+//   Signorini:  λ_n ≥ 0,  n·u_k − b_k ≥ 0,  λ_n (n·u_k − b_k) = 0
+//   Coulomb:    |λ_t| ≤ μ_k λ_n; |λ_t| < μ_k λ_n ⇒ u_t = 0 (stick);
+//               sliding ⇒ λ_t = −μ_k λ_n u_t / |u_t| (maximal dissipation)
+// where u_k = J_k u and b_k is the bound on the normal velocity (−gap/Δt for
+// a speculative contact, > 0 to push a penetration out).
+//
+// The solver is projected Gauss–Seidel over contacts, each block solved
+// exactly with the others held: the normal impulse by its diagonal,
+// projected on λ_n ≥ 0, then the two tangential impulses as the minimiser of
+// the contact's 2 × 2 quadratic over the disk |λ_t| ≤ μ λ_n (a trust-region
+// step, so a sliding contact's impulse opposes its slip exactly, which a
+// Euclidean projection of the unconstrained impulse would not do when the
+// block is anisotropic). The disk is the exact circular cone, not a
+// pyramid: sliding in any direction gives |λ_t| = μ λ_n, which a
+// linearised cone with few facets would only bound (4 facets are off by up
+// to 41 % along a diagonal). Each sweep keeps u = u_free + R Jᵀ λ up to date
+// incrementally (a 6 × 3 column block per contact), so a sweep costs
+// O(contacts). It stops when the largest change of any impulse in a sweep,
+// expressed as a velocity (times its diagonal of J R Jᵀ), is below the
+// tolerance: a fixed point of the projected map is a solution of the
+// complementarity problem, so that change is the residual reported.
+// Warm starts from a previous solution cut the sweeps for resting contacts.
+//
+// With R = K⁻¹ (the coupling's stiffness) and u_free the unconstrained
+// displacement, the same problem is the massless god-object's quasi-static
+// step with friction: λ are then forces (N) and u a displacement (m, rad).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+
+namespace hb {
+
+/// One contact of the velocity-level problem.
+struct FrictionalContactRow {
+  Vec3 normal = Vec3::UnitZ();  ///< world frame, unit length, pushes the tool out of the scene
+  Vec3 lever = Vec3::Zero();    ///< contact point minus the centre of mass, world frame (m)
+  /// Lower bound b on the normal velocity of the contact point n·(v + ω × r)
+  /// (m/s; for a displacement problem, m).
+  double bound = 0;
+  double friction = 0;  ///< Coulomb μ ≥ 0 (0: frictionless)
+};
+
+struct FrictionalContactOptions {
+  int max_sweeps = 200;  ///< upper bound on Gauss–Seidel sweeps
+  /// Converged when no impulse changed by more than this velocity in a
+  /// sweep (m/s, or m for a displacement problem); 0 runs every sweep.
+  double tolerance = 1e-9;
+};
+
+struct FrictionalContactSolution {
+  Vec6 velocity = Vec6::Zero();  ///< u = (v, ω) after the contact impulses, world frame
+  /// Per contact: (λ_n, λ_t1, λ_t2) along (normal, tangent1, tangent2)
+  /// (N·s for a velocity problem, N for a displacement problem).
+  std::vector<Vec3> impulses;
+  std::vector<Vec3> tangent1;  ///< per contact, world, unit, ⟂ normal; tangent2 = normal × tangent1
+  int sweeps = 0;
+  double residual = 0;  ///< the last sweep's largest change, as a velocity (see above)
+  bool converged = false;
+};
+
+/// A deterministic unit vector perpendicular to the unit vector n.
+Vec3 perpendicular_unit(const Vec3& n);
+
+/// Reusable buffers, so a solve in the haptic loop does not allocate once
+/// they have grown.
+class FrictionalContactSolver {
+ public:
+  explicit FrictionalContactSolver(const FrictionalContactOptions& options = {});
+
+  /// response: R, 6 × 6, symmetric positive definite (kg⁻¹, (kg·m²)⁻¹
+  /// blocks). free_velocity: u_free. warm: impulses to start from,
+  /// one per contact in the same tangent basis (perpendicular_unit), or
+  /// empty. The result stays valid until the next solve.
+  const FrictionalContactSolution& solve(const Mat6& response, const Vec6& free_velocity,
+                                         std::span<const FrictionalContactRow> contacts,
+                                         std::span<const Vec3> warm = {});
+
+ private:
+  FrictionalContactOptions options_;
+  std::vector<Eigen::Matrix<double, 3, 6>> jacobians_;
+  std::vector<Eigen::Matrix<double, 6, 3>> responses_;  ///< R J_kᵀ
+  std::vector<Mat3> blocks_;                            ///< J_k R J_kᵀ
+  FrictionalContactSolution solution_;
+};
+
+}  // namespace hb
