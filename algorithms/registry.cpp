@@ -1,5 +1,6 @@
 #include "algorithms/registry.h"
 
+#include "algorithms/constrained_dynamics/constrained_dynamics.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/coupling_only/coupling_only.h"
 #include "algorithms/god_object/god_object.h"
@@ -24,6 +25,11 @@ constexpr AlgorithmEntry kAlgorithms[] = {
     {"god_object_3dof",
      "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
      &create_god_object_3dof},
+    {"constrained_dynamics",
+     "Duriez et al. 2006: rigid proxy with mass, hard contacts and Coulomb friction as impulses "
+     "(projected Gauss-Seidel), implicit coupling, contacts from the god-object's proximity "
+     "certificates",
+     &create_constrained_dynamics},
     {"voxmap_pointshell",
      "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, tangent-plane "
      "penalty per point, dynamic proxy",

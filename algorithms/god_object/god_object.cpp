@@ -32,7 +32,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
         limits_(context.device),
         dt_s_(context.dt_s),
         solver_(context, settings),
-        haptic_(solver_.ccd(), context.coupling, settings, solver_.centre_of_mass()) {
+        haptic_(solver_.ccd(), context.coupling, settings, solver_.centre_of_mass(),
+                solver_.friction()) {
     body_.centre_of_mass = solver_.centre_of_mass();
   }
 
@@ -156,8 +157,9 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
 
 }  // namespace
 
-GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool) {
-  GodObjectSettings settings;
+GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool,
+                                           const GodObjectSettings& defaults) {
+  GodObjectSettings settings = defaults;
   settings.point_tool = point_tool;
   settings.standoff_m = params.number("standoff", settings.standoff_m, 1e-9, 1e-2);
   // A distance that must exceed the standoff (the proxy keeps that much).

@@ -77,7 +77,9 @@ GodObjectSolver::GodObjectSolver(const RenderContext& context, const GodObjectSe
     : settings_(settings),
       gains_(context.coupling),
       frames_{settings.point_tool ? Vec3::Zero() : context.tool.mass.centre_of_mass},
-      ccd_(ccd_tool_mesh(context.tool, settings.point_tool), context.scene) {}
+      ccd_(ccd_tool_mesh(context.tool, settings.point_tool), context.scene) {
+  for (const SceneObject& object : context.scene) friction_.push_back(object.friction);
+}
 
 void GodObjectSolver::reset(const Pose& start) {
   proxy_ = start;
@@ -111,26 +113,22 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
     }
 
     constraints_.clear();
+    constraint_friction_.clear();
     for (const KeptContact& contact : contacts_) {
       const FeatureGeometry& g = contact.geometry;
       constraints_.push_back(GaussConstraint{g.normal, g.point - start.p,
                                              -std::max(0.0, g.gap - settings_.standoff_m)});
+      constraint_friction_.push_back(friction_[contact.features.scene_object]);
     }
-    Vec6 constrained = unconstrained;
-    if (!constraints_.empty()) {
-      std::erase_if(warm_active_,
-                    [&](int k) { return k >= static_cast<int>(constraints_.size()); });
-      const GaussSolution& solution = gauss_.solve(
-          coupling_metric(gains_, frames_.centre_of_mass, proxy_.q, ccd_.tool_radius()),
-          unconstrained, constraints_, warm_active_);
-      stats.qp_iterations += solution.iterations;
-      if (!solution.converged) {
-        stats.solver_failed = true;
-        break;
-      }
-      warm_active_ = solution.active;
-      constrained = solution.acceleration;
+    const ConstrainedStep& solved =
+        solver_.solve(coupling_metric(gains_, frames_.centre_of_mass, proxy_.q, ccd_.tool_radius()),
+                      unconstrained, constraints_, constraint_friction_, warm_active_);
+    stats.qp_iterations += solved.iterations;
+    if (!solved.converged) {
+      stats.solver_failed = true;
+      break;
     }
+    Vec6 constrained = solved.step;
     if (reach(constrained) <= kNegligibleMotion) break;
 
     // Within the certificate's reach only its pairs can meet: a move that

@@ -36,7 +36,7 @@
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/god_object/constrained_step.h"
 #include "algorithms/god_object/proxy_motion.h"
 
 namespace hb {
@@ -139,6 +139,8 @@ class GodObjectSolver {
   /// Moves the proxy to the tool-frame pose `pose` (known to be free), keeping
   /// its contacts, which the next update refreshes there.
   void move_proxy(const Pose& pose) { proxy_ = pose; }
+  /// Coulomb μ per scene object (the scene's "friction"), in MeshCcd's order.
+  const std::vector<double>& friction() const { return friction_; }
   /// The CCD structures (for the build report).
   const MeshCcd& ccd() const { return ccd_; }
 
@@ -149,8 +151,10 @@ class GodObjectSolver {
   CouplingGains gains_;
   ProxyFrames frames_;
   MeshCcd ccd_;
-  GaussLeastConstraintSolver gauss_;
+  std::vector<double> friction_;  ///< Coulomb μ per scene object
+  ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> constraints_;
+  std::vector<double> constraint_friction_;  ///< μ per constraint
   std::vector<int> warm_active_;
   Pose proxy_;
   std::vector<KeptContact> contacts_;

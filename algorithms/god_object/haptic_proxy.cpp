@@ -2,52 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace hb {
 
-namespace {
-// Below this distance (m) a pair's closest points give no direction; the
-// pair's own normal is used instead.
-constexpr double kDirectionFloor = 1e-12;
-}  // namespace
-
 HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,
-                         const GodObjectSettings& settings, const Vec3& centre_of_mass)
-    : ccd_(ccd),
+                         const GodObjectSettings& settings, const Vec3& centre_of_mass,
+                         std::vector<double> friction)
+    : certifier_(ccd, settings, centre_of_mass),
       gains_(gains),
       settings_(settings),
-      frames_{centre_of_mass},
-      radius_(settings.point_tool ? 0.0 : ccd.tool_radius()) {}
-
-ProximityCertificate HapticProxy::certify(const Pose& tool_pose, double band_m) const {
-  ProximityCertificate certificate;
-  certificate.anchor = frames_.com_frame(tool_pose);
-  const ProximityResult found = ccd_.proximity(
-      certificate.anchor, band_m, static_cast<std::size_t>(settings_.haptic_max_pairs));
-  certificate.clearance_m = found.clearance_m;
-  certificate.pairs.reserve(found.pairs.size());
-  for (const ProximityPair& pair : found.pairs) certificate.pairs.push_back(pair.features);
-  return certificate;
-}
-
-double HapticProxy::band_for(const Pose& previous_target, const Pose& target) const {
-  constexpr double kMargin = 6.0;  // two intervals until the next certificate, times three
-  const double moved = point_reach(
-      displacement(frames_.com_frame(previous_target), frames_.com_frame(target)), radius_);
-  return std::clamp(kMargin * moved, settings_.haptic_band_min_m, settings_.haptic_band_m);
-}
+      friction_(std::move(friction)) {}
 
 void HapticProxy::reset(const Pose& start) {
   pose_ = start;
   certificate_ = certify(start, settings_.haptic_band_m);
   warm_active_.clear();
   contacts_.clear();
-}
-
-bool HapticProxy::within_reach(const ProximityCertificate& certificate,
-                               const Pose& tool_pose) const {
-  return point_reach(displacement(certificate.anchor, frames_.com_frame(tool_pose)), radius_) <=
-         certificate.clearance_m - settings_.standoff_m;
 }
 
 double HapticProxy::coupling_energy(const Pose& tool_pose, const Pose& target) const {
@@ -75,63 +46,51 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
 
 HapticSolveStats HapticProxy::step(const Pose& target) {
   HapticSolveStats stats;
-  const Pose start = frames_.com_frame(pose_);
-  const Vec6 unconstrained = displacement(start, frames_.com_frame(target));
+  const ProxyFrames& frames = certifier_.frames();
+  const double radius = certifier_.radius();
+  const Pose start = frames.com_frame(pose_);
+  const Vec6 unconstrained = displacement(start, frames.com_frame(target));
 
   // The listed pairs at the current pose: one constraint each.
   constraints_.clear();
+  constraint_friction_.clear();
   contacts_.clear();
   distances_.clear();
   for (const ContactFeatures& pair : certificate_.pairs) {
-    const PairClosestPoints points = ccd_.closest_points(pair, start);
+    const PairContact contact = certifier_.evaluate(pair, start);
     ++stats.pairs_evaluated;
-    Vec3 normal = points.tool_point - points.scene_point;
-    if (points.distance > kDirectionFloor)
-      normal /= points.distance;
-    else
-      normal = ccd_.evaluate(pair, start).normal;
-    constraints_.push_back(GaussConstraint{normal, points.tool_point - start.p,
-                                           -std::max(0.0, points.distance - settings_.standoff_m)});
-    distances_.push_back(points.distance);
+    constraints_.push_back(
+        GaussConstraint{contact.normal, contact.tool_point - start.p,
+                        -std::max(0.0, contact.distance - settings_.standoff_m)});
+    constraint_friction_.push_back(
+        pair.scene_object < static_cast<int>(friction_.size()) ? friction_[pair.scene_object] : 0);
+    distances_.push_back(contact.distance);
   }
 
-  Vec6 step = unconstrained;
-  if (!constraints_.empty()) {
-    std::erase_if(warm_active_, [&](int k) { return k >= static_cast<int>(constraints_.size()); });
-    const GaussSolution& solution =
-        gauss_.solve(coupling_metric(gains_, frames_.centre_of_mass, start.q, radius_),
-                     unconstrained, constraints_, warm_active_);
-    stats.qp_iterations = solution.iterations;
-    if (!solution.converged) {
-      warm_active_.clear();
-      step.setZero();  // the proxy stays where it is free
-    } else {
-      warm_active_ = solution.active;
-      step = solution.acceleration;
-    }
-  }
+  const ConstrainedStep& solved =
+      solver_.solve(coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
+                    constraints_, constraint_friction_, warm_active_);
+  stats.qp_iterations = solved.iterations;
+  const Vec6 step = solved.step;
 
   // Stay within the certificate's reach: the largest fraction of the step
   // that does (the reach bound is continuous in the fraction, and the
   // start lies within it).
-  const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius_,
-                                                certificate_.clearance_m - settings_.standoff_m);
+  const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius,
+                                                certifier_.reach(certificate_));
   stats.bounded = fraction < 1;
   const Vec6 moved = fraction * step;
-  if (fraction > 0) pose_ = frames_.tool_frame(displaced(start, moved));
+  if (fraction > 0) pose_ = frames.tool_frame(displaced(start, moved));
 
   // Contacts at the new pose: the pairs that may now be within the contact
   // distance (no pair came closer than the motion's reach).
-  const double moved_reach = point_reach(moved, radius_);
-  const Pose end = frames_.com_frame(pose_);
+  const double moved_reach = point_reach(moved, radius);
+  const Pose end = frames.com_frame(pose_);
   for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
     if (distances_[k] > settings_.contact_distance_m + moved_reach) continue;
-    const PairClosestPoints points = ccd_.closest_points(certificate_.pairs[k], end);
-    if (points.distance > settings_.contact_distance_m) continue;
-    const Vec3 normal = points.distance > kDirectionFloor
-                            ? Vec3((points.tool_point - points.scene_point) / points.distance)
-                            : ccd_.evaluate(certificate_.pairs[k], end).normal;
-    contacts_.push_back(Contact{points.scene_point, normal, -points.distance});
+    const PairContact contact = certifier_.evaluate(certificate_.pairs[k], end);
+    if (contact.distance > settings_.contact_distance_m) continue;
+    contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
   }
   return stats;
 }

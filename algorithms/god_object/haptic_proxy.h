@@ -25,8 +25,9 @@
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/god_object/constrained_step.h"
 #include "algorithms/god_object/god_object_update.h"
+#include "algorithms/god_object/proximity_certifier.h"
 #include "algorithms/god_object/proxy_motion.h"
 #include "algorithms/proxy/renderer.h"
 
@@ -42,21 +43,21 @@ struct HapticSolveStats {
 class HapticProxy {
  public:
   /// `ccd` must outlive the proxy. Settings as for the slow loop's solver.
+  /// friction: Coulomb μ per scene object (MeshCcd's indices); empty: none.
   HapticProxy(const MeshCcd& ccd, const CouplingGains& gains, const GodObjectSettings& settings,
-              const Vec3& centre_of_mass);
+              const Vec3& centre_of_mass, std::vector<double> friction = {});
 
-  /// The proximity query the slow loop runs for a certificate at `tool_pose`,
-  /// listing pairs within `band_m` (at most settings.haptic_max_pairs).
-  ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
-
-  /// The band for the next certificate: six times how far (point_reach) the
-  /// device moved from `previous_target` to `target` between two slow
-  /// updates, within the settings' [haptic_band_min_m, haptic_band_m].
-  double band_for(const Pose& previous_target, const Pose& target) const;
-  double widest_band() const { return settings_.haptic_band_m; }
-
-  /// Whether the tool-frame pose lies within the certificate's reach.
-  bool within_reach(const ProximityCertificate& certificate, const Pose& tool_pose) const;
+  /// The proximity query, band and reach (proximity_certifier.h).
+  ProximityCertificate certify(const Pose& tool_pose, double band_m) const {
+    return certifier_.certify(tool_pose, band_m);
+  }
+  double band_for(const Pose& previous_target, const Pose& target) const {
+    return certifier_.band_for(previous_target, target);
+  }
+  double widest_band() const { return certifier_.widest_band(); }
+  bool within_reach(const ProximityCertificate& certificate, const Pose& tool_pose) const {
+    return certifier_.within_reach(certificate, tool_pose);
+  }
 
   /// Puts the proxy at the tool-frame pose `start` (free of the scene) with
   /// a certificate computed there.
@@ -81,13 +82,13 @@ class HapticProxy {
  private:
   double coupling_energy(const Pose& tool_pose, const Pose& target) const;
 
-  const MeshCcd& ccd_;
+  ProximityCertifier certifier_;
   CouplingGains gains_;
   GodObjectSettings settings_;
-  ProxyFrames frames_;
-  double radius_;  ///< the tool's radius about its centre of mass (0 for a point tool)
-  GaussLeastConstraintSolver gauss_;
+  std::vector<double> friction_;  ///< μ per scene object
+  ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> constraints_;
+  std::vector<double> constraint_friction_;  ///< μ per constraint
   std::vector<int> warm_active_;
   ProximityCertificate certificate_;
   Pose pose_;

@@ -92,7 +92,7 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   if (count == 0) return s;
 
   for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
-    double largest_change = 0;
+    const Vec6 velocity_before = s.velocity;
     for (std::size_t k = 0; k < count; ++k) {
       const FrictionalContactRow& c = contacts[k];
       const Eigen::Matrix<double, 3, 6>& j = jacobians_[k];
@@ -106,7 +106,6 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
       if (normal_change != 0) {
         s.velocity += responses_[k].col(0) * normal_change;
         impulse.x() = normal;
-        largest_change = std::max(largest_change, std::abs(normal_change) * w(0, 0));
       }
 
       // Tangential: the impulse that stops sliding, kept in the disk μ λ_n.
@@ -119,9 +118,13 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
       if (!tangential_change.isZero()) {
         s.velocity += responses_[k].rightCols<2>() * tangential_change;
         impulse.tail<2>() = tangential;
-        largest_change = std::max(largest_change, (wt * tangential_change).norm());
       }
     }
+    // The sweep's change of every contact point's velocity.
+    const Vec6 change = s.velocity - velocity_before;
+    double largest_change = 0;
+    for (std::size_t k = 0; k < count; ++k)
+      largest_change = std::max(largest_change, (jacobians_[k] * change).norm());
     s.sweeps = sweep + 1;
     s.residual = largest_change;
     if (largest_change <= options_.tolerance) return s;

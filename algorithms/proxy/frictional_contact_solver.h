@@ -24,10 +24,13 @@
 // linearised cone with few facets would only bound (4 facets are off by up
 // to 41 % along a diagonal). Each sweep keeps u = u_free + R Jᵀ λ up to date
 // incrementally (a 6 × 3 column block per contact), so a sweep costs
-// O(contacts). It stops when the largest change of any impulse in a sweep,
-// expressed as a velocity (times its diagonal of J R Jᵀ), is below the
-// tolerance: a fixed point of the projected map is a solution of the
-// complementarity problem, so that change is the residual reported.
+// O(contacts). It stops when a sweep changed no contact point's velocity
+// (normal and tangential) by more than the tolerance; that change is the
+// residual reported. A fixed point of the sweep is a solution of the
+// complementarity problem; measuring the velocities rather than the
+// impulses lets redundant contacts (four coplanar corners of a face, whose
+// impulses can trade load without changing the motion) converge as fast as
+// the motion they determine.
 // Warm starts from a previous solution cut the sweeps for resting contacts.
 //
 // With R = K⁻¹ (the coupling's stiffness) and u_free the unconstrained
@@ -54,8 +57,8 @@ struct FrictionalContactRow {
 
 struct FrictionalContactOptions {
   int max_sweeps = 200;  ///< upper bound on Gauss–Seidel sweeps
-  /// Converged when no impulse changed by more than this velocity in a
-  /// sweep (m/s, or m for a displacement problem); 0 runs every sweep.
+  /// Converged when a sweep changed no contact point's velocity by more
+  /// than this (m/s, or m for a displacement problem); 0 runs every sweep.
   double tolerance = 1e-9;
 };
 
@@ -66,7 +69,7 @@ struct FrictionalContactSolution {
   std::vector<Vec3> impulses;
   std::vector<Vec3> tangent1;  ///< per contact, world, unit, ⟂ normal; tangent2 = normal × tangent1
   int sweeps = 0;
-  double residual = 0;  ///< the last sweep's largest change, as a velocity (see above)
+  double residual = 0;  ///< the last sweep's largest change of a contact point's velocity
   bool converged = false;
 };
 

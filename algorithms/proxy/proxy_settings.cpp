@@ -17,14 +17,19 @@ ProxySettings read_proxy_settings(const ParamSet& params, const Tool& tool) {
       params.choice("integrator", "implicit_euler", {"explicit_euler", "implicit_euler"});
   settings.integrator = integrator == "explicit_euler" ? IntegratorKind::kExplicitEuler
                                                        : IntegratorKind::kImplicitEuler;
-  settings.proxy_mass_kg = params.number("proxy_mass_kg", tool.mass.mass_kg, 0, kLargest);
-  if (!(settings.proxy_mass_kg > 0)) {
+  settings.proxy_mass_kg = read_proxy_mass(params, tool);
+  return settings;
+}
+
+double read_proxy_mass(const ParamSet& params, const Tool& tool) {
+  const double mass_kg = params.number("proxy_mass_kg", tool.mass.mass_kg, 0, kLargest);
+  if (!(mass_kg > 0)) {
     throw InputError("", params.field("proxy_mass_kg"),
                      params.has("proxy_mass_kg")
                          ? "expected a mass > 0 kg"
                          : "the tool's mass is not positive; set a proxy mass > 0 kg");
   }
-  return settings;
+  return mass_kg;
 }
 
 PenaltyGains read_penalty_gains(const ParamSet& params) {

@@ -21,6 +21,10 @@ struct ProxySettings {
 /// and "proxy_mass_kg" (> 0, default tool.mass.mass_kg).
 ProxySettings read_proxy_settings(const ParamSet& params, const Tool& tool);
 
+/// Reads only "proxy_mass_kg" (> 0, default tool.mass.mass_kg), for proxies
+/// whose integrator is fixed.
+double read_proxy_mass(const ParamSet& params, const Tool& tool);
+
 /// Reads "contact_stiffness" (N/m, ≥ 0, default 3000) and
 /// "contact_damping" (N·s/m, ≥ 0, default 2).
 PenaltyGains read_penalty_gains(const ParamSet& params);

@@ -1,0 +1,298 @@
+#include "algorithms/constrained_dynamics/constrained_dynamics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/god_object/god_object.h"
+#include "algorithms/god_object/proximity_certifier.h"
+#include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/proxy_settings.h"
+#include "algorithms/proxy/rigid_body.h"
+#include "algorithms/proxy/slow_loop_mailbox.h"
+#include "algorithms/proxy/virtual_coupling.h"
+
+namespace hb {
+
+namespace {
+
+auto feature_key(const ContactFeatures& f) {
+  return std::make_tuple(static_cast<int>(f.kind), f.scene_object, f.tool_feature, f.scene_feature);
+}
+
+// A finished slow update on its way to the haptic loop.
+struct Certification {
+  ProximityCertificate certificate;
+};
+
+class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
+ public:
+  ConstrainedDynamicsRenderer(const RenderContext& context,
+                              const ConstrainedDynamicsSettings& settings)
+      : settings_(settings),
+        gains_(context.coupling),
+        limits_(context.device),
+        dt_s_(context.dt_s),
+        body_(proxy_body(context.tool, settings.proxy_mass_kg, context.gravity)),
+        geometry_(context, settings.contacts),
+        certifier_(geometry_.ccd(), settings.contacts, geometry_.centre_of_mass()),
+        solver_(settings.solver) {}
+
+  void reset(const Pose& start) override {
+    escape_ = geometry_.escape(start);
+    escape_reported_ = false;
+    state_ = state_at_rest(body_, escape_.pose);
+    target_ = start;
+    certificate_ = certifier_.certify(escape_.pose, certifier_.widest_band());
+    impulses_.clear();
+    contacts_.clear();
+    mailbox_.clear();
+    previous_update_target_.reset();
+  }
+
+  TickResult step(const DeviceSample& device) override {
+    TickResult result;
+    result.work.names = &kWorkNames;
+    if (!is_finite(device)) {
+      result.flags |= kFlagNonFiniteZeroed;
+      result.proxy = tool_pose(body_, state_);
+      result.contacts = contacts_;
+      return result;
+    }
+    target_ = device.pose;
+    if (Certification* update = mailbox_.take(result.flags)) install(*update, result.work);
+
+    const Pose start = certifier_.frames().com_frame(tool_pose(body_, state_));
+    build_rows(start, result.work);
+    const Mat6 response = free_step(device);
+    const FrictionalContactSolution& solved =
+        solver_.solve(response, free_velocity_, rows_, warm_impulses_);
+    result.work.add(kSweeps, solved.sweeps);
+    result.work.add(kUnconverged, solved.converged ? 0 : 1);
+    for (const Vec3& impulse : solved.impulses) result.work.add(kActiveContacts, impulse.x() > 0);
+    impulses_ = solved.impulses;
+    advance(start, solved.velocity, result.work);
+
+    if (!is_finite(state_)) {  // restart at rest where the device is, out of the scene
+      state_ = state_at_rest(body_, geometry_.escape(device.pose).pose);
+      certificate_ = certifier_.certify(tool_pose(body_, state_), certifier_.widest_band());
+      impulses_.clear();
+      result.flags |= kFlagProxyReset;
+    }
+    const Wrench raw =
+        evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
+    result.display = device_output(raw, limits_, result.flags);
+    result.proxy = tool_pose(body_, state_);
+    report_contacts(result);
+    if (!escape_reported_ && escape_.escaped) {
+      result.work.add(kStartEscapes);
+      result.work.add(kStartEscapeUm, std::llround(escape_.distance_m * 1e6));
+    }
+    escape_reported_ = true;
+    return result;
+  }
+
+  SlowLoop* slow_loop() override { return this; }
+
+  BuildReport build_report() const override {
+    BuildReport report;
+    report.cache_hit = geometry_.ccd().cache_hit();
+    report.memory_bytes = static_cast<int64_t>(geometry_.ccd().memory_bytes());
+    return report;
+  }
+
+  // The proximity query at the proxy's pose, in a band from the device's
+  // motion since the last update (the widest band for the first).
+  std::unique_ptr<Result> run_slow_update() override {
+    auto box = mailbox_.box();
+    const double band = previous_update_target_
+                            ? certifier_.band_for(*previous_update_target_, target_)
+                            : certifier_.widest_band();
+    previous_update_target_ = target_;
+    box->data.certificate = certifier_.certify(tool_pose(body_, state_), band);
+    return box;
+  }
+
+  void install_slow_result(std::unique_ptr<Result> result) override {
+    mailbox_.install(std::move(result), "constrained_dynamics");
+  }
+
+ private:
+  enum Slot : std::size_t {
+    kPairsEvaluated,
+    kSweeps,
+    kUnconverged,
+    kActiveContacts,
+    kReachBounded,
+    kCertificatesTaken,
+    kCertificatesKept,
+    kStartEscapes,
+    kStartEscapeUm,
+  };
+  static constexpr WorkCounters::Names kWorkNames = {
+      "pairs_evaluated",   "solver_sweeps", "solver_unconverged",
+      "active_contacts",   "reach_bounded", "certificates_taken",
+      "certificates_kept", "start_escapes", "start_escape_um"};
+
+  // Takes the new certificate when the proxy lies within its reach, and
+  // carries each pair's impulse over to it for the warm start.
+  void install(Certification& update, WorkCounters& work) {
+    if (!certifier_.within_reach(update.certificate, tool_pose(body_, state_))) {
+      work.add(kCertificatesKept);
+      return;
+    }
+    work.add(kCertificatesTaken);
+    const std::vector<ContactFeatures>& old_pairs = certificate_.pairs;
+    order_.resize(old_pairs.size());
+    for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<int>(k);
+    std::sort(order_.begin(), order_.end(),
+              [&](int a, int b) { return feature_key(old_pairs[a]) < feature_key(old_pairs[b]); });
+    carried_.assign(update.certificate.pairs.size(), Vec3::Zero());
+    if (impulses_.size() == old_pairs.size()) {
+      for (std::size_t k = 0; k < carried_.size(); ++k) {
+        const auto key = feature_key(update.certificate.pairs[k]);
+        const auto found = std::lower_bound(
+            order_.begin(), order_.end(), key,
+            [&](int index, const auto& wanted) { return feature_key(old_pairs[index]) < wanted; });
+        if (found != order_.end() && feature_key(old_pairs[*found]) == key)
+          carried_[k] = impulses_[*found];
+      }
+    }
+    impulses_.swap(carried_);
+    std::swap(certificate_, update.certificate);
+  }
+
+  // One contact row per listed pair at the centre-of-mass pose `start`.
+  void build_rows(const Pose& start, WorkCounters& work) {
+    rows_.clear();
+    distances_.clear();
+    const double standoff = settings_.contacts.standoff_m;
+    for (const ContactFeatures& pair : certificate_.pairs) {
+      const PairContact contact = certifier_.evaluate(pair, start);
+      work.add(kPairsEvaluated);
+      const double gap = contact.distance - standoff;
+      const double bound =
+          gap >= 0 ? -gap / dt_s_
+                   : std::min(settings_.stabilisation * -gap / dt_s_, settings_.max_correction_mps);
+      rows_.push_back(FrictionalContactRow{contact.normal, contact.tool_point - start.p, bound,
+                                           geometry_.friction()[pair.scene_object]});
+      distances_.push_back(contact.distance);
+    }
+    warm_impulses_ = impulses_.size() == rows_.size() ? std::span<const Vec3>(impulses_)
+                                                      : std::span<const Vec3>();
+  }
+
+  // The linearised implicit Euler step without contacts: sets free_velocity_
+  // and returns the contact response (the symmetric effective mass's inverse).
+  Mat6 free_step(const DeviceSample& device) {
+    const ForceEvaluation f =
+        evaluate_coupling(gains_, body_, state_, device.pose, device.twist, true).on_proxy;
+    const Mat3 inertia = world_inertia(body_, state_.q);
+    Vec6 generalised_force;
+    generalised_force << f.wrench.force + body_.mass_kg * body_.gravity,
+        f.wrench.torque - gyroscopic_torque(inertia, state_.w);
+    Mat6 damping = f.damping;
+    damping.block<3, 3>(3, 3) -= gyroscopic_torque_jacobian(inertia, state_.w);
+    Mat6 mass = Mat6::Zero();
+    mass.block<3, 3>(0, 0) = body_.mass_kg * Mat3::Identity();
+    mass.block<3, 3>(3, 3) = inertia;
+    Vec6 velocity;
+    velocity << state_.v, state_.w;
+    const Mat6 effective = mass - dt_s_ * damping - dt_s_ * dt_s_ * f.stiffness;
+    free_velocity_ = velocity + effective.partialPivLu().solve(
+                                    dt_s_ * (generalised_force + dt_s_ * f.stiffness * velocity));
+    const Mat6 symmetric = 0.5 * (effective + effective.transpose());
+    return symmetric.inverse();
+  }
+
+  // Moves the proxy by Δt u, within the certificate's reach.
+  void advance(const Pose& start, const Vec6& velocity, WorkCounters& work) {
+    const Vec6 step = dt_s_ * velocity;
+    const double fraction = fraction_within_reach(
+        certificate_.anchor, start, step, certifier_.radius(), certifier_.reach(certificate_));
+    if (fraction < 1) work.add(kReachBounded);
+    moved_ = fraction * step;
+    const Pose end = displaced(start, moved_);
+    state_.x = end.p;
+    state_.q = end.q;
+    state_.v = fraction * velocity.head<3>();
+    state_.w = fraction * velocity.tail<3>();
+  }
+
+  // Pairs within the contact distance at the new pose, for the oracle.
+  void report_contacts(TickResult& result) {
+    contacts_.clear();
+    const double moved_reach = point_reach(moved_, certifier_.radius());
+    const Pose end = certifier_.frames().com_frame(result.proxy);
+    const double contact_distance = settings_.contacts.contact_distance_m;
+    for (std::size_t k = 0; k < certificate_.pairs.size() && k < distances_.size(); ++k) {
+      if (distances_[k] > contact_distance + moved_reach) continue;
+      const PairContact contact = certifier_.evaluate(certificate_.pairs[k], end);
+      if (contact.distance > contact_distance) continue;
+      contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
+    }
+    result.contacts = contacts_;
+  }
+
+  ConstrainedDynamicsSettings settings_;
+  CouplingGains gains_;
+  DeviceLimits limits_;
+  double dt_s_;
+  RigidBody body_;
+  GodObjectSolver geometry_;  ///< the mesh CCD, the scene's friction and the start escape
+  ProximityCertifier certifier_;
+  FrictionalContactSolver solver_;
+  RigidBodyState state_;
+  Pose target_;  ///< the latest finite device pose, read by the slow loop
+  ProximityCertificate certificate_;
+  std::vector<Vec3> impulses_;  ///< last tick's impulses, one per listed pair
+  std::vector<Vec3> carried_;
+  std::vector<int> order_;
+  std::vector<FrictionalContactRow> rows_;
+  std::vector<double> distances_;  ///< per listed pair at the start of the tick (m)
+  std::span<const Vec3> warm_impulses_;
+  Vec6 free_velocity_ = Vec6::Zero();
+  Vec6 moved_ = Vec6::Zero();
+  std::vector<Contact> contacts_;
+  SlowLoopMailbox<Certification> mailbox_;
+  std::optional<Pose> previous_update_target_;
+  StartEscape escape_;
+  bool escape_reported_ = false;
+};
+
+}  // namespace
+
+ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& params,
+                                                               const Tool& tool) {
+  ConstrainedDynamicsSettings settings;
+  GodObjectSettings contact_defaults;
+  contact_defaults.haptic_max_pairs = 256;
+  if (params.has("max_iterations"))
+    throw InputError("", params.field("max_iterations"),
+                     "constrained_dynamics makes no slow-loop moves; its solver's limit is "
+                     "\"solver_sweeps\"");
+  settings.contacts = read_god_object_settings(params, false, contact_defaults);
+  settings.solver.max_sweeps =
+      static_cast<int>(params.integer("solver_sweeps", settings.solver.max_sweeps, 1, 100000));
+  settings.solver.tolerance = params.number("solver_tolerance", 1e-7, 0, 1.0);
+  settings.stabilisation = params.number("stabilisation", settings.stabilisation, 0, 1);
+  if (!(settings.stabilisation > 0))
+    throw InputError("", params.field("stabilisation"), "expected a fraction in (0, 1]");
+  settings.max_correction_mps =
+      params.number("max_correction_speed", settings.max_correction_mps, 1e-6, 10);
+  settings.proxy_mass_kg = read_proxy_mass(params, tool);
+  return settings;
+}
+
+std::unique_ptr<Renderer> create_constrained_dynamics(const RenderContext& context,
+                                                      const ParamSet& params) {
+  return std::make_unique<ConstrainedDynamicsRenderer>(
+      context, read_constrained_dynamics_settings(params, context.tool));
+}
+
+}  // namespace hb

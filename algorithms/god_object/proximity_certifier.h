@@ -1,0 +1,65 @@
+// Contact discovery for a haptic-rate constraint solve, shared by the
+// god-object's haptic proxy and the constrained-dynamics proxy: the slow
+// loop's proximity query around an anchor pose (a certificate listing every
+// feature pair within a band), how wide the band should be, whether a pose
+// is still within the certificate's reach, and a listed pair's closest
+// points re-evaluated at the current pose (haptic_proxy.h explains why a
+// proxy that stays within reach cannot pass a pair that is not listed).
+#pragma once
+
+#include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/core/pose.h"
+#include "algorithms/god_object/god_object_update.h"
+#include "algorithms/god_object/proxy_motion.h"
+
+namespace hb {
+
+/// A listed pair at one pose.
+struct PairContact {
+  Vec3 scene_point = Vec3::Zero();  ///< world, m: the scene feature's closest point
+  Vec3 tool_point = Vec3::Zero();   ///< world, m: the tool feature's closest point
+  /// World, unit, pushes the tool out of the scene: from the scene point to
+  /// the tool point (the pair's own normal when they coincide).
+  Vec3 normal = Vec3::UnitZ();
+  double distance = 0;  ///< m, between the two features (≥ 0)
+};
+
+class ProximityCertifier {
+ public:
+  /// `ccd` must outlive the certifier. Settings as read by
+  /// read_god_object_settings; centre_of_mass in tool coordinates (m).
+  ProximityCertifier(const MeshCcd& ccd, const GodObjectSettings& settings,
+                     const Vec3& centre_of_mass);
+
+  /// The proximity query at `tool_pose`, listing pairs within `band_m` (at
+  /// most settings.haptic_max_pairs, the nearest).
+  ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
+
+  /// The band for the next certificate: six times how far (point_reach) the
+  /// device moved from `previous_target` to `target` between two slow
+  /// updates, within the settings' [haptic_band_min_m, haptic_band_m].
+  double band_for(const Pose& previous_target, const Pose& target) const;
+  double widest_band() const { return settings_.haptic_band_m; }
+
+  /// How far (point_reach, m) the proxy may move from the certificate's anchor.
+  double reach(const ProximityCertificate& certificate) const {
+    return certificate.clearance_m - settings_.standoff_m;
+  }
+  /// Whether the tool-frame pose lies within the certificate's reach.
+  bool within_reach(const ProximityCertificate& certificate, const Pose& tool_pose) const;
+
+  /// The pair at the tool's centre-of-mass frame `com_pose` (world).
+  PairContact evaluate(const ContactFeatures& pair, const Pose& com_pose) const;
+
+  const ProxyFrames& frames() const { return frames_; }
+  /// The tool's radius about its centre of mass (m; 0 for a point tool).
+  double radius() const { return radius_; }
+
+ private:
+  const MeshCcd& ccd_;
+  GodObjectSettings settings_;
+  ProxyFrames frames_;
+  double radius_;
+};
+
+}  // namespace hb
