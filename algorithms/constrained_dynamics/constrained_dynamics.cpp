@@ -53,6 +53,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     contacts_.clear();
     mailbox_.clear();
     previous_update_target_.reset();
+    previous_update_proxy_.reset();
   }
 
   TickResult step(const DeviceSample& device) override {
@@ -107,14 +108,19 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   }
 
   // The proximity query at the proxy's pose, in a band from the device's
-  // motion since the last update (the widest band for the first).
+  // or the proxy's motion since the last update, whichever moved more (a
+  // proxy sliding under gravity moves without the device; the widest band
+  // for the first update).
   std::unique_ptr<Result> run_slow_update() override {
     auto box = mailbox_.box();
+    const Pose proxy = tool_pose(body_, state_);
     const double band = previous_update_target_
-                            ? certifier_.band_for(*previous_update_target_, target_)
+                            ? std::max(certifier_.band_for(*previous_update_target_, target_),
+                                       certifier_.band_for(*previous_update_proxy_, proxy))
                             : certifier_.widest_band();
     previous_update_target_ = target_;
-    box->data.certificate = certifier_.certify(tool_pose(body_, state_), band);
+    previous_update_proxy_ = proxy;
+    box->data.certificate = certifier_.certify(proxy, band);
     return box;
   }
 
@@ -260,7 +266,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   Vec6 moved_ = Vec6::Zero();
   std::vector<Contact> contacts_;
   SlowLoopMailbox<Certification> mailbox_;
-  std::optional<Pose> previous_update_target_;
+  std::optional<Pose> previous_update_target_;  ///< the device's pose at the last slow update
+  std::optional<Pose> previous_update_proxy_;   ///< the proxy's pose at the last slow update
   StartEscape escape_;
   bool escape_reported_ = false;
 };

@@ -125,6 +125,33 @@ TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   for (const Contact& contact : rig.proxy.contacts()) CHECK(contact.normal.z() > 0.999);
 }
 
+TEST_CASE(
+    "with friction the proxy sticks until the coupling's pull exceeds mu F_n, then trails "
+    "by mu times the depth") {
+  const double mu = 0.4, depth = 0.003;
+  CubeOnSlab rig;
+  HapticProxy proxy(rig.solver.ccd(), rig.context.coupling, rig.settings,
+                    rig.context.tool.mass.centre_of_mass, {mu});
+  proxy.reset(at(Vec3(0, 0, 0.021)));
+  auto step_to = [&](const Pose& target, int tick) {
+    if (tick % 5 == 0) proxy.offer(proxy.certify(proxy.pose(), 0.004), proxy.pose(), target);
+    proxy.step(target);
+  };
+  for (int tick = 0; tick < 50; ++tick) step_to(at(Vec3(0, 0, 0.02 - depth)), tick);
+  const double rest_z = proxy.pose().p.z();
+  const double pressed = rest_z - (0.02 - depth);  // the coupling's stretch along the normal
+  for (int tick = 1; tick <= 400; ++tick) {
+    const double x = 5e-5 * tick;  // 20 mm in 400 ticks
+    step_to(at(Vec3(x, 0, 0.02 - depth)), tick);
+    INFO("tick " << tick);
+    if (x < 0.99 * mu * pressed)
+      CHECK(proxy.pose().p.x() == Approx(0).margin(1e-9));  // stuck
+    else if (x > 1.01 * mu * pressed)
+      CHECK(x - proxy.pose().p.x() == Approx(mu * pressed).epsilon(1e-4));  // sliding at mu F_n
+    CHECK(proxy.pose().p.z() == Approx(rest_z).margin(1e-9));
+  }
+}
+
 TEST_CASE("the band follows the device's speed between slow updates, within its limits") {
   CubeOnSlab rig;
   const Pose still = at(Vec3(0, 0, 0.1));

@@ -1,0 +1,242 @@
+// constrained_dynamics: in free space it is the implicit dynamic proxy; a
+// cube pressed into a face rests at the standoff with the coupling's force;
+// random device motions never carry a vertex below the face; a cube on a
+// slope holds when μ exceeds tan(angle) and slides at g (sin − μ cos) below;
+// a press-and-drag sticks below μ F_n and slides at μ F_n; runs repeat bit
+// for bit; bad parameters are named.
+#include "algorithms/constrained_dynamics/constrained_dynamics.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "algorithms/core/input_error.h"
+#include "algorithms/core/shapes.h"
+#include "algorithms/proxy/dynamic_proxy.h"
+#include "algorithms/proxy/proxy_settings.h"
+#include "tests/support/proxy_fixtures.h"
+#include "tests/support/render_fixtures.h"
+
+namespace hb {
+namespace {
+
+constexpr double kCube = 0.04;  // cube tool edge (m)
+
+// A 4 cm cube tool over a 0.4 × 0.4 × 0.02 m slab whose top face is the
+// plane through the origin with normal R·z (R = the slab's rotation).
+RenderContext cube_over_slab(double friction, const Quat& slab_rotation = Quat::Identity()) {
+  RenderContext context;
+  SceneObject slab = test::box_object(Vec3(0.4, 0.4, 0.02),
+                                      Pose{slab_rotation * Vec3(0, 0, -0.01), slab_rotation});
+  slab.mesh = shape_mesh(*slab.shape);
+  slab.friction = friction;
+  slab.content_hash = "slab";
+  context.scene.push_back(slab);
+  context.tool = test::box_tool(Vec3::Constant(kCube));
+  context.tool.mesh = shape_mesh(*context.tool.shape);
+  context.tool.content_hash = "cube";
+  context.coupling = test::example_gains();
+  return context;
+}
+
+DeviceSample sample_at(int64_t tick, const Pose& pose, const Twist& twist = {}) {
+  DeviceSample sample;
+  sample.tick = tick;
+  sample.t_ns = tick * 1'000'000;
+  sample.pose = pose;
+  sample.twist = twist;
+  return sample;
+}
+
+Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
+
+// Runs the renderer with its slow loop every `period` ticks (installed at once).
+class Rig {
+ public:
+  Rig(const RenderContext& context, const ParamSet& params = test::params_of({}))
+      : context_(context), renderer_(create_constrained_dynamics(context, params)) {}
+  void reset(const Pose& start) {
+    renderer_->reset(start);
+    tick_ = 0;
+  }
+  TickResult step(const Pose& device, const Twist& twist = {}, int period = 10) {
+    if (tick_ % period == 0) {
+      SlowLoop* slow = renderer_->slow_loop();
+      slow->install_slow_result(slow->run_slow_update());
+    }
+    return renderer_->step(sample_at(tick_++, device, twist));
+  }
+  // Signed height of the tool's lowest vertex above the slab's top face (m).
+  double lowest_vertex_height(const Pose& proxy) const {
+    const Vec3 up = context_.scene[0].pose.q * Vec3::UnitZ();
+    double lowest = 1e300;
+    for (const Vec3& vertex : context_.tool.mesh.vertices)
+      lowest = std::min(lowest, up.dot(proxy.transform_point(vertex)));
+    return lowest;
+  }
+
+ private:
+  RenderContext context_;
+  std::unique_ptr<Renderer> renderer_;
+  int64_t tick_ = 0;
+};
+
+TEST_CASE("in free space constrained dynamics is the implicit dynamic proxy",
+          "[constrained_dynamics]") {
+  const RenderContext context = cube_over_slab(0.5);
+  Rig rig(context);
+  DynamicProxy reference(proxy_body(context.tool, context.tool.mass.mass_kg, Vec3::Zero()),
+                         context.coupling, IntegratorKind::kImplicitEuler, 1e-3);
+  const Pose start = at(Vec3(0, 0, 0.2));
+  rig.reset(start);
+  reference.reset(start);
+  for (int tick = 0; tick < 300; ++tick) {
+    const double s = 1e-3 * tick;
+    const Pose device = at(Vec3(0.05 * std::sin(3 * s), 0.02 * s, 0.2),
+                           quat_from_rotation_vector(Vec3(0, 0.3 * s, 0.1 * s)));
+    const Twist twist{Vec3(0.15 * std::cos(3 * s), 0.02, 0), Vec3(0, 0.3, 0.1)};
+    const TickResult result = rig.step(device, twist);
+    uint32_t flags = 0;
+    const Wrench expected = reference.advance(sample_at(tick, device, twist), nullptr, flags);
+    INFO("tick " << tick);
+    CHECK((result.proxy.p - reference.tool_pose().p).norm() < 1e-12);
+    CHECK((result.display.force - expected.force).norm() < 1e-9);
+    CHECK((result.display.torque - expected.torque).norm() < 1e-9);
+    CHECK(result.contacts.empty());
+  }
+}
+
+TEST_CASE("a cube pressed into the face rests on it with the coupling's force",
+          "[constrained_dynamics]") {
+  Rig rig(cube_over_slab(0));
+  rig.reset(at(Vec3(0, 0, 0.021)));           // 1 mm above the face
+  const Pose device = at(Vec3(0, 0, 0.017));  // 3 mm deep
+  TickResult result;
+  for (int tick = 0; tick < 1000; ++tick) result = rig.step(device);
+  const double height = rig.lowest_vertex_height(result.proxy);
+  CHECK(height >= 0);
+  CHECK(height <= 2e-5);  // at the 10 µm standoff
+  // The device is 3 mm (plus the standoff's gap) below the resting proxy.
+  CHECK(result.display.force.z() == Approx(2000 * (0.003 + height)).epsilon(1e-6));
+  CHECK(result.display.force.head<2>().norm() < 1e-6);
+  CHECK(result.contacts.size() >= 4);
+}
+
+TEST_CASE("random device motions never carry a cube vertex below the face",
+          "[constrained_dynamics]") {
+  Rig rig(cube_over_slab(0.3));
+  rig.reset(at(Vec3(0, 0, 0.05)));
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> offset(-0.001, 0.001);
+  std::uniform_real_distribution<double> angle(-0.02, 0.02);
+  Pose device = at(Vec3(0, 0, 0.05));
+  int contact_ticks = 0;
+  double lowest = 1e300;
+  for (int tick = 0; tick < 3000; ++tick) {
+    device.p += Vec3(offset(rng), offset(rng), offset(rng) - 0.0004);
+    device.p.z() = std::clamp(device.p.z(), 0.0, 0.06);
+    device.p.x() = std::clamp(device.p.x(), -0.1, 0.1);
+    device.p.y() = std::clamp(device.p.y(), -0.1, 0.1);
+    device.q = (quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng))) * device.q)
+                   .normalized();
+    const TickResult result = rig.step(device);
+    lowest = std::min(lowest, rig.lowest_vertex_height(result.proxy));
+    if (!result.contacts.empty()) ++contact_ticks;
+  }
+  CHECK(lowest >= -1e-6);  // the goal is 50 µm; the proxy keeps above the face
+  CHECK(contact_ticks > 500);
+}
+
+// A cube released on a slab tilted by `angle` about y under gravity, the
+// coupling switched off: how far its centre moved downhill in `seconds`.
+double slide_down_slope(double angle, double friction, double seconds) {
+  const Quat tilt = quat_from_rotation_vector(Vec3(0, angle, 0));
+  RenderContext context = cube_over_slab(friction, tilt);
+  context.coupling = CouplingGains{0, 0, 0, 0};
+  context.gravity = Vec3(0, 0, -9.81);
+  Rig rig(context);
+  const Pose start = at(tilt * Vec3(0, 0, kCube / 2 + 1e-5), tilt);
+  rig.reset(start);
+  TickResult result;
+  for (int tick = 0; tick < static_cast<int>(seconds / 1e-3); ++tick) result = rig.step(start);
+  const Vec3 downhill = tilt * Vec3::UnitX();  // turned about y, +x dips
+  return downhill.dot(result.proxy.p - start.p);
+}
+
+TEST_CASE("a cube on a slope holds when mu exceeds tan(angle) and slides below",
+          "[constrained_dynamics]") {
+  const double angle = 20 * std::numbers::pi / 180, g = 9.81, seconds = 0.15;
+  CHECK(std::abs(slide_down_slope(angle, 1.05 * std::tan(angle), seconds)) < 1e-6);
+  for (double mu : {0.1, 0.95 * std::tan(angle)}) {
+    const double expected = 0.5 * g * (std::sin(angle) - mu * std::cos(angle)) * seconds * seconds;
+    INFO("mu " << mu);
+    CHECK(slide_down_slope(angle, mu, seconds) == Approx(expected).epsilon(0.02));
+  }
+}
+
+TEST_CASE("a press and drag sticks below mu F_n and slides at mu F_n", "[constrained_dynamics]") {
+  const double mu = 0.4;
+  Rig rig(cube_over_slab(mu));
+  rig.reset(at(Vec3(0, 0, 0.021)));
+  // Press 3 mm (F_n ≈ 6 N), then drag the device along x at 2 cm/s.
+  TickResult result;
+  for (int tick = 0; tick < 500; ++tick) result = rig.step(at(Vec3(0, 0, 0.017)));
+  const double normal = result.display.force.z();
+  REQUIRE(normal == Approx(6).epsilon(0.01));
+  int sticking = 0, sliding = 0;
+  for (int tick = 1; tick <= 1500; ++tick) {
+    const double x = 2e-5 * tick;
+    result = rig.step(at(Vec3(x, 0, 0.017)), Twist{Vec3(0.02, 0, 0), Vec3::Zero()});
+    const double tangential = std::abs(result.display.force.x());
+    if (2000 * x < 0.9 * mu * normal) {  // the coupling's pull is below the cone: stuck
+      ++sticking;
+      CHECK(result.proxy.p.x() == Approx(0).margin(1e-7));
+    } else if (tick > 1000) {  // well into steady sliding
+      ++sliding;
+      CHECK(tangential / result.display.force.z() == Approx(mu).epsilon(0.02));
+    }
+  }
+  CHECK(sticking > 50);
+  CHECK(sliding > 100);
+}
+
+TEST_CASE("constrained dynamics runs repeat bit for bit", "[constrained_dynamics]") {
+  auto run = [] {
+    Rig rig(cube_over_slab(0.3));
+    rig.reset(at(Vec3(0, 0, 0.03)));
+    std::vector<double> trace;
+    for (int tick = 0; tick < 800; ++tick) {
+      const double s = 1e-3 * tick;
+      const TickResult r = rig.step(at(Vec3(0.03 * std::sin(4 * s), 0.01 * s, 0.02 - 0.01 * s),
+                                       quat_from_rotation_vector(Vec3(0.2 * s, 0, 0.4 * s))));
+      trace.insert(trace.end(), {r.display.force.x(), r.display.force.y(), r.display.force.z(),
+                                 r.display.torque.x(), r.proxy.p.x(), r.proxy.q.w()});
+    }
+    return trace;
+  };
+  CHECK(run() == run());
+}
+
+TEST_CASE("constrained dynamics names bad parameters", "[constrained_dynamics]") {
+  const RenderContext context = cube_over_slab(0);
+  auto fails_at = [&](const char* key, ParamValue value, const char* field) {
+    try {
+      create_constrained_dynamics(context, test::params_of({{key, value}}));
+    } catch (const InputError& error) {
+      CHECK(error.location() == field);
+      return;
+    }
+    FAIL("no error for " << key);
+  };
+  fails_at("stabilisation", 0.0, "/algorithms/0/params/stabilisation");
+  fails_at("solver_sweeps", 0.0, "/algorithms/0/params/solver_sweeps");
+  fails_at("max_iterations", 3.0, "/algorithms/0/params/max_iterations");
+  fails_at("proxy_mass_kg", -1.0, "/algorithms/0/params/proxy_mass_kg");
+  fails_at("standoff", 0.0, "/algorithms/0/params/standoff");
+}
+
+}  // namespace
+}  // namespace hb
