@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -49,7 +48,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     state_ = state_at_rest(body_, escape_.pose);
     target_ = start;
     certificate_ = certifier_.certify(escape_.pose, certifier_.widest_band());
-    impulses_.clear();
+    impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
     contacts_.clear();
     mailbox_.clear();
     previous_update_target_.reset();
@@ -69,20 +68,23 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     if (Certification* update = mailbox_.take(result.flags)) install(*update, result.work);
 
     const Pose start = certifier_.frames().com_frame(tool_pose(body_, state_));
-    build_rows(start, result.work);
     const Mat6 response = free_step(device);
-    const FrictionalContactSolution& solved =
-        solver_.solve(response, free_velocity_, rows_, warm_impulses_);
+    const double reach_limit = build_rows(start, result.work);
+    const FrictionalContactSolution& solved = solver_.solve(
+        response, free_velocity_, rows_, std::span<const Vec3>(impulses_).first(rows_.size()));
     result.work.add(kSweeps, solved.sweeps);
     result.work.add(kUnconverged, solved.converged ? 0 : 1);
-    for (const Vec3& impulse : solved.impulses) result.work.add(kActiveContacts, impulse.x() > 0);
-    impulses_ = solved.impulses;
-    advance(start, solved.velocity, result.work);
+    std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
+    for (std::size_t k = 0; k < rows_.size(); ++k) {
+      impulses_[k] = solved.impulses[k];
+      result.work.add(kActiveContacts, solved.impulses[k].x() > 0);
+    }
+    advance(start, solved.velocity, reach_limit, result.work);
 
     if (!is_finite(state_)) {  // restart at rest where the device is, out of the scene
       state_ = state_at_rest(body_, geometry_.escape(device.pose).pose);
       certificate_ = certifier_.certify(tool_pose(body_, state_), certifier_.widest_band());
-      impulses_.clear();
+      impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
       result.flags |= kFlagProxyReset;
     }
     const Wrench raw =
@@ -153,32 +155,43 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
       return;
     }
     work.add(kCertificatesTaken);
-    const std::vector<ContactFeatures>& old_pairs = certificate_.pairs;
-    order_.resize(old_pairs.size());
-    for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<int>(k);
-    std::sort(order_.begin(), order_.end(),
-              [&](int a, int b) { return feature_key(old_pairs[a]) < feature_key(old_pairs[b]); });
+    // Only pairs that carried an impulse matter (a few); the new list is
+    // nearest first, where they are, so the search ends early.
     carried_.assign(update.certificate.pairs.size(), Vec3::Zero());
-    if (impulses_.size() == old_pairs.size()) {
-      for (std::size_t k = 0; k < carried_.size(); ++k) {
-        const auto key = feature_key(update.certificate.pairs[k]);
-        const auto found = std::lower_bound(
-            order_.begin(), order_.end(), key,
-            [&](int index, const auto& wanted) { return feature_key(old_pairs[index]) < wanted; });
-        if (found != order_.end() && feature_key(old_pairs[*found]) == key)
-          carried_[k] = impulses_[*found];
-      }
+    for (std::size_t old = 0; old < impulses_.size(); ++old) {
+      if (impulses_[old].isZero()) continue;
+      const auto& pairs = update.certificate.pairs;
+      const auto found = std::find(pairs.begin(), pairs.end(), certificate_.pairs[old]);
+      if (found != pairs.end()) carried_[found - pairs.begin()] = impulses_[old];
     }
     impulses_.swap(carried_);
     std::swap(certificate_, update.certificate);
   }
 
-  // One contact row per listed pair at the centre-of-mass pose `start`.
-  void build_rows(const Pose& start, WorkCounters& work) {
+  // One contact row per listed pair that this tick's motion could bring
+  // within the standoff, at the centre-of-mass pose `start`; returns how
+  // far (point_reach from the anchor, m) the proxy may move this tick.
+  // The certificate lists its pairs nearest first with their distances at
+  // the anchor; a pair at distance d there is at least d − ρ away at the
+  // start (ρ: the start's reach from the anchor), so only the nearest ones,
+  // up to s + w + ρ with w twice the free motion's reach (at least the
+  // contact distance), are evaluated, and the motion is held within the
+  // first pair left out (which keeps at least w of room).
+  double build_rows(const Pose& start, WorkCounters& work) {
     rows_.clear();
     distances_.clear();
     const double standoff = settings_.contacts.standoff_m;
-    for (const ContactFeatures& pair : certificate_.pairs) {
+    const double radius = certifier_.radius();
+    const double reach = point_reach(displacement(certificate_.anchor, start), radius);
+    const double window = std::max(settings_.contacts.contact_distance_m,
+                                   2 * point_reach(dt_s_ * free_velocity_, radius));
+    double limit = certifier_.reach(certificate_);
+    for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
+      if (certificate_.distances[k] - reach > standoff + window) {
+        limit = std::min(limit, certificate_.distances[k] - standoff);
+        break;
+      }
+      const ContactFeatures& pair = certificate_.pairs[k];
       const PairContact contact = certifier_.evaluate(pair, start);
       work.add(kPairsEvaluated);
       const double gap = contact.distance - standoff;
@@ -189,8 +202,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
                                            geometry_.friction()[pair.scene_object]});
       distances_.push_back(contact.distance);
     }
-    warm_impulses_ = impulses_.size() == rows_.size() ? std::span<const Vec3>(impulses_)
-                                                      : std::span<const Vec3>();
+    return limit;
   }
 
   // The linearised implicit Euler step without contacts: sets free_velocity_
@@ -216,11 +228,11 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     return symmetric.inverse();
   }
 
-  // Moves the proxy by Δt u, within the certificate's reach.
-  void advance(const Pose& start, const Vec6& velocity, WorkCounters& work) {
+  // Moves the proxy by Δt u, within `reach_limit` of the certificate's anchor.
+  void advance(const Pose& start, const Vec6& velocity, double reach_limit, WorkCounters& work) {
     const Vec6 step = dt_s_ * velocity;
-    const double fraction = fraction_within_reach(
-        certificate_.anchor, start, step, certifier_.radius(), certifier_.reach(certificate_));
+    const double fraction =
+        fraction_within_reach(certificate_.anchor, start, step, certifier_.radius(), reach_limit);
     if (fraction < 1) work.add(kReachBounded);
     moved_ = fraction * step;
     const Pose end = displaced(start, moved_);
@@ -258,10 +270,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   ProximityCertificate certificate_;
   std::vector<Vec3> impulses_;  ///< last tick's impulses, one per listed pair
   std::vector<Vec3> carried_;
-  std::vector<int> order_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<double> distances_;  ///< per listed pair at the start of the tick (m)
-  std::span<const Vec3> warm_impulses_;
   Vec6 free_velocity_ = Vec6::Zero();
   Vec6 moved_ = Vec6::Zero();
   std::vector<Contact> contacts_;
@@ -286,7 +296,7 @@ ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& p
   settings.contacts = read_god_object_settings(params, false, contact_defaults);
   settings.solver.max_sweeps =
       static_cast<int>(params.integer("solver_sweeps", settings.solver.max_sweeps, 1, 100000));
-  settings.solver.tolerance = params.number("solver_tolerance", 1e-7, 0, 1.0);
+  settings.solver.tolerance = params.number("solver_tolerance", 1e-6, 0, 1.0);
   settings.stabilisation = params.number("stabilisation", settings.stabilisation, 0, 1);
   if (!(settings.stabilisation > 0))
     throw InputError("", params.field("stabilisation"), "expected a fraction in (0, 1]");

@@ -56,7 +56,8 @@ struct ConstrainedDynamicsSettings {
 
 /// Reads the god-object's contact keys (standoff, contact_distance,
 /// haptic_band, haptic_band_min, haptic_max_pairs default 256, ccd_*),
-/// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-7),
+/// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-6:
+/// a nanometre per tick),
 /// "stabilisation", "max_correction_speed" and "proxy_mass_kg". Throws
 /// InputError naming the field.
 ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& params,

@@ -74,6 +74,7 @@ struct GodObjectSettings {
 struct ProximityCertificate {
   Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
   std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
+  std::vector<double> distances;       ///< per pair, its distance at the anchor (m), ascending
   double clearance_m = 0;              ///< every other pair is at least this far apart there
 };
 

@@ -24,7 +24,11 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
       certificate.anchor, band_m, static_cast<std::size_t>(settings_.haptic_max_pairs));
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
-  for (const ProximityPair& pair : found.pairs) certificate.pairs.push_back(pair.features);
+  certificate.distances.reserve(found.pairs.size());
+  for (const ProximityPair& pair : found.pairs) {
+    certificate.pairs.push_back(pair.features);
+    certificate.distances.push_back(pair.distance);
+  }
   return certificate;
 }
 
