@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/god_object/constrained_step.h"
 #include "algorithms/god_object/god_object.h"
 #include "algorithms/god_object/proximity_certifier.h"
 #include "algorithms/proxy/device_output.h"
@@ -19,10 +20,6 @@
 namespace hb {
 
 namespace {
-
-auto feature_key(const ContactFeatures& f) {
-  return std::make_tuple(static_cast<int>(f.kind), f.scene_object, f.tool_feature, f.scene_feature);
-}
 
 // A finished slow update on its way to the haptic loop.
 struct Certification {
@@ -49,6 +46,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     target_ = start;
     certificate_ = certifier_.certify(escape_.pose, certifier_.widest_band());
     impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
+    warm_active_.clear();
     contacts_.clear();
     mailbox_.clear();
     previous_update_target_.reset();
@@ -68,18 +66,22 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     if (Certification* update = mailbox_.take(result.flags)) install(*update, result.work);
 
     const Pose start = certifier_.frames().com_frame(tool_pose(body_, state_));
-    const Mat6 response = free_step(device);
+    const Mat6 effective_mass = free_step(device);
     const double reach_limit = build_rows(start, result.work);
-    const FrictionalContactSolution& solved = solver_.solve(
-        response, free_velocity_, rows_, std::span<const Vec3>(impulses_).first(rows_.size()));
-    result.work.add(kSweeps, solved.sweeps);
+    const std::span<const Vec3> warm(impulses_.data(), rows_.size());
+    const ConstrainedStep& solved = solver_.solve(
+        effective_mass, free_velocity_, rows_, friction_, warm_active_,
+        std::all_of(warm.begin(), warm.end(), [](const Vec3& i) { return i.isZero(); })
+            ? std::span<const Vec3>()
+            : warm);
+    result.work.add(kSolverIterations, solved.iterations);
     result.work.add(kUnconverged, solved.converged ? 0 : 1);
     std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
     for (std::size_t k = 0; k < rows_.size(); ++k) {
       impulses_[k] = solved.impulses[k];
       result.work.add(kActiveContacts, solved.impulses[k].x() > 0);
     }
-    advance(start, solved.velocity, reach_limit, result.work);
+    advance(start, solved.step, reach_limit, result.work);
 
     if (!is_finite(state_)) {  // restart at rest where the device is, out of the scene
       state_ = state_at_rest(body_, geometry_.escape(device.pose).pose);
@@ -133,7 +135,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
  private:
   enum Slot : std::size_t {
     kPairsEvaluated,
-    kSweeps,
+    kSolverIterations,
     kUnconverged,
     kActiveContacts,
     kReachBounded,
@@ -143,9 +145,9 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     kStartEscapeUm,
   };
   static constexpr WorkCounters::Names kWorkNames = {
-      "pairs_evaluated",   "solver_sweeps", "solver_unconverged",
-      "active_contacts",   "reach_bounded", "certificates_taken",
-      "certificates_kept", "start_escapes", "start_escape_um"};
+      "pairs_evaluated",   "solver_iterations", "solver_unconverged",
+      "active_contacts",   "reach_bounded",     "certificates_taken",
+      "certificates_kept", "start_escapes",     "start_escape_um"};
 
   // Takes the new certificate when the proxy lies within its reach, and
   // carries each pair's impulse over to it for the warm start.
@@ -179,6 +181,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   // first pair left out (which keeps at least w of room).
   double build_rows(const Pose& start, WorkCounters& work) {
     rows_.clear();
+    friction_.clear();
     distances_.clear();
     const double standoff = settings_.contacts.standoff_m;
     const double radius = certifier_.radius();
@@ -198,15 +201,16 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
       const double bound =
           gap >= 0 ? -gap / dt_s_
                    : std::min(settings_.stabilisation * -gap / dt_s_, settings_.max_correction_mps);
-      rows_.push_back(FrictionalContactRow{contact.normal, contact.tool_point - start.p, bound,
-                                           geometry_.friction()[pair.scene_object]});
+      rows_.push_back(GaussConstraint{contact.normal, contact.tool_point - start.p, bound});
+      friction_.push_back(geometry_.friction()[pair.scene_object]);
       distances_.push_back(contact.distance);
     }
     return limit;
   }
 
   // The linearised implicit Euler step without contacts: sets free_velocity_
-  // and returns the contact response (the symmetric effective mass's inverse).
+  // and returns the metric of the contact solve, the effective mass's
+  // symmetric part.
   Mat6 free_step(const DeviceSample& device) {
     const ForceEvaluation f =
         evaluate_coupling(gains_, body_, state_, device.pose, device.twist, true).on_proxy;
@@ -224,8 +228,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     const Mat6 effective = mass - dt_s_ * damping - dt_s_ * dt_s_ * f.stiffness;
     free_velocity_ = velocity + effective.partialPivLu().solve(
                                     dt_s_ * (generalised_force + dt_s_ * f.stiffness * velocity));
-    const Mat6 symmetric = 0.5 * (effective + effective.transpose());
-    return symmetric.inverse();
+    return 0.5 * (effective + effective.transpose());
   }
 
   // Moves the proxy by Δt u, within `reach_limit` of the certificate's anchor.
@@ -264,13 +267,15 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   RigidBody body_;
   GodObjectSolver geometry_;  ///< the mesh CCD, the scene's friction and the start escape
   ProximityCertifier certifier_;
-  FrictionalContactSolver solver_;
   RigidBodyState state_;
   Pose target_;  ///< the latest finite device pose, read by the slow loop
   ProximityCertificate certificate_;
   std::vector<Vec3> impulses_;  ///< last tick's impulses, one per listed pair
   std::vector<Vec3> carried_;
-  std::vector<FrictionalContactRow> rows_;
+  ConstrainedStepSolver solver_;
+  std::vector<GaussConstraint> rows_;
+  std::vector<double> friction_;   ///< μ per row
+  std::vector<int> warm_active_;   ///< the frictionless solve's last active set
   std::vector<double> distances_;  ///< per listed pair at the start of the tick (m)
   Vec6 free_velocity_ = Vec6::Zero();
   Vec6 moved_ = Vec6::Zero();

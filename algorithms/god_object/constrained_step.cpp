@@ -4,34 +4,49 @@
 
 namespace hb {
 
+ConstrainedStepSolver::ConstrainedStepSolver(const FrictionalContactOptions& options)
+    : frictional_(options) {}
+
 const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Vec6& unconstrained,
                                                     std::span<const GaussConstraint> constraints,
                                                     std::span<const double> friction,
-                                                    std::vector<int>& warm_active) {
+                                                    std::vector<int>& warm_active,
+                                                    std::span<const Vec3> warm_impulses) {
   ConstrainedStep& r = result_;
-  r = ConstrainedStep{unconstrained, 0, true};
+  r.step = unconstrained;
+  r.impulses.assign(constraints.size(), Vec3::Zero());
+  r.iterations = 0;
+  r.converged = true;
+  r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
   if (constraints.empty()) return r;
-  const bool frictionless =
-      std::all_of(friction.begin(), friction.end(), [](double mu) { return mu <= 0; });
-  if (frictionless) {
+
+  const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
+  if (seed_from_qp) {
     std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
     const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
     r.iterations = solution.iterations;
     r.converged = solution.converged;
     warm_active = solution.converged ? solution.active : std::vector<int>{};
-    r.step = solution.converged ? solution.acceleration : Vec6::Zero();
-    return r;
+    r.step = solution.acceleration;
+    for (std::size_t k = 0; k < constraints.size(); ++k)
+      r.impulses[k].x() = solution.multipliers[k];
+    if (!r.with_friction) return r;
   }
-  warm_active.clear();
+
   rows_.clear();
   for (std::size_t k = 0; k < constraints.size(); ++k)
     rows_.push_back(FrictionalContactRow{constraints[k].normal, constraints[k].lever,
                                          constraints[k].rhs, friction[k]});
+  if (seed_from_qp)
+    seed_ = r.impulses;
+  else
+    seed_.assign(warm_impulses.begin(), warm_impulses.end());
   const FrictionalContactSolution& solution =
-      frictional_.solve(metric.inverse(), unconstrained, rows_);
-  r.iterations = solution.sweeps;
+      frictional_.solve(metric.inverse(), unconstrained, rows_, seed_);
+  r.iterations += solution.sweeps;
   r.converged = solution.converged;
-  r.step = solution.converged ? solution.velocity : Vec6::Zero();
+  r.step = solution.velocity;
+  r.impulses = solution.impulses;
   return r;
 }
 

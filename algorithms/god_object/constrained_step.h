@@ -1,14 +1,22 @@
-// The god-object's constrained displacement with surface friction (Ortega,
-// Redon & Coquillart 2007, "with surface properties"): the displacement a of
-// the massless proxy nearest the unconstrained one a^u in the coupling's
-// metric K, subject to the contacts' non-penetration, with Coulomb friction
-// on the contact forces λ = K (a − a^u) projected on the contacts: a contact
-// sticks (no tangential displacement) while the tangential force it must
-// carry is at most μ times its normal force, and slides with exactly μ
-// times it otherwise. This is the quasi-static Coulomb law for a massless
-// proxy, solved as the frictional contact problem with response K⁻¹
-// (frictional_contact_solver.h). Contacts that are all frictionless go to
-// Gauss' least constraint (gauss_least_constraint.h) as before.
+// A proxy's constrained step with surface friction, shared by the
+// god-object (Ortega, Redon & Coquillart 2007, "with surface properties")
+// and constrained dynamics: the generalised vector a (a displacement for the
+// massless god-object, a velocity for a proxy with mass) nearest the
+// unconstrained one a^u in a metric M,
+//   minimise ½ (a − a^u)ᵀ M (a − a^u)   subject to   J_k a ≥ b_k,
+// with Coulomb friction on the contact multipliers λ (M (a − a^u) = Σ J_kᵀ λ_k):
+// a contact sticks while the tangential force it must carry is at most μ
+// times its normal force, and slides with exactly μ times it otherwise.
+// For the god-object, M is the coupling's stiffness K and this is the
+// quasi-static Coulomb law for a massless proxy (λ in N); for constrained
+// dynamics M is the step's effective mass and λ are impulses (N·s).
+//
+// Frictionless contacts go to Gauss' least constraint, an exact active-set
+// QP (gauss_least_constraint.h), which converges in a few steps however
+// stiff or redundant the contacts; with friction the frictional contact
+// solver (frictional_contact_solver.h, projected Gauss–Seidel with the exact
+// circular cone) runs, warm-started from the given impulses or, without
+// them, from the frictionless QP's normal multipliers.
 #pragma once
 
 #include <span>
@@ -21,24 +29,36 @@
 namespace hb {
 
 struct ConstrainedStep {
-  Vec6 step = Vec6::Zero();  ///< (Δ centre of mass m, rotation vector rad), world
-  int iterations = 0;        ///< active-set steps, or Gauss–Seidel sweeps with friction
-  bool converged = false;    ///< when false, `step` is zero (the proxy stays)
+  /// The constrained a: (Δ centre of mass m, rotation vector rad) or (v m/s,
+  /// ω rad/s), world. When not converged: the solver's last iterate.
+  Vec6 step = Vec6::Zero();
+  /// Per constraint (λ_n, λ_t1, λ_t2) in the tangent basis of
+  /// perpendicular_unit(normal) (frictional_contact_solver.h).
+  std::vector<Vec3> impulses;
+  int iterations = 0;  ///< active-set steps, plus Gauss–Seidel sweeps with friction
+  bool converged = false;
+  bool with_friction = false;  ///< some contact had μ > 0
 };
 
 class ConstrainedStepSolver {
  public:
-  /// metric: the coupling's stiffness K (coupling_metric). friction: one μ
-  /// per constraint (empty: all frictionless). warm_active: the previous
-  /// active set of the frictionless solve, updated.
+  /// options: the frictional solver's sweeps and tolerance (in a's units).
+  explicit ConstrainedStepSolver(const FrictionalContactOptions& options = {1000, 1e-10});
+
+  /// metric: M, symmetric positive definite. friction: one μ per constraint
+  /// (empty: all frictionless). warm_active: the previous active set of the
+  /// frictionless solve, updated. warm_impulses: one per constraint, or
+  /// empty.
   const ConstrainedStep& solve(const Mat6& metric, const Vec6& unconstrained,
                                std::span<const GaussConstraint> constraints,
-                               std::span<const double> friction, std::vector<int>& warm_active);
+                               std::span<const double> friction, std::vector<int>& warm_active,
+                               std::span<const Vec3> warm_impulses = {});
 
  private:
   GaussLeastConstraintSolver gauss_;
-  FrictionalContactSolver frictional_{FrictionalContactOptions{1000, 1e-10}};
+  FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
+  std::vector<Vec3> seed_;
   ConstrainedStep result_;
 };
 

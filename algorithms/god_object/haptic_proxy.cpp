@@ -71,7 +71,7 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
       solver_.solve(coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
                     constraints_, constraint_friction_, warm_active_);
   stats.qp_iterations = solved.iterations;
-  const Vec6 step = solved.step;
+  const Vec6 step = solved.converged ? solved.step : Vec6::Zero();  // else the proxy stays
 
   // Stay within the certificate's reach: the largest fraction of the step
   // that does (the reach bound is continuous in the fraction, and the

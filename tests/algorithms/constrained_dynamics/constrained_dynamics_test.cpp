@@ -157,7 +157,9 @@ double slide_down_slope(double angle, double friction, double seconds) {
   RenderContext context = cube_over_slab(friction, tilt);
   context.coupling = CouplingGains{0, 0, 0, 0};
   context.gravity = Vec3(0, 0, -9.81);
-  Rig rig(context);
+  // The sliding acceleration near the cone's edge is a small difference:
+  // solve to 1e-9 m/s (the default 1e-6 m/s leaves it within 3 %).
+  Rig rig(context, test::params_of({{"solver_tolerance", 1e-9}}));
   const Pose start = at(tilt * Vec3(0, 0, kCube / 2 + 1e-5), tilt);
   rig.reset(start);
   TickResult result;
