@@ -56,8 +56,9 @@ struct ConstrainedDynamicsSettings {
 
 /// Reads the god-object's contact keys (standoff, contact_distance,
 /// haptic_band, haptic_band_min, haptic_max_pairs default 256, ccd_*),
-/// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-6:
-/// a nanometre per tick),
+/// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-6: a
+/// nanometre of slip per tick; the normal constraints are solved exactly
+/// whatever it is, constrained_step.h),
 /// "stabilisation", "max_correction_speed" and "proxy_mass_kg". Throws
 /// InputError naming the field.
 ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& params,

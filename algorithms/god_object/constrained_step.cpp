@@ -41,12 +41,30 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
     seed_ = r.impulses;
   else
     seed_.assign(warm_impulses.begin(), warm_impulses.end());
+  const Mat6 response = metric.inverse();
   const FrictionalContactSolution& solution =
-      frictional_.solve(metric.inverse(), unconstrained, rows_, seed_);
+      frictional_.solve(response, unconstrained, rows_, seed_);
   r.iterations += solution.sweeps;
-  r.converged = solution.converged;
-  r.step = solution.velocity;
   r.impulses = solution.impulses;
+
+  // Non-penetration exactly: the frictionless QP again with the friction
+  // impulses held as given forces (one step of staggered projections).
+  Vec6 friction_wrench = Vec6::Zero();
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const Vec3 t1 = solution.tangent1[k];
+    const Vec3 t2 = constraints[k].normal.cross(t1);
+    const Vec3 force = solution.impulses[k].y() * t1 + solution.impulses[k].z() * t2;
+    friction_wrench.head<3>() += force;
+    friction_wrench.tail<3>() += constraints[k].lever.cross(force);
+  }
+  std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
+  const GaussSolution& projected =
+      gauss_.solve(metric, unconstrained + response * friction_wrench, constraints, warm_active);
+  r.iterations += projected.iterations;
+  r.converged = solution.converged && projected.converged;
+  warm_active = projected.converged ? projected.active : std::vector<int>{};
+  r.step = projected.acceleration;
+  for (std::size_t k = 0; k < constraints.size(); ++k) r.impulses[k].x() = projected.multipliers[k];
   return r;
 }
 

@@ -16,7 +16,11 @@
 // stiff or redundant the contacts; with friction the frictional contact
 // solver (frictional_contact_solver.h, projected Gauss–Seidel with the exact
 // circular cone) runs, warm-started from the given impulses or, without
-// them, from the frictionless QP's normal multipliers.
+// them, from the frictionless QP's normal multipliers, and the QP then runs
+// once more with its friction impulses held as given forces, so that
+// non-penetration holds exactly however far the Gauss–Seidel sweeps got
+// (one step of staggered projections: friction to the sweeps' accuracy,
+// the normal constraints exact).
 #pragma once
 
 #include <span>
@@ -33,7 +37,9 @@ struct ConstrainedStep {
   /// ω rad/s), world. When not converged: the solver's last iterate.
   Vec6 step = Vec6::Zero();
   /// Per constraint (λ_n, λ_t1, λ_t2) in the tangent basis of
-  /// perpendicular_unit(normal) (frictional_contact_solver.h).
+  /// perpendicular_unit(normal) (frictional_contact_solver.h); with
+  /// friction, the Gauss–Seidel sweeps' own (the final QP's normal
+  /// multipliers differ by what the sweeps had left).
   std::vector<Vec3> impulses;
   int iterations = 0;  ///< active-set steps, plus Gauss–Seidel sweeps with friction
   bool converged = false;
@@ -43,7 +49,7 @@ struct ConstrainedStep {
 class ConstrainedStepSolver {
  public:
   /// options: the frictional solver's sweeps and tolerance (in a's units).
-  explicit ConstrainedStepSolver(const FrictionalContactOptions& options = {1000, 1e-10});
+  explicit ConstrainedStepSolver(const FrictionalContactOptions& options = {300, 1e-9});
 
   /// metric: M, symmetric positive definite. friction: one μ per constraint
   /// (empty: all frictionless). warm_active: the previous active set of the

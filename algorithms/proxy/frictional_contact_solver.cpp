@@ -25,9 +25,10 @@ namespace {
 // root of 1/|λ(γ)| = 1/r, found by Newton's method from γ = 0 (the function
 // is concave and increasing in γ, so the iterates increase monotonically to
 // the root, as in Moré and Sorensen's trust-region step).
-Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w, const Eigen::Vector2d& g, double r) {
+Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w, const Eigen::Matrix2d& w_inverse,
+                               const Eigen::Vector2d& g, double r) {
   if (!(r > 0)) return Eigen::Vector2d::Zero();
-  const Eigen::Vector2d inside = -w.ldlt().solve(g);
+  const Eigen::Vector2d inside = -w_inverse * g;
   if (inside.norm() <= r) return inside;
   // W = Q diag(e) Qᵀ; in its eigenbasis λ_i(γ) = −h_i / (e_i + γ), h = Qᵀ g.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (w + w.transpose()));
@@ -61,6 +62,7 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   jacobians_.resize(count);
   responses_.resize(count);
   blocks_.resize(count);
+  tangential_inverses_.resize(count);
   s.impulses.assign(count, Vec3::Zero());
   s.tangent1.resize(count);
   s.velocity = free_velocity;
@@ -79,6 +81,7 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
     j.row(2) << t2.transpose(), c.lever.cross(t2).transpose();
     responses_[k] = response * j.transpose();
     blocks_[k] = j * responses_[k];
+    tangential_inverses_[k] = blocks_[k].bottomRightCorner<2, 2>().inverse();
     if (warm.size() == count) {
       Vec3 start = warm[k];
       start.x() = std::max(0.0, start.x());
@@ -113,7 +116,8 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
       const Eigen::Matrix2d wt = w.bottomRightCorner<2, 2>();
       // The slip this contact's tangential impulse sees from everything else.
       const Eigen::Vector2d slip_without = j.bottomRows<2>() * s.velocity - wt * impulse.tail<2>();
-      const Eigen::Vector2d tangential = disk_minimiser(wt, slip_without, c.friction * normal);
+      const Eigen::Vector2d tangential =
+          disk_minimiser(wt, tangential_inverses_[k], slip_without, c.friction * normal);
       const Eigen::Vector2d tangential_change = tangential - impulse.tail<2>();
       if (!tangential_change.isZero()) {
         s.velocity += responses_[k].rightCols<2>() * tangential_change;

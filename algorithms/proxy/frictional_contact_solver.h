@@ -95,6 +95,7 @@ class FrictionalContactSolver {
   std::vector<Eigen::Matrix<double, 3, 6>> jacobians_;
   std::vector<Eigen::Matrix<double, 6, 3>> responses_;  ///< R J_kᵀ
   std::vector<Mat3> blocks_;                            ///< J_k R J_kᵀ
+  std::vector<Eigen::Matrix2d> tangential_inverses_;    ///< of each block's tangential 2 × 2
   FrictionalContactSolution solution_;
 };
 
