@@ -21,9 +21,9 @@
 // Euclidean projection of the unconstrained impulse would not do when the
 // block is anisotropic). The disk is the exact circular cone, not a
 // pyramid: sliding in any direction gives |λ_t| = μ λ_n, which a
-// linearised cone with few facets would only bound (4 facets are off by up
-// to 41 % along a diagonal). Each sweep keeps u = u_free + R Jᵀ λ up to date
-// incrementally (a 6 × 3 column block per contact), so a sweep costs
+// linearised cone with m facets would only bound (an inscribed pyramid
+// gives as little as cos(π/m) of it: 71 % with 4 facets, 98 % with 16). Each sweep keeps u = u_free
+// + R Jᵀ λ up to date incrementally (a 6 × 3 column block per contact), so a sweep costs
 // O(contacts). It stops when a sweep changed no contact point's velocity
 // (normal and tangential) by more than the tolerance; that change is the
 // residual reported. A fixed point of the sweep is a solution of the
