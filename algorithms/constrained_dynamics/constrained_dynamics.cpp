@@ -157,15 +157,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
       return;
     }
     work.add(kCertificatesTaken);
-    // Only pairs that carried an impulse matter (a few); the new list is
-    // nearest first, where they are, so the search ends early.
-    carried_.assign(update.certificate.pairs.size(), Vec3::Zero());
-    for (std::size_t old = 0; old < impulses_.size(); ++old) {
-      if (impulses_[old].isZero()) continue;
-      const auto& pairs = update.certificate.pairs;
-      const auto found = std::find(pairs.begin(), pairs.end(), certificate_.pairs[old]);
-      if (found != pairs.end()) carried_[found - pairs.begin()] = impulses_[old];
-    }
+    carry_impulses(certificate_.pairs, impulses_, update.certificate.pairs, carried_);
     impulses_.swap(carried_);
     std::swap(certificate_, update.certificate);
   }

@@ -33,29 +33,54 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
     if (!r.with_friction) return r;
   }
 
+  // Coincident contacts (a vertex–face pair and the edge–edge pairs of that
+  // vertex's edges meet at one point with one normal) would make the sweeps
+  // trade load between them without end: each point is solved once, with
+  // the tightest bound of the pairs there, its impulse kept by the first.
+  constexpr double kCoincidentM = 1e-7;
+  constexpr double kCoincidentCos = 1 - 1e-9;
   rows_.clear();
-  for (std::size_t k = 0; k < constraints.size(); ++k)
-    rows_.push_back(FrictionalContactRow{constraints[k].normal, constraints[k].lever,
-                                         constraints[k].rhs, friction[k]});
-  if (seed_from_qp)
-    seed_ = r.impulses;
-  else
-    seed_.assign(warm_impulses.begin(), warm_impulses.end());
+  row_of_.assign(constraints.size(), 0);
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const GaussConstraint& c = constraints[k];
+    std::size_t row = 0;
+    while (row < rows_.size() && !(rows_[row].friction == friction[k] &&
+                                   (rows_[row].lever - c.lever).norm() <= kCoincidentM &&
+                                   rows_[row].normal.dot(c.normal) >= kCoincidentCos))
+      ++row;
+    if (row == rows_.size())
+      rows_.push_back(FrictionalContactRow{c.normal, c.lever, c.rhs, friction[k]});
+    else
+      rows_[row].bound = std::max(rows_[row].bound, c.rhs);
+    row_of_[k] = static_cast<int>(row);
+  }
+  const std::span<const Vec3> source =
+      seed_from_qp ? std::span<const Vec3>(r.impulses) : warm_impulses;
+  seed_.assign(rows_.size(), Vec3::Zero());
+  for (std::size_t k = 0; k < constraints.size(); ++k) seed_[row_of_[k]] += source[k];
   const Mat6 response = metric.inverse();
   const FrictionalContactSolution& solution =
       frictional_.solve(response, unconstrained, rows_, seed_);
   r.iterations += solution.sweeps;
-  r.impulses = solution.impulses;
+  // The sweeps' impulses are the next warm start: the QP below puts the load
+  // of redundant contacts on an independent few, which they would spread again.
+  std::fill(r.impulses.begin(), r.impulses.end(), Vec3::Zero());
+  taken_.assign(rows_.size(), 0);
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    if (taken_[row_of_[k]]) continue;
+    taken_[row_of_[k]] = 1;
+    r.impulses[k] = solution.impulses[row_of_[k]];
+  }
 
   // Non-penetration exactly: the frictionless QP again with the friction
   // impulses held as given forces (one step of staggered projections).
   Vec6 friction_wrench = Vec6::Zero();
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    const Vec3 t1 = solution.tangent1[k];
-    const Vec3 t2 = constraints[k].normal.cross(t1);
-    const Vec3 force = solution.impulses[k].y() * t1 + solution.impulses[k].z() * t2;
+  for (std::size_t row = 0; row < rows_.size(); ++row) {
+    const Vec3 t1 = solution.tangent1[row];
+    const Vec3 t2 = rows_[row].normal.cross(t1);
+    const Vec3 force = solution.impulses[row].y() * t1 + solution.impulses[row].z() * t2;
     friction_wrench.head<3>() += force;
-    friction_wrench.tail<3>() += constraints[k].lever.cross(force);
+    friction_wrench.tail<3>() += rows_[row].lever.cross(force);
   }
   std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
   const GaussSolution& projected =
@@ -64,7 +89,6 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   r.converged = solution.converged && projected.converged;
   warm_active = projected.converged ? projected.active : std::vector<int>{};
   r.step = projected.acceleration;
-  for (std::size_t k = 0; k < constraints.size(); ++k) r.impulses[k].x() = projected.multipliers[k];
   return r;
 }
 

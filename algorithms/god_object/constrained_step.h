@@ -65,6 +65,8 @@ class ConstrainedStepSolver {
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
+  std::vector<int> row_of_;  ///< per constraint, its row of the frictional solve
+  std::vector<char> taken_;
   ConstrainedStep result_;
 };
 

@@ -18,6 +18,7 @@ void HapticProxy::reset(const Pose& start) {
   pose_ = start;
   certificate_ = certify(start, settings_.haptic_band_m);
   warm_active_.clear();
+  warm_impulses_.clear();
   contacts_.clear();
 }
 
@@ -33,11 +34,14 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
   certificate_ = std::move(certificate);
   if (within_reach(certificate_, pose_)) {
     warm_active_.clear();
+    carry_impulses(previous.pairs, warm_impulses_, certificate_.pairs, carried_);
+    warm_impulses_.swap(carried_);
     return true;
   }
   if (coupling_energy(slow_proxy, target) < coupling_energy(pose_, target)) {
     pose_ = slow_proxy;  // the anchor's own tool pose: within reach
     warm_active_.clear();
+    warm_impulses_.clear();
     return true;
   }
   certificate_ = std::move(previous);
@@ -67,9 +71,13 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
     distances_.push_back(contact.distance);
   }
 
-  const ConstrainedStep& solved =
-      solver_.solve(coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
-                    constraints_, constraint_friction_, warm_active_);
+  const ConstrainedStep& solved = solver_.solve(
+      coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained, constraints_,
+      constraint_friction_, warm_active_,
+      warm_impulses_.size() == constraints_.size() ? std::span<const Vec3>(warm_impulses_)
+                                                   : std::span<const Vec3>());
+  // The same pairs, in the same order, until the next certificate.
+  warm_impulses_ = solved.impulses;
   stats.qp_iterations = solved.iterations;
   const Vec6 step = solved.converged ? solved.step : Vec6::Zero();  // else the proxy stays
 

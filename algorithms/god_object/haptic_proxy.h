@@ -90,6 +90,8 @@ class HapticProxy {
   std::vector<GaussConstraint> constraints_;
   std::vector<double> constraint_friction_;  ///< μ per constraint
   std::vector<int> warm_active_;
+  std::vector<Vec3> warm_impulses_;  ///< the last frictional solve's, per listed pair
+  std::vector<Vec3> carried_;
   ProximityCertificate certificate_;
   Pose pose_;
   std::vector<Contact> contacts_;

@@ -10,6 +10,16 @@ namespace {
 constexpr double kDirectionFloor = 1e-12;
 }  // namespace
 
+void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3> impulses,
+                    std::span<const ContactFeatures> to, std::vector<Vec3>& carried) {
+  carried.assign(to.size(), Vec3::Zero());
+  for (std::size_t old = 0; old < impulses.size() && old < from.size(); ++old) {
+    if (impulses[old].isZero()) continue;
+    const auto found = std::find(to.begin(), to.end(), from[old]);
+    if (found != to.end()) carried[found - to.begin()] = impulses[old];
+  }
+}
+
 ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const GodObjectSettings& settings,
                                        const Vec3& centre_of_mass)
     : ccd_(ccd),

@@ -7,6 +7,9 @@
 // proxy that stays within reach cannot pass a pair that is not listed).
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/god_object/god_object_update.h"
@@ -23,6 +26,13 @@ struct PairContact {
   Vec3 normal = Vec3::UnitZ();
   double distance = 0;  ///< m, between the two features (≥ 0)
 };
+
+/// Per-pair impulses (`impulses`, one per pair of `from`) carried over to
+/// the pairs of `to`, by feature pair; zero where `to` lists a pair `from`
+/// did not carry an impulse for. Only pairs with an impulse are looked up
+/// (a few, near the front of `to`, which lists the nearest first).
+void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3> impulses,
+                    std::span<const ContactFeatures> to, std::vector<Vec3>& carried);
 
 class ProximityCertifier {
  public:
