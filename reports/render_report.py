@@ -1097,6 +1097,49 @@ def stress_matrix_html(folders):
               "</tr>%s</table></div>" % (header, "".join(rows)))
 
 
+# Algorithms whose contacts carry the scene's Coulomb friction; the others
+# are frictionless whatever the scene says.
+FRICTION_ALGORITHMS = {"god_object", "god_object_3dof", "constrained_dynamics"}
+
+
+def scene_friction(folder):
+    """The largest Coulomb μ of the scenario's scene objects (0 when absent)."""
+    values = [number_or_none(v) for v in dig(folder.summary, "scenario", "scene_friction") or []]
+    return max([v for v in values if v is not None] or [0.0])
+
+
+def friction_html(folders):
+    """What friction changes: every run of a scenario whose scene has μ > 0,
+    whether its algorithm renders friction, its force error against the
+    analytic reference (which has the friction) and its penetration."""
+    rough = [(f, scene_friction(f)) for f in folders if scene_friction(f) > 0]
+    if not rough:
+        return ""
+    rows = []
+    for folder, mu in rough:
+        for run in folder.runs:
+            algorithm = str(run.summary.get("algorithm") or "")
+            renders = algorithm in FRICTION_ALGORITHMS
+            error = number_or_none(dig(run.summary, "accuracy", "force_err_rms_n"))
+            depth = number_or_none(dig(run.summary, "accuracy", "penetration_max_m"))
+            rows.append('<tr><td class="text">%s</td><td>%s</td><td class="text">%s</td>'
+                        '<td class="text" data-friction="%s">%s</td>%s%s</tr>'
+                        % (esc(folder.scenario), fmt(mu, "%.2g"), esc(run.label),
+                           "true" if renders else "false",
+                           "Coulomb μ" if renders else "frictionless",
+                           cell(error, "%.3g"), cell(depth, "%.3g", 1e3)))
+    return ("<h3 id='friction'>Friction</h3>"
+            + note("Runs of scenarios whose scene has Coulomb friction (scene objects' "
+                   "<code>friction</code>). The god-object and constrained dynamics render it; "
+                   "the penalty algorithms, Voxmap PointShell and sensation-preserving are "
+                   "frictionless, so the difference between the two groups is what friction "
+                   "changes. Force error is against the analytic reference, which sticks and "
+                   "slides with the scene's μ (— without an analytic scene).")
+            + '<table><tr><th class="text">scenario</th><th>μ</th><th class="text">label</th>'
+              '<th class="text">contacts</th><th>force error RMS (N)</th>'
+              "<th>penetration max (mm)</th></tr>%s</table>" % "".join(rows))
+
+
 def read_stability_result(path):
     """A stability.json as `hapticbench stability` writes it."""
     data = read_json_object(path)
@@ -1259,6 +1302,7 @@ def render(folders, template, metric_table, stability_results=()):
     body.append(stress_matrix_html(folders))
     body.append(stability_margins_html(list(stability_results)))
     body.append(stability_html(folders, runs))
+    body.append(friction_html(folders))
     body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
     body.extend(scenario_section(folder) for folder in folders)
     body.append("</section>")

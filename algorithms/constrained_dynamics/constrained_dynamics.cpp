@@ -12,6 +12,7 @@
 #include "algorithms/god_object/god_object.h"
 #include "algorithms/god_object/proximity_certifier.h"
 #include "algorithms/proxy/device_output.h"
+#include "algorithms/proxy/integrator.h"
 #include "algorithms/proxy/proxy_settings.h"
 #include "algorithms/proxy/rigid_body.h"
 #include "algorithms/proxy/slow_loop_mailbox.h"
@@ -204,22 +205,13 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   // and returns the metric of the contact solve, the effective mass's
   // symmetric part.
   Mat6 free_step(const DeviceSample& device) {
-    const ForceEvaluation f =
-        evaluate_coupling(gains_, body_, state_, device.pose, device.twist, true).on_proxy;
-    const Mat3 inertia = world_inertia(body_, state_.q);
-    Vec6 generalised_force;
-    generalised_force << f.wrench.force + body_.mass_kg * body_.gravity,
-        f.wrench.torque - gyroscopic_torque(inertia, state_.w);
-    Mat6 damping = f.damping;
-    damping.block<3, 3>(3, 3) -= gyroscopic_torque_jacobian(inertia, state_.w);
-    Mat6 mass = Mat6::Zero();
-    mass.block<3, 3>(0, 0) = body_.mass_kg * Mat3::Identity();
-    mass.block<3, 3>(3, 3) = inertia;
+    const ImplicitStepSystem system = implicit_step_system(
+        body_, state_,
+        evaluate_coupling(gains_, body_, state_, device.pose, device.twist, true).on_proxy, dt_s_);
     Vec6 velocity;
     velocity << state_.v, state_.w;
-    const Mat6 effective = mass - dt_s_ * damping - dt_s_ * dt_s_ * f.stiffness;
-    free_velocity_ = velocity + effective.partialPivLu().solve(
-                                    dt_s_ * (generalised_force + dt_s_ * f.stiffness * velocity));
+    free_velocity_ = velocity + system.matrix.partialPivLu().solve(system.rhs);
+    const Mat6& effective = system.matrix;
     return 0.5 * (effective + effective.transpose());
   }
 

@@ -25,11 +25,9 @@ RigidBodyState explicit_euler_step(const RigidBody& body, const RigidBodyState& 
   return next;
 }
 
-RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& state,
-                                   ForceModel& forces, double dt_s) {
-  const ForceEvaluation f = forces.evaluate(state, true);
+ImplicitStepSystem implicit_step_system(const RigidBody& body, const RigidBodyState& state,
+                                        const ForceEvaluation& f, double dt_s) {
   const Mat3 inertia = world_inertia(body, state.q);
-
   Vec6 generalised_force;
   generalised_force << f.wrench.force + body.mass_kg * body.gravity,
       f.wrench.torque - gyroscopic_torque(inertia, state.w);
@@ -42,10 +40,16 @@ RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& 
 
   Vec6 velocity;
   velocity << state.v, state.w;
-  const Mat6 system = mass - dt_s * damping - dt_s * dt_s * f.stiffness;
-  const Vec6 rhs = dt_s * (generalised_force + dt_s * f.stiffness * velocity);
+  return {mass - dt_s * damping - dt_s * dt_s * f.stiffness,
+          dt_s * (generalised_force + dt_s * f.stiffness * velocity)};
+}
+
+RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& state,
+                                   ForceModel& forces, double dt_s) {
+  const ImplicitStepSystem system =
+      implicit_step_system(body, state, forces.evaluate(state, true), dt_s);
   // The system is not symmetric in general (contact levers, rotation), so use LU.
-  const Vec6 delta = system.partialPivLu().solve(rhs);
+  const Vec6 delta = system.matrix.partialPivLu().solve(system.rhs);
 
   RigidBodyState next;
   next.v = state.v + delta.head<3>();

@@ -32,6 +32,17 @@ enum class IntegratorKind { kExplicitEuler, kImplicitEuler };
 RigidBodyState explicit_euler_step(const RigidBody& body, const RigidBodyState& state,
                                    ForceModel& forces, double dt_s);
 
+/// The linear system of one linearised implicit Euler step,
+/// matrix · Δu = rhs with matrix = M − Δt D − Δt² K (the effective mass) and
+/// rhs = Δt (f + Δt K u), for the forces `f` evaluated with their Jacobians
+/// at `state`.
+struct ImplicitStepSystem {
+  Mat6 matrix;
+  Vec6 rhs;
+};
+ImplicitStepSystem implicit_step_system(const RigidBody& body, const RigidBodyState& state,
+                                        const ForceEvaluation& f, double dt_s);
+
 /// One linearised implicit Euler step of length dt_s (s).
 RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& state,
                                    ForceModel& forces, double dt_s);

@@ -267,7 +267,8 @@ json summary_json(const ScenarioRun& run) {
            {{"name", run.scenario_name},
             {"path", run.scenario_path},
             {"hash", run.scenario_hash},
-            {"trace", run.trace_description}}},
+            {"trace", run.trace_description},
+            {"scene_friction", run.scene_friction}}},
           {"oracle", oracle},
           {"runs", runs},
           {"metric_table", metric_table_json()}};

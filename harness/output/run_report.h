@@ -90,6 +90,7 @@ struct ScenarioRun {
   std::string scenario_path;
   std::string scenario_hash;
   std::string trace_description;
+  std::vector<double> scene_friction;  ///< Coulomb μ of each scene object, in scene order
   RunContext context;
   std::optional<OracleDescription> oracle;
   std::vector<AlgorithmRun> runs;

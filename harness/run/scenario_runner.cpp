@@ -146,6 +146,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   report.scenario_path = scenario.path;
   report.scenario_hash = scenario.content_hash;
   report.trace_description = scenario.trace_description;
+  for (const SceneObject& object : scenario.context.scene)
+    report.scene_friction.push_back(object.friction);
   report.context = current_run_context();
   if (truth.oracle) {
     OracleDescription& d = report.oracle.emplace();

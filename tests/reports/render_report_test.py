@@ -164,5 +164,36 @@ class StabilityMarginsTest(unittest.TestCase):
         self.assertEqual(render_report.stability_margins_html([]), "")
 
 
+class FrictionRun:
+    def __init__(self, label, algorithm, error):
+        self.label = label
+        self.summary = {"label": label, "algorithm": algorithm,
+                        "accuracy": {"force_err_rms_n": error, "penetration_max_m": 0.0}}
+
+
+class FrictionFolder:
+    def __init__(self, scenario, friction, runs):
+        self.scenario = scenario
+        self.summary = {"scenario": {"name": scenario, "scene_friction": friction}}
+        self.runs = runs
+
+
+class FrictionTest(unittest.TestCase):
+    def test_rough_scenes_list_each_run_and_whether_it_renders_friction(self):
+        rough = FrictionFolder("press_drag", [0.0, 0.8],
+                               [FrictionRun("cd", "constrained_dynamics", 0.098),
+                                FrictionRun("penalty", "penalty_analytic", 3.58)])
+        smooth = FrictionFolder("press", [0.0], [FrictionRun("other", "god_object", 0.1)])
+        page = render_report.friction_html([rough, smooth])
+        self.assertIn("<td>0.8</td><td class=\"text\">cd</td>"
+                      "<td class=\"text\" data-friction=\"true\">Coulomb μ</td><td>0.098</td>",
+                      page)
+        self.assertIn('data-friction="false">frictionless</td><td>3.58</td>', page)
+        self.assertNotIn(">other<", page)
+        self.assertEqual(render_report.friction_html([smooth]), "")
+        # Summaries written before scenes had friction have no field: no section.
+        self.assertEqual(render_report.friction_html([FrictionFolder("old", None, [])]), "")
+
+
 if __name__ == "__main__":
     unittest.main()
