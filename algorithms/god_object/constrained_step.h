@@ -16,7 +16,9 @@
 // stiff or redundant the contacts; with friction the frictional contact
 // solver (frictional_contact_solver.h, projected Gauss–Seidel with the exact
 // circular cone) runs, warm-started from the given impulses or, without
-// them, from the frictionless QP's normal multipliers, and the QP then runs
+// them, from the frictionless QP's normal multipliers (contacts at one point
+// with one normal are solved once, and a planar contact of more than eight
+// keeps its extreme points, reduce_coplanar_rows), and the QP then runs
 // once more with its friction impulses held as given forces, so that
 // non-penetration holds exactly however far the Gauss–Seidel sweeps got
 // (one step of staggered projections: friction to the sweeps' accuracy,
@@ -65,7 +67,12 @@ class ConstrainedStepSolver {
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
-  std::vector<int> row_of_;  ///< per constraint, its row of the frictional solve
+  void reduce_coplanar_rows();
+
+  double tolerance_;
+  std::vector<int> row_of_;  ///< per constraint, its row of the frictional solve (−1: none)
+  std::vector<int> group_of_, group_first_, members_, new_index_;
+  std::vector<char> keep_;
   std::vector<char> taken_;
   ConstrainedStep result_;
 };
