@@ -35,7 +35,8 @@ function(hb_test source)
     HAPTICBENCH_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
     HAPTICBENCH_BIN="$<TARGET_FILE:hapticbench>")
   add_dependencies(${target} hapticbench)
-  # A *_serial_test.cpp measures time: it runs with no other test beside it.
+  # A *_serial_test.cpp measures time or keeps every core busy: it runs with
+  # no other test beside it.
   if(rel MATCHES "_serial_test$")
     catch_discover_tests(${target} TEST_PREFIX "${rel}: " PROPERTIES RUN_SERIAL TRUE)
   else()
