@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "algorithms/ccd/mesh_features.h"
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/disk_cache.h"
@@ -101,9 +102,11 @@ MeshFeatures cached_mesh_features(std::vector<Vec3> vertices,
   if (const DiskCache::Lookup lookup = cache.read(key); lookup.payload) {
     if (std::optional<MeshFeatures> cached = parse_payload(*lookup.payload, vertices, triangles)) {
       if (cache_hit != nullptr) *cache_hit = true;
+      announce_cached_build("feature trees of " + name, true);
       return std::move(*cached);
     }
   }
+  announce_cached_build("feature trees of " + name, false);
   MeshFeatures mesh = build_mesh_features(std::move(vertices), std::move(triangles), name);
   cache.write(key, payload_of(mesh));
   return mesh;

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/closest_points.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/convex_decomposition.h"
@@ -241,6 +242,7 @@ class HierarchyBuilder {
     alive_.resize(hierarchy_.nodes.size());
     std::iota(alive_.begin(), alive_.end(), 0);
     hierarchy_.pieces_per_level.push_back(static_cast<int>(alive_.size()));
+    const std::size_t merges = alive_.size() - 1;  // each merge joins two pieces into one
     for (int level = 1; alive_.size() > 1; ++level) {
       merge_level(level);
       std::vector<int> next;
@@ -248,6 +250,7 @@ class HierarchyBuilder {
         if (is_alive_[n]) next.push_back(static_cast<int>(n));
       alive_ = std::move(next);
       hierarchy_.pieces_per_level.push_back(static_cast<int>(alive_.size()));
+      announce_build_progress(merges + 1 - alive_.size(), merges);
     }
     hierarchy_.root = alive_.front();
     return std::move(hierarchy_);

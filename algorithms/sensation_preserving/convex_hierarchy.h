@@ -101,9 +101,11 @@ ConvexHierarchy build_convex_hierarchy(const TriangleMesh& mesh,
 /// builds it and stores it there (atomically: temp file + rename; a folder
 /// that cannot be written is skipped). A damaged cache file (header, key,
 /// length, checksum or structure wrong) is rebuilt, never trusted.
-/// cache_hit tells which happened.
+/// cache_hit tells which happened; `name` (e.g. "tool") names the mesh in
+/// progress announcements (build_progress.h).
 ConvexHierarchy cached_convex_hierarchy(const TriangleMesh& mesh, const std::string& content_hash,
                                         const ConvexHierarchySettings& settings,
-                                        bool* cache_hit = nullptr);
+                                        bool* cache_hit = nullptr,
+                                        const std::string& name = "mesh");
 
 }  // namespace hb

@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/disk_cache.h"
@@ -108,7 +109,8 @@ std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size
 }  // namespace
 
 ConvexHierarchy cached_convex_hierarchy(const TriangleMesh& mesh, const std::string& content_hash,
-                                        const ConvexHierarchySettings& settings, bool* cache_hit) {
+                                        const ConvexHierarchySettings& settings, bool* cache_hit,
+                                        const std::string& name) {
   if (cache_hit != nullptr) *cache_hit = false;
   const std::string key = hierarchy_key(mesh, content_hash, settings);
   const DiskCache cache(default_cache_directory(), "convex_hierarchy");
@@ -117,9 +119,11 @@ ConvexHierarchy cached_convex_hierarchy(const TriangleMesh& mesh, const std::str
             parse_payload(*lookup.payload, mesh.triangles.size())) {
       cached->key = key;
       if (cache_hit != nullptr) *cache_hit = true;
+      announce_cached_build("convex hierarchy of " + name, true);
       return std::move(*cached);
     }
   }
+  announce_cached_build("convex hierarchy of " + name, false);
   ConvexHierarchy hierarchy = build_convex_hierarchy(mesh, settings);
   hierarchy.key = key;
   cache.write(key, payload_of(hierarchy));

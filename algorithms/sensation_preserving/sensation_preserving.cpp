@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/dynamic_proxy.h"
 #include "algorithms/proxy/penalty_contact.h"
@@ -73,17 +74,22 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
         proxy_(proxy_body(context.tool, settings.proxy.proxy_mass_kg, context.gravity),
                context.coupling, settings.proxy.integrator, context.dt_s) {
     bool all_cached = settings.cache;
-    const auto hierarchy_of = [&](const TriangleMesh& mesh, const std::string& content_hash) {
-      if (!settings.cache) return build_convex_hierarchy(mesh, settings.hierarchy);
+    const auto hierarchy_of = [&](const TriangleMesh& mesh, const std::string& content_hash,
+                                  const std::string& name) {
+      if (!settings.cache) {
+        announce_build_stage("convex hierarchy of " + name + ": building (cache off)");
+        return build_convex_hierarchy(mesh, settings.hierarchy);
+      }
       bool hit = false;
       ConvexHierarchy hierarchy =
-          cached_convex_hierarchy(mesh, content_hash, settings.hierarchy, &hit);
+          cached_convex_hierarchy(mesh, content_hash, settings.hierarchy, &hit, name);
       all_cached = all_cached && hit;
       return hierarchy;
     };
-    tool_ = hierarchy_of(context.tool.mesh, context.tool.content_hash);
+    tool_ = hierarchy_of(context.tool.mesh, context.tool.content_hash, "tool");
     for (const SceneObject& object : context.scene) {
-      scene_.push_back(hierarchy_of(object.mesh, object.content_hash));
+      scene_.push_back(hierarchy_of(object.mesh, object.content_hash,
+                                    object.name.empty() ? "scene object" : object.name));
       scene_poses_.push_back(object.pose);
     }
     report_.cache_hit = all_cached;

@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/disk_cache.h"
 
@@ -351,6 +352,7 @@ SceneVoxmap build_scene_voxmap(const std::vector<SceneObject>& scene,
     }
     result.stats.cache_hit = !grids.empty();
   }
+  announce_cached_build("voxmap", !grids.empty());
   if (grids.empty()) {
     const openvdb::FloatGrid::Ptr phi = scene_distance(objects, settings);
     grids = voxmap_grids(*phi, index_region, settings);
@@ -386,6 +388,7 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
     if (!grids.empty()) normals = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grids[0]);
     result.stats.cache_hit = normals != nullptr;
   }
+  announce_cached_build("pointshell", normals != nullptr);
   if (!normals) {
     const openvdb::math::Transform::Ptr transform =
         openvdb::math::Transform::createLinearTransform(spacing_m);

@@ -25,4 +25,24 @@ void check_help(const std::string& arg) {
   if (arg == "-h" || arg == "--help") throw HelpRequested{};
 }
 
+bool parse_progress_option(const std::vector<std::string>& args, std::size_t& i,
+                           std::optional<ProgressStyle>& style) {
+  if (args[i] == "--quiet") {
+    style = ProgressStyle::kNone;
+    return true;
+  }
+  if (args[i] != "--progress") return false;
+  const std::string& value = option_value(args, i);
+  style = progress_style_named(value);
+  if (!style) throw UsageError{"--progress: expected bar, plain or none, got \"" + value + "\""};
+  return true;
+}
+
+ProgressDisplay make_progress_display(std::optional<ProgressStyle> style, double quiet_for_s) {
+  ProgressSettings settings;
+  settings.style = style.value_or(default_progress_style());
+  settings.quiet_for_s = quiet_for_s;
+  return ProgressDisplay(std::cerr, std::move(settings));
+}
+
 }  // namespace hb

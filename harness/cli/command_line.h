@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "harness/progress/progress_display.h"
+
 namespace hb {
 
 /// A usage mistake on the command line, e.g. "--jobs needs a value".
@@ -30,6 +32,22 @@ const std::string& option_value(const std::vector<std::string>& args, std::size_
 
 /// Throws HelpRequested when `arg` is -h or --help.
 void check_help(const std::string& arg);
+
+/// The usage lines of --progress and --quiet, for commands that take them.
+inline constexpr std::string_view kProgressUsage =
+    "  --progress STYLE  how progress shows on stderr: bar (a live line; the default on a\n"
+    "                  terminal), plain (a line per phase; the default otherwise) or none\n"
+    "  --quiet         no progress, as --progress none\n";
+
+/// Reads --progress STYLE or --quiet at args[i] into `style` (advancing i
+/// past the value); false when args[i] is neither. Throws UsageError for a
+/// style other than bar, plain or none.
+bool parse_progress_option(const std::vector<std::string>& args, std::size_t& i,
+                           std::optional<ProgressStyle>& style);
+
+/// A progress display on stderr in the style asked for, or the default
+/// one; `quiet_for_s`: see ProgressSettings.
+ProgressDisplay make_progress_display(std::optional<ProgressStyle> style, double quiet_for_s = 0);
 
 /// Runs `parse()` (which may throw UsageError or HelpRequested) and returns
 /// what it returns; on a usage error or a request for help prints it with

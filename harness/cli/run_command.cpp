@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/command_line.h"
@@ -19,9 +20,9 @@ namespace hb {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr const char* kRunUsage =
+const std::string kRunUsage =
     "usage: hapticbench run SCENARIO.json... [--algo NAME] [--out DIR] [--repeat N]\n"
-    "                      [--instructions] [--schedule PATH]\n"
+    "                      [--instructions] [--schedule PATH] [--progress STYLE] [--quiet]\n"
     "  --algo NAME     run only the algorithm with this name or label\n"
     "  --out DIR       run folder (one scenario) or parent of <scenario name>/ (several);\n"
     "                  default out/<scenario name>/\n"
@@ -30,7 +31,8 @@ constexpr const char* kRunUsage =
     "  --instructions  also count the instructions of step() and of slow-loop updates\n"
     "                  under valgrind's callgrind (deterministic; needs valgrind)\n"
     "  --schedule PATH multi-rate algorithms follow the slow-loop schedule recorded in\n"
-    "                  PATH: a schedule_<label>.csv, a run folder or a suite of them\n";
+    "                  PATH: a schedule_<label>.csv, a run folder or a suite of them\n" +
+    std::string(kProgressUsage);
 
 constexpr int kMaxRepeat = 1000;
 
@@ -40,6 +42,7 @@ struct RunArguments {
   std::optional<std::string> out;
   std::optional<std::string> schedule;
   bool instructions = false;
+  std::optional<ProgressStyle> progress;
   RunOptions options;
 };
 
@@ -63,6 +66,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
       }
     } else if (a == "--instructions") {
       parsed.instructions = true;
+    } else if (parse_progress_option(args, i, parsed.progress)) {
     } else if (a.rfind("--", 0) == 0) {
       throw UsageError{"unknown option " + a};
     } else {
@@ -90,6 +94,18 @@ int run_command(const std::vector<std::string>& args) {
   // before any run folder is written.
   std::vector<Scenario> scenarios;
   std::vector<PreparedScenario> prepared;
+  ProgressDisplay progress = make_progress_display(parsed->progress);
+  // Errors end the live line first, so that they stand on lines of their own.
+  const auto report_error = [&progress](const InputError& error) {
+    progress.close();
+    std::cerr << "error: " << error.what() << "\n";
+    return kExitBadInput;
+  };
+  const auto show_scenario = [&](std::size_t s) {
+    std::ostringstream prefix;
+    if (scenarios.size() > 1) prefix << "[" << s + 1 << "/" << scenarios.size() << "] ";
+    progress.set_prefix(prefix.str());
+  };
   try {
     for (const std::string& path : parsed->scenarios) {
       scenarios.push_back(load_scenario(path));
@@ -106,32 +122,41 @@ int run_command(const std::vector<std::string>& args) {
     if (parsed->out && scenarios.size() > 1) create_output_container(*parsed->out);
     for (const Scenario& scenario : scenarios)
       require_replaceable_folder(run_folder_for(*parsed, scenario), OutputFolderKind::kRun);
-    for (const Scenario& scenario : scenarios) {
-      prepared.push_back(prepare_scenario(scenario, parsed->algo));
+    for (std::size_t s = 0; s < scenarios.size(); ++s) {
+      show_scenario(s);
+      prepared.push_back(prepare_scenario(scenarios[s], parsed->algo, &progress));
       if (parsed->schedule) use_recorded_schedules(prepared.back(), *parsed->schedule);
     }
   } catch (const InputError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+    return report_error(error);
   }
 
+  RunOptions options = parsed->options;
+  options.progress = &progress;
   bool all_pass = true;
   for (std::size_t s = 0; s < scenarios.size(); ++s) {
     const Scenario& scenario = scenarios[s];
+    show_scenario(s);
     ScenarioOutcome outcome;
     try {
-      outcome = run_prepared(prepared[s], parsed->options);
-      if (parsed->instructions) count_instructions(scenario.path, parsed->algo, outcome);
+      outcome = run_prepared(prepared[s], options);
+      if (parsed->instructions) {
+        progress.task(scenario.name);
+        progress.phase("instruction count under callgrind");
+        count_instructions(scenario.path, parsed->algo, outcome);
+        progress.finish_task();
+      }
     } catch (const InputError& error) {
-      std::cerr << "error: " << error.what() << "\n";
-      return kExitBadInput;
+      return report_error(error);
     }
     const fs::path folder = run_folder_for(*parsed, scenario);
     const bool replaced = write_scenario_run_folder(folder, outcome);
 
-    std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/"
-              << (replaced ? " (replaced the earlier run folder)" : "") << "\n";
-    print_run_table(std::cout, outcome.report);
+    std::ostringstream table;
+    table << "scenario " << scenario.name << " -> " << folder.string() << "/"
+          << (replaced ? " (replaced the earlier run folder)" : "") << "\n";
+    print_run_table(table, outcome.report);
+    progress.print_above(std::cout, table.str());
     all_pass = all_pass && outcome.report.all_budgets_pass();
   }
   return all_pass ? kExitOk : kExitBudgetFailed;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/input_error.h"
 #include "harness/reference/surface_samples.h"
 
@@ -56,6 +57,7 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
   // The oracles sample the tool's surface and CGAL intersects it with the
   // scene: a self-intersecting or open tool has no inside, no volume.
   if (!settings.backends.empty()) {
+    announce_build_stage("checking the tool mesh");
     if (auto defect = inside_outside_defect(context.tool.mesh))
       throw InputError("", "/tool",
                        "the tool mesh is " + *defect +
@@ -65,6 +67,7 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
   }
   spacing_m_ = settings.sample_spacing_m > 0 ? settings.sample_spacing_m
                                              : tool_bounds_.diagonal().norm() / 40.0;
+  announce_build_stage("tool surface samples");
   tool_samples_ = sample_surface(tool_mesh_, spacing_m_);
   world_samples_.resize(tool_samples_.size());
   const auto entries = oracle_backends();
@@ -72,6 +75,7 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
     if (std::find(settings.backends.begin(), settings.backends.end(), entries[i].name) ==
         settings.backends.end())
       continue;
+    announce_build_stage(std::string(entries[i].name) + " scene");
     backends_.push_back({i, &entries[i], entries[i].make(context.scene)});
   }
   if (!backends_.empty()) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
 #include "harness/reference/analytic_reference.h"
@@ -64,13 +65,19 @@ RenderContext context_with_reach(const Scenario& scenario) {
 
 std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
                                                   const RenderContext& context,
-                                                  const std::optional<std::string>& only) {
+                                                  const std::optional<std::string>& only,
+                                                  ProgressDisplay* progress) {
   std::vector<PreparedAlgorithm> prepared;
   for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
     const AlgorithmSpec& spec = scenario.algorithms[i];
     if (only && spec.name != *only && spec.label != *only) continue;
     PreparedAlgorithm algorithm;
     algorithm.spec = &spec;
+    if (progress) {
+      progress->task(scenario.name + " / " + spec.label);
+      progress->phase("preprocessing");
+    }
+    const ScopedBuildProgressListener stages(progress);
     try {
       const ParamSet params = split_replay_params(spec, algorithm);
       const auto t0 = std::chrono::steady_clock::now();
@@ -85,6 +92,7 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     } catch (const InputError& error) {
       throw InputError(with_source(error, scenario.path), error.location(), error.message());
     }
+    if (progress) progress->finish_task();
     prepared.push_back(std::move(algorithm));
   }
   if (only && prepared.empty()) {
@@ -98,7 +106,7 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
   return prepared;
 }
 
-GroundTruth prepare_ground_truth(const Scenario& scenario) {
+GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* progress) {
   GroundTruth truth;
   if (scenario.reference.analytic == "auto") {
     truth.analytic = make_analytic_scene(scenario.context, &truth.analytic_note);
@@ -111,6 +119,11 @@ GroundTruth prepare_ground_truth(const Scenario& scenario) {
     settings.backends = scenario.reference.oracle_backends;
     settings.exact_every = scenario.reference.exact_every;
     settings.sample_spacing_m = scenario.reference.sample_spacing_m;
+    if (progress) {
+      progress->task(scenario.name + " / ground truth");
+      progress->phase("oracle");
+    }
+    const ScopedBuildProgressListener stages(progress);
     const auto t0 = std::chrono::steady_clock::now();
     try {
       truth.oracle = std::make_unique<OracleEvaluator>(scenario.context, settings);
@@ -121,18 +134,19 @@ GroundTruth prepare_ground_truth(const Scenario& scenario) {
     }
     truth.oracle_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (progress) progress->finish_task();
   }
   return truth;
 }
 }  // namespace
 
-PreparedScenario prepare_scenario(const Scenario& scenario,
-                                  const std::optional<std::string>& only) {
+PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only,
+                                  ProgressDisplay* progress) {
   PreparedScenario prepared;
   prepared.scenario = &scenario;
   prepared.context = std::make_unique<RenderContext>(context_with_reach(scenario));
-  prepared.algorithms = prepare_algorithms(scenario, *prepared.context, only);
-  prepared.truth = prepare_ground_truth(scenario);
+  prepared.algorithms = prepare_algorithms(scenario, *prepared.context, only, progress);
+  prepared.truth = prepare_ground_truth(scenario, progress);
   return prepared;
 }
 

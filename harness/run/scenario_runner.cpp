@@ -41,11 +41,13 @@ void add_result(ContentHash& hash, const TickResult& result) {
 // repetitions keep only their percentiles.
 class TimingObserver : public TickObserver {
  public:
-  explicit TimingObserver(bool keep_times) : keep_times_(keep_times) {}
+  TimingObserver(bool keep_times, ProgressDisplay* progress)
+      : keep_times_(keep_times), progress_(progress) {}
   void on_tick(const TickRecord& record) override {
     if (keep_times_) times.push_back({record.step_ns, record.slow_ns});
     step_ns.add(record.step_ns);
     add_result(results, record.result);
+    if (progress_) progress_->advance(record.device->tick + 1);
   }
   /// (step, slow update) wall time per tick, ns; only with keep_times.
   SpillBuffer<std::array<int64_t, 2>> times;
@@ -56,6 +58,7 @@ class TimingObserver : public TickObserver {
 
  private:
   bool keep_times_;
+  ProgressDisplay* progress_;
 };
 
 // Ground truth and logging for one algorithm's replay. With timings from a
@@ -63,8 +66,8 @@ class TimingObserver : public TickObserver {
 class EvaluatingObserver : public TickObserver {
  public:
   EvaluatingObserver(GroundTruth& truth, MetricsSettings settings, const TimingObserver* timing,
-                     std::ostream& ticks_out)
-      : truth_(truth), metrics_(settings), ticks_(ticks_out) {
+                     std::ostream& ticks_out, ProgressDisplay* progress)
+      : truth_(truth), metrics_(settings), ticks_(ticks_out), progress_(progress) {
     if (timing) timing_.emplace(timing->times);
     // Tunnelling by the exact box where there is one, else by the oracle.
     if (truth_.analytic) {
@@ -113,6 +116,7 @@ class EvaluatingObserver : public TickObserver {
     }
     metrics_.add(record, evaluation);
     ticks_.add(record, evaluation);
+    if (progress_) progress_->advance(record.device->tick + 1);
   }
 
   RunMetrics metrics() const { return metrics_.finish(); }
@@ -127,6 +131,7 @@ class EvaluatingObserver : public TickObserver {
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;
   TicksCsvWriter ticks_;
+  ProgressDisplay* progress_;
 };
 
 std::string penetration_source(const GroundTruth& truth) {
@@ -166,7 +171,10 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   metrics_settings.expected_ticks = scenario.trajectory.ticks();
   outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 
+  ProgressDisplay* const progress = options.progress;
+  const int64_t ticks = scenario.trajectory.ticks();
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
+    if (progress) progress->task(scenario.name + " / " + algorithm.spec->label);
     ReplaySettings timing_settings = algorithm.replay;
     if (algorithm.replayed_schedule) {
       timing_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
@@ -176,9 +184,14 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     // one's times and schedule are the run's; repetitions give the spread.
     std::vector<std::unique_ptr<TimingObserver>> passes;
     for (int i = 0; i < std::max(1, options.repeat); ++i)
-      passes.push_back(std::make_unique<TimingObserver>(i == 0));
-    for (const std::unique_ptr<TimingObserver>& pass_pointer : passes) {
-      TimingObserver& pass = *pass_pointer;
+      passes.push_back(std::make_unique<TimingObserver>(i == 0, progress));
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+      TimingObserver& pass = *passes[i];
+      if (progress)
+        progress->phase(passes.size() == 1 ? std::string("timing pass")
+                                           : "timing pass " + std::to_string(i + 1) + "/" +
+                                                 std::to_string(passes.size()),
+                        ticks, true);
       const NoiseFloorProbe probe;
       try {
         pass.schedule = replay(*algorithm.renderer, scenario.trajectory, timing_settings, pass);
@@ -198,7 +211,9 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     const std::string ticks_file = "ticks_" + algorithm.spec->label + ".csv";
     const std::filesystem::path ticks_path = outcome.scratch->path() / ticks_file;
     std::ofstream ticks_out(ticks_path, std::ios::binary | std::ios::trunc);
-    EvaluatingObserver observer(truth, metrics_settings, &timing, ticks_out);
+    if (progress)
+      progress->phase(truth.oracle ? "evaluation pass + oracle" : "evaluation pass", ticks);
+    EvaluatingObserver observer(truth, metrics_settings, &timing, ticks_out, progress);
     replay(*algorithm.renderer, scenario.trajectory, evaluation_settings, observer);
     if (!observer.ticks().finish())
       throw std::filesystem::filesystem_error("cannot write the ticks log", ticks_path,
@@ -240,6 +255,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     report.runs.push_back(std::move(run));
     outcome.ticks_files.push_back(ticks_path);
     outcome.schedule_csv.push_back(std::move(schedule_text));
+    if (progress) progress->finish_task();
   }
   return outcome;
 }

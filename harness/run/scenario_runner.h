@@ -11,6 +11,7 @@
 #include "algorithms/proxy/renderer.h"
 #include "harness/output/run_report.h"
 #include "harness/process/scratch_folder.h"
+#include "harness/progress/progress_display.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
@@ -55,8 +56,11 @@ struct PreparedScenario {
 /// label is `only`) and its ground truth. Throws InputError naming the
 /// scenario file (or the offending mesh) and the field for unknown
 /// algorithms, bad parameters or a scene the oracles refuse, before
-/// anything runs.
-PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only);
+/// anything runs. With `progress`: the tasks "<scenario> / <label>" in the
+/// phase "preprocessing" (with the builds' stages) and "<scenario> / ground
+/// truth" in the phase "oracle".
+PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only,
+                                  ProgressDisplay* progress = nullptr);
 
 /// Makes every multi-rate algorithm of `prepared` follow a recorded
 /// schedule (`hapticbench run --schedule PATH`). PATH is a schedule file
@@ -69,6 +73,9 @@ void use_recorded_schedules(PreparedScenario& prepared, const std::string& path)
 /// How the timing passes run.
 struct RunOptions {
   int repeat = 1;  ///< timing passes per algorithm (the first one's times are the metrics)
+  /// Where the passes show their progress (task "<scenario> / <label>",
+  /// phases "timing pass" and "evaluation pass"); none when null.
+  ProgressDisplay* progress = nullptr;
 };
 
 /// The outcome of a scenario: the report and each algorithm's files.

@@ -10,17 +10,6 @@ namespace {
 constexpr double kRedrawPeriodS = 1.0;
 }  // namespace
 
-std::string format_eta(double seconds) {
-  const long long total = seconds > 0 ? static_cast<long long>(std::ceil(seconds)) : 0;
-  char text[32];
-  if (total >= 3600)
-    std::snprintf(text, sizeof text, "%lld:%02lld:%02lld", total / 3600, total / 60 % 60,
-                  total % 60);
-  else
-    std::snprintf(text, sizeof text, "%02lld:%02lld", total / 60, total % 60);
-  return text;
-}
-
 double estimate_remaining_seconds(double elapsed_s, std::size_t finished, std::size_t total) {
   if (finished == 0) return -1;
   const std::size_t remaining = total > finished ? total - finished : 0;

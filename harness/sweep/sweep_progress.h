@@ -9,10 +9,9 @@
 #include <ostream>
 #include <string>
 
-namespace hb {
+#include "harness/progress/progress_display.h"
 
-/// "mm:ss", or "h:mm:ss" from one hour on; seconds rounded up.
-std::string format_eta(double seconds);
+namespace hb {
 
 /// Seconds left if the rest goes as fast as the finished part did:
 /// remaining jobs × elapsed / finished jobs (parallel workers included in

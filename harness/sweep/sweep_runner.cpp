@@ -1,6 +1,5 @@
 #include "harness/sweep/sweep_runner.h"
 
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -106,12 +105,6 @@ void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string
   }
   for (const fs::path& path : stale)
     if (is_owned_folder(path)) fs::remove_all(path, error);
-}
-
-std::size_t terminal_width() {
-  winsize size{};
-  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col >= 20) return size.ws_col;
-  return 100;
 }
 
 std::string last_lines(const std::string& text, std::size_t count) {

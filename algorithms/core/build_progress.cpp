@@ -1,0 +1,33 @@
+#include "algorithms/core/build_progress.h"
+
+#include <string>
+
+namespace hb {
+
+namespace {
+thread_local BuildProgressListener* current_listener = nullptr;
+}  // namespace
+
+void announce_build_stage(std::string_view stage) {
+  if (current_listener != nullptr) current_listener->build_stage(stage);
+}
+
+void announce_build_progress(std::size_t done, std::size_t total) {
+  if (current_listener != nullptr) current_listener->build_progress(done, total);
+}
+
+void announce_cached_build(std::string_view what, bool cache_hit) {
+  if (current_listener == nullptr) return;
+  std::string stage(what);
+  stage += cache_hit ? ": cache hit" : ": building";
+  current_listener->build_stage(stage);
+}
+
+ScopedBuildProgressListener::ScopedBuildProgressListener(BuildProgressListener* listener)
+    : previous_(current_listener) {
+  current_listener = listener;
+}
+
+ScopedBuildProgressListener::~ScopedBuildProgressListener() { current_listener = previous_; }
+
+}  // namespace hb
