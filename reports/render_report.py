@@ -1238,7 +1238,24 @@ def stability_margins_html(results):
             % ("".join("<th>%s</th>" % esc(q) for q in quantities), "".join(rows)))
 
 
-def render(folders, template, metric_table, stability_results=()):
+class Progress:
+    """Where rendering is, for `hapticbench report`'s progress display: one
+    line per step, "<done> <total> <unit> <phase>" (unit "-": none), on the
+    file descriptor it passes with --progress-fd. Silent without one."""
+
+    def __init__(self, fd=None):
+        self.out = os.fdopen(fd, "w", buffering=1) if fd is not None else None
+
+    def step(self, phase, done=0, total=0, unit="-"):
+        if self.out is None:
+            return
+        try:
+            self.out.write("%d %d %s %s\n" % (done, total, unit, phase))
+        except OSError:  # the reader went away: rendering goes on
+            self.out = None
+
+
+def render(folders, template, metric_table, stability_results=(), progress=Progress()):
     slugs = set()
     for folder in folders:
         slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
@@ -1278,6 +1295,7 @@ def render(folders, template, metric_table, stability_results=()):
                 "analytic reference, else the Embree oracle. "
                 "— : the metric does not apply to the run.</p></section>")
     body.append('<section id="pareto"><h2>Error against CPU time per tick</h2>')
+    progress.step("drawing the summary figures")
     uri, fronts, left_out, failed = pareto_figure(runs)
     if uri:
         on_front = "; ".join("%s: %s" % (scenario, ", ".join(labels))
@@ -1304,7 +1322,9 @@ def render(folders, template, metric_table, stability_results=()):
     body.append(stability_html(folders, runs))
     body.append(friction_html(folders))
     body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
-    body.extend(scenario_section(folder) for folder in folders)
+    for done, folder in enumerate(folders):
+        progress.step("drawing the scenarios' figures", done, len(folders), "scenarios")
+        body.append(scenario_section(folder))
     body.append("</section>")
     return string.Template(template).substitute(title="hapticbench report", body="\n".join(body))
 
@@ -1319,10 +1339,16 @@ def main():
     parser.add_argument("--stability", action="append", default=[],
                         help="a stability.json of `hapticbench stability` (repeatable): a row "
                         "of the stability-margin table")
+    parser.add_argument("--progress-fd", type=int, help="file descriptor for progress lines "
+                        "(hapticbench report passes it; see Progress)")
     parser.add_argument("folders", nargs="*", help="run folders (each with a summary.json)")
     args = parser.parse_args()
+    progress = Progress(args.progress_fd)
     try:
-        folders = [load_run_folder(path) for path in args.folders]
+        folders = []
+        for done, path in enumerate(args.folders):
+            progress.step("reading run folders", done, len(args.folders), "folders")
+            folders.append(load_run_folder(path))
         metric_table = []
         if args.metric_table:
             with open(args.metric_table, encoding="utf-8") as f:
@@ -1333,7 +1359,7 @@ def main():
         with open(args.template, encoding="utf-8") as f:
             template = f.read()
         stability_results = [(path, read_stability_result(path)) for path in args.stability]
-        page = render(folders, template, metric_table, stability_results)
+        page = render(folders, template, metric_table, stability_results, progress)
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2

@@ -16,10 +16,11 @@
 namespace hb {
 
 namespace {
-constexpr const char* kCompareUsage =
+const std::string kCompareUsage =
     "usage: hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]\n"
     "                           [--rel-tol X] [--timing-ratio X] [--alpha X]\n"
     "                           [--timing-same-cpu] [--timing-quiet-only] [--instructions-tol X]\n"
+    "                           [--progress STYLE] [--quiet]\n"
     "  BASELINE, CANDIDATE  a run folder, a summary.json, or a folder of run folders\n"
     "                       (a suite; scenarios matched by name, runs by label)\n"
     "  --gate            exit 1 when a check regressed or failed (default: report, exit 0)\n"
@@ -33,7 +34,8 @@ constexpr const char* kCompareUsage =
     "  --rel-tol X       accuracy/stability tolerance relative to the baseline (default 0.05)\n"
     "  --timing-ratio X  step time p50 or p99 ratio above which a significant slowdown\n"
     "                    is a regression (default 1.25)\n"
-    "  --alpha X         significance level of the one-sided Mann-Whitney test (default 0.01)\n";
+    "  --alpha X         significance level of the one-sided Mann-Whitney test (default 0.01)\n" +
+    std::string(kProgressUsage);
 
 struct CompareArguments {
   std::string baseline;
@@ -41,6 +43,7 @@ struct CompareArguments {
   bool gate = false;
   std::optional<std::string> out;
   CompareOptions options;
+  std::optional<ProgressStyle> progress;
 };
 
 // A finite number in [min, max]; nullopt when the text is not one.
@@ -94,6 +97,7 @@ CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
        : a == "--instructions-tol" ? parsed.options.instructions_rel_tol
        : a == "--timing-ratio"     ? parsed.options.timing_ratio
                                    : parsed.options.alpha) = *number;
+    } else if (parse_progress_option(args, i, parsed.progress)) {
     } else if (a.rfind("--", 0) == 0) {
       throw UsageError{"unknown option " + a};
     } else {
@@ -118,14 +122,19 @@ int compare_command(const std::vector<std::string>& args) {
 
   // Everything that can reject the input happens before anything is written.
   Comparison comparison;
-  try {
-    if (arguments.out) require_replaceable_folder(*arguments.out, OutputFolderKind::kComparison);
-    const SummarySet baseline = load_summary_set(arguments.baseline);
-    const SummarySet candidate = load_summary_set(arguments.candidate);
-    comparison = compare_summary_sets(baseline, candidate, arguments.options);
-  } catch (const InputError& error) {
-    std::cerr << "error: " << error.what() << "\n";
-    return kExitBadInput;
+  {
+    // Reading the ticks logs of large suites for step times takes a while.
+    ProgressDisplay progress = make_progress_display(arguments.progress, 1.0);
+    try {
+      if (arguments.out) require_replaceable_folder(*arguments.out, OutputFolderKind::kComparison);
+      const SummarySet baseline = load_summary_set(arguments.baseline);
+      const SummarySet candidate = load_summary_set(arguments.candidate);
+      comparison = compare_summary_sets(baseline, candidate, arguments.options, &progress);
+    } catch (const InputError& error) {
+      progress.close();
+      std::cerr << "error: " << error.what() << "\n";
+      return kExitBadInput;
+    }
   }
 
   print_comparison_table(std::cout, comparison);

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -37,13 +38,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kReportUsage =
-    "usage: hapticbench report RUN_DIR... [--out report.html]\n"
+const std::string kReportUsage =
+    "usage: hapticbench report RUN_DIR... [--out report.html] [--progress STYLE] [--quiet]\n"
     "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth;\n"
     "           stability.json files beneath it (hapticbench stability) make the margin table\n"
     "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
     "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
-    "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n";
+    "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n" +
+    std::string(kProgressUsage);
 
 constexpr const char* kDefaultPython = "/usr/bin/python3";
 // In the head of every page (reports/report_template.html): how a later
@@ -55,6 +57,7 @@ constexpr const char* kRendererScript = "render_report.py";
 struct ReportOptions {
   std::vector<fs::path> inputs;
   fs::path out = "report.html";
+  std::optional<ProgressStyle> progress;
 };
 
 ReportOptions parse_report_options(const std::vector<std::string>& args) {
@@ -64,6 +67,7 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
     check_help(arg);
     if (arg == "--out") {
       options.out = option_value(args, i);
+    } else if (parse_progress_option(args, i, options.progress)) {
     } else if (arg.size() > 1 && arg[0] == '-') {
       throw UsageError{"unknown option " + arg};
     } else {
@@ -92,6 +96,69 @@ int run_program(const std::vector<std::string>& argv, bool quiet) {
   const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// The fd on which the renderer writes its progress, one line per step:
+/// "<done> <total> <unit> <phase...>" (unit "-": none).
+constexpr int kRendererProgressFd = 3;
+
+/// Shows one progress line of the renderer; ignores what it cannot read.
+void show_renderer_progress(const std::string& line, ProgressDisplay& progress,
+                            std::string& current_phase) {
+  std::istringstream in(line);
+  int64_t done = 0, total = 0;
+  std::string unit, phase;
+  if (!(in >> done >> total >> unit) || !std::getline(in >> std::ws, phase)) return;
+  if (phase != current_phase) {
+    progress.phase(phase, total, false, unit == "-" ? std::string() : unit);
+    current_phase = phase;
+  }
+  progress.advance(done);
+}
+
+/// Runs the report renderer and waits for it, showing the progress it
+/// writes on fd kRendererProgressFd; its stderr goes to `stderr_file` (so
+/// that it never shares a line with the live one). Returns its exit code,
+/// or -1 when it could not be started or did not exit normally.
+int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_file,
+                 ProgressDisplay& progress) {
+  int pipe_fds[2];
+  if (::pipe2(pipe_fds, O_CLOEXEC) != 0) return -1;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], kRendererProgressFd);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<char*> pointers;
+  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
+  pointers.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(pipe_fds[1]);
+  if (spawned != 0) {
+    ::close(pipe_fds[0]);
+    return -1;
+  }
+  progress.task("report");
+  std::string pending, current_phase;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t got = ::read(pipe_fds[0], buffer, sizeof buffer);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;
+    pending.append(buffer, static_cast<std::size_t>(got));
+    for (std::size_t end; (end = pending.find('\n')) != std::string::npos;) {
+      show_renderer_progress(pending.substr(0, end), progress, current_phase);
+      pending.erase(0, end + 1);
+    }
+  }
+  ::close(pipe_fds[0]);
+  progress.finish_task();
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
@@ -184,14 +251,32 @@ int report_command(const std::vector<std::string>& args) {
   const fs::path table = scratch.path() / "metric_table.json";
   std::ofstream(table) << metric_table_json().dump() << "\n";
 
-  std::vector<std::string> command = {
-      python, "-B", script.string(), "--out", temporary.string(), "--metric-table", table.string()};
+  std::vector<std::string> command = {python,
+                                      "-B",
+                                      script.string(),
+                                      "--out",
+                                      temporary.string(),
+                                      "--metric-table",
+                                      table.string(),
+                                      "--progress-fd",
+                                      std::to_string(kRendererProgressFd)};
   for (const fs::path& file : stability_files) {
     command.push_back("--stability");
     command.push_back(file.string());
   }
   for (const fs::path& folder : folders) command.push_back(folder.string());
-  const int status = run_program(command, false);
+  const fs::path renderer_stderr = scratch.path() / "renderer_stderr.txt";
+  int status = 0;
+  {
+    // Drawing the figures takes seconds (tens on large suites).
+    ProgressDisplay progress = make_progress_display(options.progress, 1.0);
+    status = run_renderer(command, renderer_stderr, progress);
+  }
+  {
+    std::ifstream in(renderer_stderr, std::ios::binary);
+    const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::cerr << said << std::flush;
+  }
   if (status != 0 || !fs::is_regular_file(temporary)) {
     fs::remove(temporary, error);
     if (status == kExitBadInput) return kExitBadInput;  // the renderer named the file

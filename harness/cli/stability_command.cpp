@@ -32,9 +32,10 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-constexpr const char* kStabilityUsage =
+const std::string kStabilityUsage =
     "usage: hapticbench stability SCENARIO.json --label LABEL --param JSON_POINTER --range LO HI\n"
     "                             [--tolerance REL] [--epsilon J] [--out DIR]\n"
+    "                             [--progress STYLE] [--quiet]\n"
     "  finds the largest value of the scenario field at JSON_POINTER (e.g. /coupling/k_t,\n"
     "  /algorithms/2/params/contact_stiffness) in [LO, HI] at which algorithm LABEL is\n"
     "  stable, by bracketing and bisection on a log scale; each probe is a full run.\n"
@@ -42,7 +43,8 @@ constexpr const char* kStabilityUsage =
     "          no chatter at the end of the run (proxy_chatter_m, docs/metrics.md)\n"
     "  --tolerance REL  stop when smallest_unstable / largest_stable - 1 <= REL (default 0.02)\n"
     "  --epsilon J      passivity allowance, J (default 1e-6)\n"
-    "  --out DIR        folder for stability.json (default out/stability/<scenario>__<label>)\n";
+    "  --out DIR        folder for stability.json (default out/stability/<scenario>__<label>)\n" +
+    std::string(kProgressUsage);
 
 constexpr int kMaxProbes = 64;
 
@@ -54,6 +56,7 @@ struct StabilityArguments {
   double tolerance = 0.02;
   double epsilon_j = 1e-6;
   std::optional<std::string> out;
+  std::optional<ProgressStyle> progress;
 };
 
 double positive_number(const std::string& option, const std::string& text) {
@@ -90,6 +93,7 @@ StabilityArguments parse_stability_arguments(const std::vector<std::string>& arg
       parsed.epsilon_j = positive_number(a, option_value(args, i));
     } else if (a == "--out") {
       parsed.out = option_value(args, i);
+    } else if (parse_progress_option(args, i, parsed.progress)) {
     } else if (a.rfind("--", 0) == 0) {
       throw UsageError{"unknown option " + a};
     } else if (!parsed.scenario.empty()) {
@@ -123,7 +127,8 @@ struct Probe {
 
 class StabilitySearch {
  public:
-  StabilitySearch(const StabilityArguments& args) : args_(args) {
+  StabilitySearch(const StabilityArguments& args, ProgressDisplay& progress)
+      : args_(args), progress_(progress) {
     std::ifstream in(args.scenario, std::ios::binary);
     if (!in) throw InputError(args.scenario, "", "cannot open scenario file");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -140,8 +145,13 @@ class StabilitySearch {
 
   Probe probe(double value) {
     const Scenario scenario = load_at(value);
-    PreparedScenario prepared = prepare_scenario(scenario, args_.label);
-    const ScenarioOutcome outcome = run_prepared(prepared);
+    std::ostringstream prefix;
+    prefix << "run " << probes_.size() + 1 << ", " << args_.pointer << " = " << value << ": ";
+    progress_.set_prefix(prefix.str());
+    PreparedScenario prepared = prepare_scenario(scenario, args_.label, &progress_);
+    RunOptions options;
+    options.progress = &progress_;
+    const ScenarioOutcome outcome = run_prepared(prepared, options);
     const RunMetrics& m = outcome.report.runs.front().metrics;
     Probe p;
     p.value = value;
@@ -154,8 +164,10 @@ class StabilitySearch {
     p.stable =
         !p.diverged && p.nonfinite == 0 && p.passivity_min_j >= -args_.epsilon_j && !p.chatters;
     probes_.push_back(p);
-    std::cerr << "stability: " << args_.pointer << " = " << value << ": "
-              << (p.stable ? "stable" : "unstable") << "\n";
+    std::ostringstream line;
+    line << "stability: " << args_.pointer << " = " << value << ": "
+         << (p.stable ? "stable" : "unstable") << "\n";
+    progress_.print_above(std::cerr, line.str());
     return p;
   }
 
@@ -195,6 +207,7 @@ class StabilitySearch {
   }
 
   const StabilityArguments& args_;
+  ProgressDisplay& progress_;
   Json document_;
   fs::path base_dir_;
   std::string name_;
@@ -220,8 +233,9 @@ int stability_command(const std::vector<std::string>& args) {
   const auto parsed = parse_command_line([&] { return parse_stability_arguments(args); },
                                          kStabilityUsage, exit_code);
   if (!parsed) return exit_code;
+  ProgressDisplay progress = make_progress_display(parsed->progress, 1.0);
   try {
-    StabilitySearch search(*parsed);
+    StabilitySearch search(*parsed, progress);
     const fs::path out = parsed->out ? fs::path(*parsed->out)
                                      : fs::path("out") / "stability" /
                                            (search.scenario_name() + "__" + parsed->label);
@@ -273,6 +287,7 @@ int stability_command(const std::vector<std::string>& args) {
         {"runs", runs}};
     folder.write_file("stability.json", result.dump(2) + "\n");
     folder.commit();
+    progress.close();
 
     std::cout << search.scenario_name() << " / " << parsed->label << ", " << parsed->pointer
               << ": largest stable "
@@ -284,6 +299,7 @@ int stability_command(const std::vector<std::string>& args) {
               << "\n";
     return kExitOk;
   } catch (const InputError& error) {
+    progress.close();
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
   }

@@ -15,8 +15,9 @@ namespace hb {
 
 namespace {
 
-constexpr const char* kSweepUsage =
+const std::string kSweepUsage =
     "usage: hapticbench sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]\n"
+    "                         [--progress STYLE] [--quiet]\n"
     "  --jobs N     run up to N jobs at a time, each in its own process (default 1);\n"
     "               concurrent jobs share the cores, so compare timings from --jobs 1 runs\n"
     "  --shard I/N  run only the jobs whose index % N == I (one task of a job array)\n"
@@ -24,13 +25,15 @@ constexpr const char* kSweepUsage =
     "               default out/sweeps/<sweep name>/\n"
     "  --run-job K  run job K alone, in this process (what each worker runs)\n"
     "  every job is validated before any runs; a job whose run folder already has\n"
-    "  summary.json is skipped, so running the command again resumes the sweep.\n";
+    "  summary.json is skipped, so running the command again resumes the sweep.\n" +
+    std::string(kProgressUsage);
 
 constexpr std::size_t kMaxParallelJobs = 1024;
 
 struct SweepArguments {
   SweepRunSettings settings;
   std::optional<std::size_t> run_job;
+  std::optional<ProgressStyle> progress;
 };
 
 std::optional<std::size_t> whole_number(const std::string& text, std::size_t min, std::size_t max) {
@@ -71,6 +74,7 @@ SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
         if (!parsed.run_job)
           throw UsageError{"--run-job: expected a job index >= 0, got \"" + value + "\""};
       }
+    } else if (parse_progress_option(args, i, parsed.progress)) {
     } else if (a.rfind("--", 0) == 0) {
       throw UsageError{"unknown option " + a};
     } else if (!parsed.settings.sweep_file.empty()) {
@@ -81,6 +85,7 @@ SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
     }
   }
   if (parsed.settings.sweep_file.empty()) throw UsageError{"no sweep file given"};
+  parsed.settings.progress = parsed.progress.value_or(default_progress_style());
   if (parsed.run_job && (parsed.settings.shard || parsed.settings.jobs != 1))
     throw UsageError{"--run-job runs one job; it takes no --jobs or --shard"};
   return parsed;

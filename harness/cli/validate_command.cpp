@@ -29,14 +29,15 @@ namespace hb {
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: hapticbench validate FILE...\n"
+const std::string kUsage =
+    "usage: hapticbench validate FILE... [--progress STYLE] [--quiet]\n"
     "  checks each file as a run would read it, by extension:\n"
     "    .json                   scenario (meshes, trace and algorithm parameters included)\n"
     "    .off .obj .stl .ply     triangle mesh (must bound a solid)\n"
     "    .csv                    trace, hapticbench CSV\n"
     "    .txt .tum               trace, TUM format\n"
-    "  prints \"OK: FILE\" for each valid file; exit code 2 if any file is invalid.\n";
+    "  prints \"OK: FILE\" for each valid file; exit code 2 if any file is invalid.\n" +
+    std::string(kProgressUsage);
 
 std::string lowercase_extension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -54,7 +55,7 @@ std::string vector_text(const Vec3& v) {
   return out.str();
 }
 
-void validate_scenario(const std::string& path) {
+void validate_scenario(const std::string& path, std::ostream& report, ProgressDisplay& progress) {
   const Scenario scenario = load_scenario(path);
   for (const std::string& warning : scenario.warnings)
     std::cerr << "warning: " << path << ": " << warning << "\n";
@@ -62,7 +63,7 @@ void validate_scenario(const std::string& path) {
   // bad or unknown algorithm parameters) and the ground truth (whose oracles
   // reject open or self-intersecting scene meshes).
   try {
-    prepare_scenario(scenario, std::nullopt);
+    prepare_scenario(scenario, std::nullopt, &progress);
   } catch (const InputError& error) {
     throw with_default_source(error, scenario.path);
   }
@@ -89,34 +90,34 @@ void validate_scenario(const std::string& path) {
   out << "; oracle " << scenario.reference.oracle << ", analytic " << scenario.reference.analytic
       << "; " << scenario.budgets.size() << " budget" << (scenario.budgets.size() == 1 ? "" : "s")
       << "; content hash " << scenario.content_hash << ".";
-  std::cout << out.str() << "\n";
+  report << out.str() << "\n";
 }
 
-void validate_mesh(const std::string& path) {
+void validate_mesh(const std::string& path, std::ostream& report) {
   const TriangleMesh mesh = read_mesh_file(path);
   require_valid_mesh(mesh, path);
   const Eigen::AlignedBox3d bounds = mesh.bounds();
   const MassProperties unit_density = mass_properties_from_density(mesh, 1.0);
-  std::cout << "mesh: " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
-            << " triangles, closed and outward-oriented; bounds " << vector_text(bounds.min())
-            << " to " << vector_text(bounds.max()) << ", volume " << unit_density.volume_m3
-            << ", centroid " << vector_text(unit_density.centre_of_mass)
-            << " (file units; metres at scale 1)\n";
+  report << "mesh: " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
+         << " triangles, closed and outward-oriented; bounds " << vector_text(bounds.min())
+         << " to " << vector_text(bounds.max()) << ", volume " << unit_density.volume_m3
+         << ", centroid " << vector_text(unit_density.centre_of_mass)
+         << " (file units; metres at scale 1)\n";
 }
 
-void validate_trace(const std::string& path, TraceFileFormat format) {
+void validate_trace(const std::string& path, TraceFileFormat format, std::ostream& report) {
   const Trace trace = read_trace_file(path, format);
   const std::size_t n = trace.samples.size();
-  std::cout << "trace (" << (format == TraceFileFormat::kTum ? "TUM" : "hapticbench CSV")
-            << "): " << n << " samples";
+  report << "trace (" << (format == TraceFileFormat::kTum ? "TUM" : "hapticbench CSV") << "): " << n
+         << " samples";
   if (n >= 1) {
     const double span_s = static_cast<double>(trace.samples.back().t_ns) * 1e-9;
-    std::cout << " from t = 0 to " << span_s << " s";
+    report << " from t = 0 to " << span_s << " s";
     if (n >= 2 && span_s > 0)
-      std::cout << ", mean rate " << static_cast<double>(n - 1) / span_s << " Hz";
-    std::cout << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities";
+      report << ", mean rate " << static_cast<double>(n - 1) / span_s << " Hz";
+    report << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities";
   }
-  std::cout << "\n";
+  report << "\n";
   // What run does with it: resample onto the 1 kHz clock (spans checked).
   try {
     (void)DeviceTrajectory::of_trace(trace, 0);
@@ -125,17 +126,18 @@ void validate_trace(const std::string& path, TraceFileFormat format) {
   }
 }
 
-void validate_file(const std::string& path) {
+// Writes what it found to `report`; throws InputError for what is wrong.
+void validate_file(const std::string& path, std::ostream& report, ProgressDisplay& progress) {
   const std::string extension = lowercase_extension(path);
   if (extension == ".json") {
-    validate_scenario(path);
+    validate_scenario(path, report, progress);
   } else if (extension == ".off" || extension == ".obj" || extension == ".stl" ||
              extension == ".ply") {
-    validate_mesh(path);
+    validate_mesh(path, report);
   } else if (extension == ".csv") {
-    validate_trace(path, TraceFileFormat::kHapticbenchCsv);
+    validate_trace(path, TraceFileFormat::kHapticbenchCsv, report);
   } else if (extension == ".txt" || extension == ".tum") {
-    validate_trace(path, TraceFileFormat::kTum);
+    validate_trace(path, TraceFileFormat::kTum, report);
   } else {
     throw InputError(path, "",
                      "unknown file type \"" + extension +
@@ -147,17 +149,24 @@ void validate_file(const std::string& path) {
 }  // namespace
 
 namespace {
-// Throws UsageError or HelpRequested.
-std::vector<std::string> parse_validate_arguments(const std::vector<std::string>& args) {
+struct ValidateArguments {
   std::vector<std::string> files;
-  for (const std::string& arg : args) {
+  std::optional<ProgressStyle> progress;
+};
+
+// Throws UsageError or HelpRequested.
+ValidateArguments parse_validate_arguments(const std::vector<std::string>& args) {
+  ValidateArguments parsed;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
     check_help(arg);
+    if (parse_progress_option(args, i, parsed.progress)) continue;
     if (arg.size() > 1 && arg[0] == '-')
       throw UsageError{"validate: unknown option \"" + arg + "\""};
-    files.push_back(arg);
+    parsed.files.push_back(arg);
   }
-  if (files.empty()) throw UsageError{"validate: no file given"};
-  return files;
+  if (parsed.files.empty()) throw UsageError{"validate: no file given"};
+  return parsed;
 }
 }  // namespace
 
@@ -166,18 +175,29 @@ int validate_command(const std::vector<std::string>& args) {
   const auto parsed_files =
       parse_command_line([&] { return parse_validate_arguments(args); }, kUsage, exit_code);
   if (!parsed_files) return exit_code;
-  const std::vector<std::string>& files = *parsed_files;
+  const std::vector<std::string>& files = parsed_files->files;
 
+  // Building a scenario's renderers and oracles can take a while (meshes
+  // without cached structures); progress shows when it takes over a second.
+  ProgressDisplay progress = make_progress_display(parsed_files->progress, 1.0);
   int status = kExitOk;
-  for (const std::string& file : files) {
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::string& file = files[i];
+    std::ostringstream prefix;
+    if (files.size() > 1) prefix << "[" << i + 1 << "/" << files.size() << "] ";
+    progress.set_prefix(prefix.str());
+    std::ostringstream report;
     try {
-      validate_file(file);
-      std::cout << "OK: " << file << "\n";
+      validate_file(file, report, progress);
+      report << "OK: " << file << "\n";
+      progress.print_above(std::cout, report.str());
     } catch (const InputError& error) {
-      std::cerr << "error: " << error.what() << "\n";
+      progress.print_above(std::cout, report.str());
+      progress.print_above(std::cerr, "error: " + std::string(error.what()) + "\n");
       status = std::max<int>(status, kExitBadInput);
     } catch (const std::exception& error) {
-      std::cerr << "internal error: " << file << ": " << error.what() << "\n";
+      progress.print_above(std::cout, report.str());
+      progress.print_above(std::cerr, "internal error: " + file + ": " + error.what() + "\n");
       status = std::max<int>(status, kExitInternal);
     }
   }

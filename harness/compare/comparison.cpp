@@ -130,7 +130,7 @@ std::vector<CheckRow> compare_scenarios(const ScenarioSummary& baseline,
 }
 
 Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& candidate,
-                                const CompareOptions& options) {
+                                const CompareOptions& options, ProgressDisplay* progress) {
   Comparison comparison;
   comparison.baseline_path = baseline.path;
   comparison.candidate_path = candidate.path;
@@ -144,7 +144,14 @@ Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& ca
                        "different scenarios: baseline " + b.scenario_name + ", candidate " +
                            c.scenario_name + " (baseline " + b.source + ")");
   }
-  for (const ScenarioSummary& b : baseline.scenarios) {
+  if (progress) {
+    progress->task(baseline.path + " against " + candidate.path);
+    progress->phase("comparing", static_cast<int64_t>(baseline.scenarios.size()), false,
+                    "scenarios");
+  }
+  for (std::size_t i = 0; i < baseline.scenarios.size(); ++i) {
+    const ScenarioSummary& b = baseline.scenarios[i];
+    if (progress) progress->advance(static_cast<int64_t>(i));
     const ScenarioSummary* c = candidate.find_scenario(b.scenario_name);
     if (!c) {
       comparison.rows.push_back(presence_row(b.scenario_name, "", true));
@@ -153,6 +160,7 @@ Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& ca
     std::vector<CheckRow> rows = compare_scenarios(b, *c, options);
     comparison.rows.insert(comparison.rows.end(), rows.begin(), rows.end());
   }
+  if (progress) progress->finish_task();
   for (const ScenarioSummary& c : candidate.scenarios)
     if (!baseline.find_scenario(c.scenario_name))
       comparison.rows.push_back(presence_row(c.scenario_name, "", false));

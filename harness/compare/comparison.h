@@ -11,6 +11,7 @@
 
 #include "harness/compare/scenario_summary.h"
 #include "harness/compare/summary_set.h"
+#include "harness/progress/progress_display.h"
 
 namespace hb {
 
@@ -95,9 +96,10 @@ struct Comparison {
 /// failure, a candidate-only one is listed as new. Two single runs must be
 /// of one scenario: otherwise throws InputError "different scenarios:
 /// baseline X, candidate Y". Reading ticks CSVs for step times may throw
-/// InputError too.
+/// InputError too. With `progress`: the phase "comparing", one unit per
+/// baseline scenario.
 Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& candidate,
-                                const CompareOptions& options);
+                                const CompareOptions& options, ProgressDisplay* progress = nullptr);
 
 /// The rows of one scenario present on both sides: its hash, then per run
 /// (matched by label) its checks; missing runs fail, new runs are listed.

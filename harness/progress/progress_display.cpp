@@ -255,14 +255,20 @@ std::string ProgressDisplay::bar_text(double now) const {
       tail << with_thousands(done) << "/" << with_thousands(total_) << " " << unit_ << " ";
     tail << static_cast<int>(std::floor(100 * fraction)) << "%";
   }
-  tail << " elapsed " << format_elapsed(elapsed);
+  const std::string elapsed_text = " elapsed " + format_elapsed(elapsed);
   if (total_ > 0) {
     const double left = remaining_seconds(elapsed, done, total_);
-    tail << ", ETA " << (left < 0 ? std::string("--:--") : format_eta(left));
+    tail << elapsed_text << ", ETA " << (left < 0 ? std::string("--:--") : format_eta(left));
+  } else {
+    tail << elapsed_text;
   }
-  const std::string numbers = tail.str();
+  std::string numbers = tail.str();
   const std::size_t width = settings_.line_width > 1 ? settings_.line_width - 1 : 0;
   constexpr std::size_t kShortestTask = 16;
+  // Very narrow: the time spent goes before the ETA does.
+  if (total_ > 0 && task.size() + what.size() + numbers.size() > width &&
+      kShortestTask + 8 + numbers.size() > width)
+    numbers.erase(numbers.find(elapsed_text), elapsed_text.size() + 1);
   if (task.size() + what.size() + numbers.size() > width) {
     const std::size_t fixed = what.size() + numbers.size();
     task = fit(task, width > fixed + kShortestTask ? width - fixed : kShortestTask);

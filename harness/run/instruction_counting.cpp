@@ -39,10 +39,17 @@ std::string tail_of(const fs::path& file) {
   return text.size() > 2000 ? text.substr(text.size() - 2000) : text;
 }
 
-// Replays whatever it is given without looking at it.
+// Replays whatever it is given without looking at it, only counting the
+// ticks for the progress display as the timing pass does.
 class IgnoringObserver : public TickObserver {
  public:
-  void on_tick(const TickRecord&) override {}
+  explicit IgnoringObserver(ProgressDisplay* progress) : progress_(progress) {}
+  void on_tick(const TickRecord& record) override {
+    if (progress_) progress_->advance(record.device->tick + 1);
+  }
+
+ private:
+  ProgressDisplay* progress_;
 };
 
 }  // namespace
@@ -110,7 +117,8 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
 
 void count_instructions_here(const std::string& scenario_path,
                              const std::optional<std::string>& only,
-                             const std::string& schedule_dir, const std::string& out) {
+                             const std::string& schedule_dir, const std::string& out,
+                             ProgressDisplay* progress) {
   Scenario scenario = load_scenario(scenario_path);
   scenario.reference.switch_off_oracle();  // no ground truth is counted, so none is built
   PreparedScenario prepared = prepare_scenario(scenario, only);
@@ -124,22 +132,28 @@ void count_instructions_here(const std::string& scenario_path,
       settings.slow_loop_timing = SlowLoopTiming::kReplayed;
       settings.replayed_schedule = algorithm.replayed_schedule.get();
     }
-    IgnoringObserver ignore;
+    IgnoringObserver ignore(progress);
+    const int64_t ticks = scenario.trajectory.ticks();
+    if (progress) progress->task(scenario.name + " / " + algorithm.spec->label);
     // A first pass warms what a renderer builds lazily; the counted passes
     // then see the state every later replay sees.
+    if (progress) progress->phase("warm-up pass", ticks, true);
     replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
     settings.counted = CountedCalls::kStep;
+    if (progress) progress->phase("counted pass", ticks, true);
     const SlowLoopSchedule schedule =
         replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
     dump_instruction_counts("step:" + algorithm.spec->label);
     nlohmann::json entry = {{"ticks", scenario.trajectory.ticks()}, {"slow_updates", nullptr}};
     if (algorithm.has_slow_loop()) {
       settings.counted = CountedCalls::kSlowUpdate;
+      if (progress) progress->phase("counted slow-loop pass", ticks, true);
       replay(*algorithm.renderer, scenario.trajectory, settings, ignore);
       dump_instruction_counts("slow:" + algorithm.spec->label);
       entry["slow_updates"] = schedule.updates.size();
     }
     counts[algorithm.spec->label] = entry;
+    if (progress) progress->finish_task();
   }
   std::ofstream(out) << counts.dump() << "\n";
 }

@@ -27,9 +27,12 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
 /// in `schedule_dir`, and for each algorithm (or `only`) replays once to
 /// warm up, once collecting step() and once collecting slow updates,
 /// dumping "step:<label>" and "slow:<label>"; writes {label: {ticks,
-/// slow_updates}} to `out`.
+/// slow_updates}} to `out`. Progress shows on `progress` as in a run's
+/// timing pass (between ticks, from the tick counter), so that the counts
+/// tell whether showing it costs anything inside the measured calls.
 void count_instructions_here(const std::string& scenario_path,
                              const std::optional<std::string>& only,
-                             const std::string& schedule_dir, const std::string& out);
+                             const std::string& schedule_dir, const std::string& out,
+                             ProgressDisplay* progress = nullptr);
 
 }  // namespace hb

@@ -174,8 +174,10 @@ int run_sweep(const SweepRunSettings& args) {
   }
   remove_stale_staging(out_dir, names);
 
-  const bool terminal = ::isatty(STDERR_FILENO) == 1;
-  SweepProgress progress(std::cerr, to_run.size(), terminal, terminal_width());
+  const bool terminal = args.progress == ProgressStyle::kBar;
+  std::ostream silent(nullptr);  // --progress none: everything written is dropped
+  SweepProgress progress(args.progress == ProgressStyle::kNone ? silent : std::cerr, to_run.size(),
+                         terminal, terminal_width());
   std::size_t ok = 0, budget_failed = 0, crashed = 0;
   WorkerCallbacks callbacks;
   callbacks.on_start = [&](std::size_t launch) { progress.started(names[launch]); };

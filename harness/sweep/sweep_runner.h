@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "harness/progress/progress_display.h"
 #include "harness/sweep/sweep_shard.h"
 
 namespace hb {
@@ -18,6 +19,8 @@ struct SweepRunSettings {
   std::size_t jobs = 1;             ///< worker processes at a time
   std::optional<SweepShard> shard;  ///< only these jobs; all when empty
   std::optional<std::string> out;   ///< output folder; default out/sweeps/<sweep name>/
+  /// bar: one line redrawn in place; plain: a line per finished job; none: nothing.
+  ProgressStyle progress = ProgressStyle::kPlain;
 };
 
 /// Runs job `job_index` alone, in this process (what each worker runs):

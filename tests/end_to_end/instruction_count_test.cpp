@@ -1,10 +1,14 @@
 // End-to-end: `run --instructions` counts the instructions of step() under
 // callgrind; the counts repeat exactly, grow with the work done, and a real
 // regression in them fails `compare --gate`, naming the metric.
+#include "harness/replay/instruction_count.h"
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 
 #include "tests/support/cli_runner.h"
@@ -81,6 +85,42 @@ TEST_CASE("a real instruction-count regression fails the gate, naming the metric
   // Against itself it passes.
   CHECK(run_hapticbench("compare baseline baseline --gate --no-timing", work.path()).exit_code ==
         0);
+}
+
+// The counting child run by hand under callgrind, as `run --instructions`
+// runs it, with the given progress style; returns the step count of `label`.
+int64_t counted_steps(const fs::path& work, const std::string& scenario, const std::string& style,
+                      const std::string& label) {
+  const fs::path dumps = work / ("dumps_" + style), schedules = work / "schedules";
+  fs::create_directories(dumps);
+  fs::create_directories(schedules);
+  const auto result = hb::test::run_hapticbench_after(
+      "valgrind --tool=callgrind --instr-atstart=no --collect-atstart=no --dump-instr=no "
+      "--dump-line=no --callgrind-out-file='" +
+          (dumps / "callgrind.%p").string() + "'",
+      "count-instructions " + scenario + " --schedule schedules --out counts_" + style +
+          ".json --progress " + style + " 2> progress_" + style + ".txt",
+      work);
+  INFO(hb::test::read_text_file(work / "stderr.txt"));
+  REQUIRE(result.exit_code == 0);
+  const std::map<std::string, int64_t> counts = hb::read_callgrind_dumps(dumps);
+  REQUIRE(counts.count("step:" + label) == 1);
+  return counts.at("step:" + label);
+}
+
+TEST_CASE("showing progress costs no instruction inside the counted steps") {
+  const hb::test::ScratchDir work("e2e_instructions_progress");
+  write_press(work / "press.json", "implicit_euler", 5.0);
+  const int64_t without = counted_steps(work.path(), "press.json", "none", "penalty");
+  const int64_t with_bar = counted_steps(work.path(), "press.json", "bar", "penalty");
+  // The display did draw during the counted pass (from the tick counter,
+  // between the ticks), and the count of step() is the same to the instruction.
+  const std::string drawn = hb::test::read_text_file(work / "progress_bar.txt");
+  INFO(drawn);
+  CHECK(std::regex_search(drawn, std::regex("counted pass [1-9][0-9,]*/5,000 ticks")));
+  CHECK(hb::test::read_text_file(work / "progress_none.txt").find("pass") == std::string::npos);
+  CHECK(without > 0);
+  CHECK(with_bar == without);
 }
 
 TEST_CASE("run --instructions without valgrind on PATH is a clear usage error") {

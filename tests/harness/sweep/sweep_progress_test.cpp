@@ -15,17 +15,6 @@ std::size_t count_of(const std::string& text, const std::string& part) {
 }
 }  // namespace
 
-TEST_CASE("ETA text is mm:ss, h:mm:ss from an hour on, seconds rounded up") {
-  CHECK(hb::format_eta(0) == "00:00");
-  CHECK(hb::format_eta(-4) == "00:00");
-  CHECK(hb::format_eta(0.2) == "00:01");
-  CHECK(hb::format_eta(59.2) == "01:00");
-  CHECK(hb::format_eta(125) == "02:05");
-  CHECK(hb::format_eta(3599) == "59:59");
-  CHECK(hb::format_eta(3600) == "1:00:00");
-  CHECK(hb::format_eta(3725) == "1:02:05");
-}
-
 TEST_CASE("the remaining time extrapolates the rate of the finished jobs") {
   // 2 of 5 done in 10 s: 3 left at 5 s each.
   CHECK(hb::estimate_remaining_seconds(10, 2, 5) == Approx(15));
