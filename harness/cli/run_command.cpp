@@ -150,7 +150,10 @@ int run_command(const std::vector<std::string>& args) {
       return report_error(error);
     }
     const fs::path folder = run_folder_for(*parsed, scenario);
+    progress.task(scenario.name);
+    progress.phase("writing " + folder.string() + "/");
     const bool replaced = write_scenario_run_folder(folder, outcome);
+    progress.finish_task();
 
     std::ostringstream table;
     table << "scenario " << scenario.name << " -> " << folder.string() << "/"

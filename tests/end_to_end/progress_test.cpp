@@ -10,6 +10,8 @@
 #include <catch2/catch.hpp>
 #include <cerrno>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <vector>
@@ -23,6 +25,23 @@ using hb::test::run_hapticbench;
 
 const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 const std::string kPress = (kSource / "scenarios/smoke/box_press_box.json").string();
+
+// The smoke box press for one god-object, 60 s long and without the
+// oracle: both passes last long enough (tenths of a second) to be redrawn
+// with ticks done whatever the machine, since a phase shorter than the
+// 0.1 s between redraws may never be drawn.
+fs::path write_long_press(const fs::path& work) {
+  nlohmann::json scenario = nlohmann::json::parse(hb::test::read_text_file(kPress));
+  scenario["trace"]["duration_s"] = 60;
+  scenario["reference"] = {{"oracle", "none"}, {"analytic", "auto"}};
+  nlohmann::json kept = nlohmann::json::array();
+  for (const nlohmann::json& algorithm : scenario["algorithms"])
+    if (algorithm["label"] == "god_object") kept.push_back(algorithm);
+  scenario["algorithms"] = kept;
+  const fs::path file = work / "long_press.json";
+  std::ofstream(file) << scenario.dump(2);
+  return file;
+}
 
 struct TerminalRun {
   int exit_code = -1;
@@ -74,14 +93,17 @@ bool contains(const std::string& text, const std::string& part) {
 
 TEST_CASE("on a terminal, run shows one live line with phase, ticks and ETA, then erases it") {
   const hb::test::ScratchDir work("e2e_progress_terminal");
-  const TerminalRun run = run_on_terminal({"run", kPress, "--out", "press"}, work.path());
+  const TerminalRun run =
+      run_on_terminal({"run", write_long_press(work).string(), "--out", "press"}, work.path());
   INFO(run.terminal);
   REQUIRE(run.exit_code == 0);
+  // The first phase is drawn as it starts; the passes as they go.
+  CHECK(run.terminal.rfind("\r\033[Kbox_press_box / god_object: preprocessing", 0) == 0);
   for (const char* phase :
-       {"preprocessing", "ground truth: oracle", "timing pass", "evaluation pass + oracle"})
-    CHECK(contains(run.terminal, phase));
-  CHECK(contains(run.terminal, "box_press_box / god_object"));
-  CHECK(std::regex_search(run.terminal, std::regex("[0-9,]+/2,000 ticks [0-9]+% elapsed "
+       {"box_press_box / god_object: timing pass [1-9][0-9,]*/60,000 ticks",
+        "box_press_box / god_object: evaluation pass [1-9][0-9,]*/60,000 ticks"})
+    CHECK(std::regex_search(run.terminal, std::regex(phase)));
+  CHECK(std::regex_search(run.terminal, std::regex("[0-9,]+/60,000 ticks [0-9]+% elapsed "
                                                    "[0-9]{2}:[0-9]{2}, ETA [0-9]{2}:[0-9]{2}")));
   // Redrawn in place: carriage returns and erase-line, never a new line,
   // and the last thing written erases the line.
@@ -89,7 +111,7 @@ TEST_CASE("on a terminal, run shows one live line with phase, ticks and ETA, the
   CHECK_FALSE(contains(run.terminal, "\n"));
   REQUIRE(run.terminal.size() >= 4);
   CHECK(run.terminal.substr(run.terminal.size() - 4) == "\r\033[K");
-  // The table is the same as without a terminal.
+  // The table goes to stdout as without a terminal.
   CHECK(contains(run.stdout_text, "scenario box_press_box -> press/"));
   CHECK(contains(run.stdout_text, "god_object"));
 }
@@ -122,8 +144,7 @@ TEST_CASE("to a file, run redraws nothing; --quiet says nothing; --progress bar 
   CHECK(contains(quiet.stdout_text, "scenario box_press_box -> b/"));
   const auto bar = run_hapticbench("run " + kPress + " --out c --progress bar", work.path());
   CHECK(bar.exit_code == 0);
-  CHECK(contains(bar.stderr_text, "\r\033[K"));
-  CHECK(contains(bar.stderr_text, "timing pass"));
+  CHECK(contains(bar.stderr_text, "\r\033[Kbox_press_box / "));
 }
 
 TEST_CASE("a bad --progress style is a usage error naming the styles") {
@@ -137,7 +158,7 @@ TEST_CASE("a bad --progress style is a usage error naming the styles") {
   }
 }
 
-TEST_CASE("report shows its progress on a terminal and writes the page") {
+TEST_CASE("report on a terminal draws only in place, and writes the page") {
   const hb::test::ScratchDir work("e2e_progress_report");
   REQUIRE(run_hapticbench("run " + kPress + " --out runs/press --quiet", work.path()).exit_code ==
           0);
@@ -147,9 +168,12 @@ TEST_CASE("report shows its progress on a terminal and writes the page") {
   REQUIRE(report.exit_code == 0);
   CHECK(fs::is_regular_file(work / "report.html"));
   CHECK(contains(report.stdout_text, "report: report.html (1 run folder)"));
-  // Drawing takes more than the quiet second of a report: the line shows a
-  // phase of the renderer, and is erased at the end.
-  CHECK(contains(report.terminal, "report: "));
-  CHECK(contains(report.terminal, "figures"));
+  // Whatever was drawn (a report of one folder may take less than the
+  // quiet second) was drawn in place and erased; the renderer's own
+  // progress lines are checked by tests/reports/render_report_test.py.
   CHECK_FALSE(contains(report.terminal, "\n"));
+  if (!report.terminal.empty()) {
+    CHECK(report.terminal.rfind("\r\033[Kreport: ", 0) == 0);
+    CHECK(report.terminal.substr(report.terminal.size() - 4) == "\r\033[K");
+  }
 }
