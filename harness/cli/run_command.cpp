@@ -103,14 +103,19 @@ int run_command(const std::vector<std::string>& args) {
   };
   const auto show_scenario = [&](std::size_t s) {
     std::ostringstream prefix;
-    if (scenarios.size() > 1) prefix << "[" << s + 1 << "/" << scenarios.size() << "] ";
+    const std::size_t count = parsed->scenarios.size();
+    if (count > 1) prefix << "[" << s + 1 << "/" << count << "] ";
     progress.set_prefix(prefix.str());
   };
   try {
     for (const std::string& path : parsed->scenarios) {
+      show_scenario(scenarios.size());
+      progress.task(path);
+      progress.phase("loading");
       scenarios.push_back(load_scenario(path));
+      progress.finish_task();
       for (const std::string& warning : scenarios.back().warnings)
-        std::cerr << "warning: " << path << ": " << warning << "\n";
+        progress.print_above(std::cerr, "warning: " + path + ": " + warning + "\n");
       for (std::size_t i = 0; i + 1 < scenarios.size(); ++i)
         if (scenarios[i].name == scenarios.back().name)
           throw InputError(path, "/name",

@@ -98,7 +98,7 @@ TEST_CASE("on a terminal, run shows one live line with phase, ticks and ETA, the
   INFO(run.terminal);
   REQUIRE(run.exit_code == 0);
   // The first phase is drawn as it starts; the passes as they go.
-  CHECK(run.terminal.rfind("\r\033[Kbox_press_box / god_object: preprocessing", 0) == 0);
+  CHECK(run.terminal.rfind("\r\033[K" + (work / "long_press.json").string() + ": loading", 0) == 0);
   for (const char* phase :
        {"box_press_box / god_object: timing pass [1-9][0-9,]*/60,000 ticks",
         "box_press_box / god_object: evaluation pass [1-9][0-9,]*/60,000 ticks"})
