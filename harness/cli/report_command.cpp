@@ -79,9 +79,30 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
   return options;
 }
 
-/// Runs a program (looked up on PATH when the name has no slash) and waits for
-/// it. quiet: its output goes to /dev/null. Returns its exit code, or -1 when it
-/// could not be started or did not exit normally.
+/// Starts a program (looked up on PATH when the name has no slash) with
+/// `actions`, which it destroys. Returns its pid, or -1 when it could not
+/// be started.
+pid_t spawn_program(const std::vector<std::string>& argv, posix_spawn_file_actions_t& actions) {
+  std::vector<char*> pointers;
+  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
+  pointers.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  return spawned == 0 ? pid : -1;
+}
+
+/// Waits for `pid`: its exit code, or -1 when it did not exit normally.
+int exit_code_of(pid_t pid) {
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Runs a program and waits for it. quiet: its output goes to /dev/null.
+/// Returns its exit code, or -1 when it could not be started or did not
+/// exit normally.
 int run_program(const std::vector<std::string>& argv, bool quiet) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -89,17 +110,8 @@ int run_program(const std::vector<std::string>& argv, bool quiet) {
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   }
-  std::vector<char*> pointers;
-  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
-  pointers.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return -1;
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const pid_t pid = spawn_program(argv, actions);
+  return pid < 0 ? -1 : exit_code_of(pid);
 }
 
 /// The fd on which the renderer writes its progress, one line per step:
@@ -133,14 +145,9 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
   posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], kRendererProgressFd);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<char*> pointers;
-  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
-  pointers.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = spawn_program(argv, actions);
   ::close(pipe_fds[1]);
-  if (spawned != 0) {
+  if (pid < 0) {
     ::close(pipe_fds[0]);
     return -1;
   }
@@ -159,10 +166,7 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
   }
   ::close(pipe_fds[0]);
   progress.finish_task();
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return exit_code_of(pid);
 }
 
 /// Whether `path` is a page `hapticbench report` wrote: the renderer puts
