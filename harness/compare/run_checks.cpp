@@ -68,7 +68,8 @@ CheckRow count_row(CheckRow row, int64_t baseline, int64_t candidate, std::strin
   row.baseline = baseline;
   row.candidate = candidate;
   const int64_t difference = candidate - baseline;
-  row.change = difference == 0 ? "0" : (difference > 0 ? "+" : "") + std::to_string(difference);
+  row.change = std::to_string(difference);
+  if (difference > 0) row.change.insert(row.change.begin(), '+');
   if (difference > 0) {
     row.verdict = Verdict::kRegression;
     row.note = "more " + std::string(what) + " (any increase fails)";

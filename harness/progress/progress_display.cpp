@@ -216,7 +216,8 @@ bool ProgressDisplay::showing_allowed(double now) const {
 }
 
 void ProgressDisplay::redraw_locked(double now) {
-  if (settings_.style != ProgressStyle::kBar || phase_.empty() || !showing_allowed(now)) return;
+  if (settings_.style != ProgressStyle::kBar || closed_ || phase_.empty() || !showing_allowed(now))
+    return;
   last_draw_s_ = now;
   out_ << "\r\033[K" << bar_text(now) << std::flush;
   drawn_ = true;
@@ -229,8 +230,8 @@ void ProgressDisplay::erase_locked() {
 }
 
 void ProgressDisplay::print_plain_locked(double now) {
-  if (plain_pending_since_s_ < 0 || now - plain_pending_since_s_ < kPlainAfterS || phase_.empty() ||
-      !showing_allowed(now))
+  if (closed_ || plain_pending_since_s_ < 0 || now - plain_pending_since_s_ < kPlainAfterS ||
+      phase_.empty() || !showing_allowed(now))
     return;
   plain_pending_since_s_ = -1;
   out_ << "[" << format_elapsed(now - start_s_) << "] " << prefix_ << task_ << ": " << phase_;

@@ -85,7 +85,8 @@ class ProgressDisplay : public BuildProgressListener {
   void print_above(std::ostream& stream, const std::string& text);
   /// The task is done: its live line is erased.
   void finish_task();
-  /// Stops the display and erases the live line (the destructor does this).
+  /// Stops the display and erases the live line (the destructor does this);
+  /// nothing is drawn after it.
   void close();
 
   // BuildProgressListener: preprocessing stages become the phase's stage.
