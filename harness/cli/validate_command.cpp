@@ -192,10 +192,12 @@ int validate_command(const std::vector<std::string>& args) {
       report << "OK: " << file << "\n";
       progress.print_above(std::cout, report.str());
     } catch (const InputError& error) {
+      progress.finish_task();  // the file's line ends with it
       progress.print_above(std::cout, report.str());
       progress.print_above(std::cerr, "error: " + std::string(error.what()) + "\n");
       status = std::max<int>(status, kExitBadInput);
     } catch (const std::exception& error) {
+      progress.finish_task();
       progress.print_above(std::cout, report.str());
       progress.print_above(std::cerr, "internal error: " + file + ": " + error.what() + "\n");
       status = std::max<int>(status, kExitInternal);
