@@ -36,11 +36,14 @@ function(hb_test source)
     HAPTICBENCH_BIN="$<TARGET_FILE:hapticbench>")
   add_dependencies(${target} hapticbench)
   # A *_serial_test.cpp measures time or keeps every core busy: it runs with
-  # no other test beside it.
+  # no other test beside it. --warn NoTests: a test whose name the filter
+  # does not match (a ';' in a TEST_CASE name splits it into two CTest
+  # tests) fails instead of passing without running anything.
   if(rel MATCHES "_serial_test$")
-    catch_discover_tests(${target} TEST_PREFIX "${rel}: " PROPERTIES RUN_SERIAL TRUE)
+    catch_discover_tests(${target} TEST_PREFIX "${rel}: " EXTRA_ARGS --warn NoTests
+                         PROPERTIES RUN_SERIAL TRUE)
   else()
-    catch_discover_tests(${target} TEST_PREFIX "${rel}: ")
+    catch_discover_tests(${target} TEST_PREFIX "${rel}: " EXTRA_ARGS --warn NoTests)
   endif()
 endfunction()
 

@@ -127,7 +127,7 @@ TEST_CASE("on a terminal, --quiet and --progress plain draw nothing in place") {
   CHECK_FALSE(contains(plain.terminal, "\033["));
 }
 
-TEST_CASE("to a file, run redraws nothing; --quiet says nothing; --progress bar forces the bar") {
+TEST_CASE("to a file, run redraws nothing, --quiet says nothing, --progress bar forces the bar") {
   const hb::test::ScratchDir work("e2e_progress_pipe");
   const auto plain = run_hapticbench("run " + kPress + " --out a", work.path());
   INFO(plain.stderr_text);

@@ -179,7 +179,7 @@ TEST_CASE("motions that miss report no contact", "[mesh_ccd]") {
           .contact);
 }
 
-TEST_CASE("the nearest of several objects is hit first; touching at t = 0 answers 0",
+TEST_CASE("the nearest of several objects is hit first, touching at t = 0 answers 0",
           "[mesh_ccd]") {
   // Object 1's top face (z = 0.03) lies in the path before object 0's
   // (z = −0.05): the cube's bottom reaches z = 0.03 when z_c = 0.04, at

@@ -364,7 +364,7 @@ TEST_CASE("pointshell points are surface voxel centres with inward normals",
   }
 }
 
-TEST_CASE("a second build loads the cache; a corrupt cache file is rebuilt",
+TEST_CASE("a second build loads the cache, a corrupt cache file is rebuilt",
           "[voxmap_pointshell]") {
   test::ScratchDir dir("voxmap_cache");
   const CacheSettings cache{true, dir.path()};

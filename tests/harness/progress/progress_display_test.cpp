@@ -82,7 +82,7 @@ TEST_CASE("ETA text is mm:ss, h:mm:ss from an hour on, seconds rounded up") {
   CHECK(hb::format_elapsed(61.9) == "01:01");
 }
 
-TEST_CASE("counts are grouped by thousands; the time left extrapolates the rate so far") {
+TEST_CASE("counts are grouped by thousands, the time left extrapolates the rate so far") {
   CHECK(hb::with_thousands(0) == "0");
   CHECK(hb::with_thousands(999) == "999");
   CHECK(hb::with_thousands(1000) == "1,000");
@@ -156,7 +156,7 @@ TEST_CASE("in untimed work the background thread writes the line of a long stage
         "building\n");
 }
 
-TEST_CASE("style none writes nothing; a quiet period keeps quick commands silent") {
+TEST_CASE("style none writes nothing, a quiet period keeps quick commands silent") {
   FakeClock clock;
   std::ostringstream none_out;
   {

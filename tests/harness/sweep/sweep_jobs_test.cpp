@@ -244,7 +244,7 @@ TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's
   CHECK(hb::load_sweep_job_scenario(spec, jobs[0]).content_hash == loaded.content_hash);
 }
 
-TEST_CASE("load_scenario_json resolves relative paths against base_dir; errors name source_path") {
+TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors name source_path") {
   const fs::path dir = scratch("base_dir");
   const fs::path data = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/harness/scenario/data";
   fs::copy_file(data / "line_trace.csv", dir / "line.csv");

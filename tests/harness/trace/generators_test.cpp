@@ -164,7 +164,7 @@ TEST_CASE("every generator is deterministic, valid, and its twists match its pos
   }
 }
 
-TEST_CASE("human_like depends on the seed; the scripted motions do not") {
+TEST_CASE("human_like depends on the seed, the scripted motions do not") {
   CHECK_FALSE(identical(generate("human_like", 2, 1), generate("human_like", 2, 2)));
   CHECK(identical(generate("press", 2, 1), generate("press", 2, 2)));
 }
