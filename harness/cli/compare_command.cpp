@@ -19,7 +19,7 @@ namespace {
 const std::string kCompareUsage =
     "usage: hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]\n"
     "                           [--rel-tol X] [--timing-ratio X] [--alpha X]\n"
-    "                           [--timing-same-cpu] [--timing-quiet-only] [--instructions-tol X]\n"
+    "                           [--timing-same-cpu] [--strict-timing] [--instructions-tol X]\n"
     "                           [--progress STYLE] [--quiet]\n"
     "  BASELINE, CANDIDATE  a run folder, a summary.json, or a folder of run folders\n"
     "                       (a suite; scenarios matched by name, runs by label)\n"
@@ -27,8 +27,10 @@ const std::string kCompareUsage =
     "  --out DIR         write DIR/compare.json, DIR/compare.md and DIR/junit.xml\n"
     "  --no-timing       skip the wall-clock timing checks (instruction counts stay)\n"
     "  --timing-same-cpu wall-clock timing only gates when both runs name the same CPU\n"
-    "  --timing-quiet-only  wall-clock timing only gates when both runs measured a quiet\n"
-    "                    machine and their calibration workloads agree within 10 %\n"
+    "  --strict-timing   wall-clock timing gates even when a run's noise floor says its\n"
+    "                    machine was busy (default: it gates only when both runs measured\n"
+    "                    a quiet machine and their calibration workloads agree within\n"
+    "                    10 %, and otherwise informs; --timing-quiet-only names the default)\n"
     "  --instructions-tol X  instruction counts (run --instructions) regress beyond this\n"
     "                    share (default 0.02)\n"
     "  --rel-tol X       accuracy/stability tolerance relative to the baseline (default 0.05)\n"
@@ -74,7 +76,9 @@ CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
     } else if (a == "--timing-same-cpu") {
       parsed.options.timing_same_cpu_only = true;
     } else if (a == "--timing-quiet-only") {
-      parsed.options.timing_quiet_only = true;
+      parsed.options.strict_timing = false;
+    } else if (a == "--strict-timing") {
+      parsed.options.strict_timing = true;
     } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha" ||
                a == "--instructions-tol") {
       const std::string& value = option_value(args, i);

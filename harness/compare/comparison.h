@@ -45,10 +45,12 @@ struct CompareOptions {
   /// True: when the two summaries name different CPUs, timing rows inform
   /// but never regress (a committed baseline gated on another machine).
   bool timing_same_cpu_only = false;
-  /// True: wall-clock rows regress only when both runs measured a quiet
-  /// machine (timing.noise.quiet) and their calibration workloads took
-  /// within kCalibrationMatch of each other; otherwise they inform.
-  bool timing_quiet_only = false;
+  /// False (the default): wall-clock rows regress only when both runs
+  /// measured a quiet machine (timing.noise.quiet) and their calibration
+  /// workloads took within kCalibrationMatch of each other; otherwise they
+  /// inform and say why. True (`--strict-timing`): they gate whatever the
+  /// noise floor says. Instruction counts gate either way.
+  bool strict_timing = false;
   /// Instruction counts (timing.instructions, deterministic) regress when
   /// the candidate's exceed the baseline's by more than this share, between
   /// builds of one compiler and build type.

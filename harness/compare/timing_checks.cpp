@@ -198,7 +198,7 @@ std::vector<CheckRow> timing_checks(const ScenarioSummary& baseline_scenario,
   if (options.timing_same_cpu_only &&
       baseline_scenario.context.cpu != candidate_scenario.context.cpu)
     ungated = "measured on different CPUs";
-  else if (options.timing_quiet_only)
+  else if (!options.strict_timing)
     ungated = wall_clock_ungated_reason(baseline, candidate);
   if (!ungated.empty()) {
     for (CheckRow& r : rows) {

@@ -302,8 +302,12 @@ TEST_CASE("determinism: same build must give the same hash, other builds only in
 }
 
 TEST_CASE("timing: a regression needs a ratio above the limit and a significant shift") {
+  // These summaries carry no noise floor: only --strict-timing lets their
+  // wall-clock rows gate (the default is tested below).
+  CompareOptions strict;
+  strict.strict_timing = true;
   SECTION("1.5 times slower, 1000 step times: regression") {
-    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 1.5)));
+    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 1.5)), strict);
     CHECK_FALSE(c.passed());
     const CheckRow& p50 = row_named(c, "timing.step_ns.p50");
     CHECK(p50.verdict == Verdict::kRegression);
@@ -319,7 +323,8 @@ TEST_CASE("timing: a regression needs a ratio above the limit and a significant 
     // 0.841, p = 0.20.
     const std::vector<int64_t> fast = {100, 300, 150, 500, 200};
     const std::vector<int64_t> slow = {150, 450, 225, 750, 300};
-    const Comparison c = compare(summary("a0c10976b673", fast), summary("a0c10976b673", slow));
+    const Comparison c =
+        compare(summary("a0c10976b673", fast), summary("a0c10976b673", slow), strict);
     CHECK(c.passed());
     const CheckRow& p50 = row_named(c, "timing.step_ns.p50");
     CHECK(p50.change == "x1.50");
@@ -329,7 +334,7 @@ TEST_CASE("timing: a regression needs a ratio above the limit and a significant 
           Approx(0.200).margin(0.001));
   }
   SECTION("1.1 times slower, 1000 step times: significant but under the ratio, passes") {
-    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 1.1)));
+    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 1.1)), strict);
     CHECK(c.passed());
     CHECK(row_named(c, "timing.step_ns.p50").change == "x1.10");
     CHECK(row_named(c, "timing.step_ns.p50").verdict == Verdict::kPass);
@@ -338,11 +343,11 @@ TEST_CASE("timing: a regression needs a ratio above the limit and a significant 
     CHECK(test.detail["p_value"].get<double>() < 0.01);
   }
   SECTION("--timing-ratio and --alpha move the line") {
-    CompareOptions strict;
-    strict.timing_ratio = 1.05;
+    CompareOptions low_ratio = strict;
+    low_ratio.timing_ratio = 1.05;
     CHECK_FALSE(
-        compare(summary(), summary("a0c10976b673", step_times(1000, 1.1)), strict).passed());
-    CompareOptions tiny_alpha;
+        compare(summary(), summary("a0c10976b673", step_times(1000, 1.1)), low_ratio).passed());
+    CompareOptions tiny_alpha = strict;
     tiny_alpha.alpha = 1e-300;
     const Comparison c =
         compare(summary(), summary("a0c10976b673", step_times(1000, 1.5)), tiny_alpha);
@@ -352,11 +357,11 @@ TEST_CASE("timing: a regression needs a ratio above the limit and a significant 
                : Verdict::kInfo));
   }
   SECTION("2 times faster and significant: improved") {
-    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 0.5)));
+    const Comparison c = compare(summary(), summary("a0c10976b673", step_times(1000, 0.5)), strict);
     CHECK(row_named(c, "timing.step_ns.p50").verdict == Verdict::kImproved);
   }
   SECTION("--timing-same-cpu: a slowdown measured on another CPU informs, on the same CPU gates") {
-    CompareOptions same_cpu;
+    CompareOptions same_cpu = strict;
     same_cpu.timing_same_cpu_only = true;
     Json other_machine = summary("a0c10976b673", step_times(1000, 1.5));
     other_machine["context"]["cpu"] = "Intel Xeon";
@@ -598,9 +603,8 @@ TEST_CASE("instruction counts: 5 % more fails the gate, identical passes, 1 % pa
   }
 }
 
-TEST_CASE("timing quiet only: wall-clock gates only between quiet runs at one speed") {
-  CompareOptions options;
-  options.timing_quiet_only = true;
+TEST_CASE("timing by default: wall-clock gates only between quiet runs at one speed") {
+  CompareOptions options;  // the default: not --strict-timing
   options.timing_ratio = 1.8;
   const Json baseline = with_noise(summary(), true, 10000);
   SECTION("quiet on both sides, 2 times slower: regression") {
@@ -627,6 +631,19 @@ TEST_CASE("timing quiet only: wall-clock gates only between quiet runs at one sp
   SECTION("no noise floor in the baseline: informs") {
     const Json slower = with_noise(summary("a0c10976b673", step_times(1000, 2.0)), true, 10000);
     CHECK(compare(summary(), slower, options).passed());
+  }
+  SECTION("both machines busy, 1.3 times slower: informs; --strict-timing gates") {
+    const Json busy_baseline = with_noise(summary(), false, 10000);
+    const Json busy_slower =
+        with_noise(summary("a0c10976b673", step_times(1000, 1.3)), false, 10000);
+    CompareOptions defaults;
+    const Comparison c = compare(busy_baseline, busy_slower, defaults);
+    CHECK(c.passed());
+    CHECK(row_named(c, "timing.step_ns.p50").verdict == Verdict::kInfo);
+    CHECK_THAT(row_named(c, "timing.step_ns.p50").note, Catch::Contains("not gated"));
+    CompareOptions strict = defaults;
+    strict.strict_timing = true;
+    CHECK_FALSE(compare(busy_baseline, busy_slower, strict).passed());
   }
 }
 
