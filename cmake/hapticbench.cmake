@@ -1,6 +1,8 @@
 # Helpers shared by every folder: one call adds a library, one call adds a test.
 
 set(HAPTICBENCH_WARNINGS -Wall -Wextra -Wpedantic)
+# Optimisation of test code (hb_test_folder); the libraries keep the build type's.
+set(HB_TEST_OPTIMIZATION -O1)
 if(HAPTICBENCH_WERROR)
   list(APPEND HAPTICBENCH_WARNINGS -Werror)
 endif()
@@ -17,34 +19,81 @@ function(hb_library name)
   add_library(${name} STATIC ${ARG_SOURCES})
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_compile_options(${name} PRIVATE ${HAPTICBENCH_WARNINGS})
+  hb_precompile(${name} library)
   target_link_libraries(${name} PUBLIC ${ARG_DEPENDS} PRIVATE ${ARG_PRIVATE_DEPENDS})
 endfunction()
 
-# hb_test(SOURCE DEPENDS ...): one Catch2 executable per test source file,
-# named after its path under tests/, registered with CTest case by case.
-function(hb_test source)
-  cmake_parse_arguments(ARG "" "" "DEPENDS" ${ARGN})
-  file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/tests ${source})
-  string(REGEX REPLACE "\\.cpp$" "" rel "${rel}")
-  string(REPLACE "/" "_" target "test_${rel}")
-  add_executable(${target} ${source})
-  target_compile_options(${target} PRIVATE ${HAPTICBENCH_WARNINGS})
+# Precompiled headers: third-party headers that most units include
+# (nlohmann/json takes 5 s to parse, Eigen 2 s, Catch2 2 s), parsed once for
+# the whole build instead of once per unit. Two are built, each in its own
+# object library, with the flags of the targets that reuse it: `library`
+# (the build type's optimisation) and `test` (HB_TEST_OPTIMIZATION; Catch2
+# too). A target built with other flags must not reuse one: g++ would reject
+# it (-Winvalid-pch says so) and parse the headers itself.
+# HAPTICBENCH_PCH=OFF compiles every unit on its own.
+function(hb_add_precompiled_headers)
+  if(NOT HAPTICBENCH_PCH)
+    return()
+  endif()
+  set(common <Eigen/Core> <Eigen/Geometry> <nlohmann/json.hpp> <algorithm> <filesystem>
+             <functional> <map> <memory> <optional> <string> <vector>)
+  add_library(hb_pch_library OBJECT ${PROJECT_SOURCE_DIR}/cmake/precompiled_header.cpp)
+  target_compile_options(hb_pch_library PRIVATE ${HAPTICBENCH_WARNINGS})
+  target_link_libraries(hb_pch_library PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json)
+  target_precompile_headers(hb_pch_library PRIVATE ${common})
+  add_library(hb_pch_test OBJECT ${PROJECT_SOURCE_DIR}/cmake/precompiled_header.cpp)
+  target_compile_options(hb_pch_test PRIVATE ${HAPTICBENCH_WARNINGS} ${HB_TEST_OPTIMIZATION})
+  target_link_libraries(hb_pch_test PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json
+                        Catch2::Catch2)
+  target_precompile_headers(hb_pch_test PRIVATE <catch2/catch.hpp> ${common})
+endfunction()
+
+# hb_precompile(TARGET library|test): TARGET's units include that shared
+# precompiled header first.
+function(hb_precompile target kind)
+  if(HAPTICBENCH_PCH)
+    target_precompile_headers(${target} REUSE_FROM hb_pch_${kind})
+  endif()
+endfunction()
+
+# hb_test_folder(TARGET SOURCES ... DEPENDS ...): one Catch2 executable for
+# the *_test.cpp files of one test folder (a link per folder, not per file),
+# registered with CTest case by case under each file's own name:
+# "algorithms/ccd/mesh_ccd_test: <case>". The test main tags every case
+# with its file's name, and discovery selects them file by file.
+function(hb_test_folder target)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(${target} ${ARG_SOURCES})
+  # The tests' own code (assertions, fixtures, JSON) is compiled at -O1:
+  # optimising it at -O3 took 80 % of a test unit's compile time and buys
+  # nothing, since the code under test comes optimised from its libraries.
+  target_compile_options(${target} PRIVATE ${HAPTICBENCH_WARNINGS} ${HB_TEST_OPTIMIZATION})
   target_link_libraries(${target} PRIVATE hb_test_main ${ARG_DEPENDS})
   target_compile_definitions(${target} PRIVATE
     HAPTICBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    HAPTICBENCH_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
     HAPTICBENCH_BIN="$<TARGET_FILE:hapticbench>")
   add_dependencies(${target} hapticbench)
-  # A *_serial_test.cpp measures time or keeps every core busy: it runs with
-  # no other test beside it. --warn NoTests: a test whose name the filter
-  # does not match (a ';' in a TEST_CASE name splits it into two CTest
-  # tests) fails instead of passing without running anything.
-  if(rel MATCHES "_serial_test$")
-    catch_discover_tests(${target} TEST_PREFIX "${rel}: " EXTRA_ARGS --warn NoTests
-                         PROPERTIES RUN_SERIAL TRUE)
-  else()
-    catch_discover_tests(${target} TEST_PREFIX "${rel}: " EXTRA_ARGS --warn NoTests)
-  endif()
+  hb_precompile(${target} test)
+  foreach(source ${ARG_SOURCES})
+    file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/tests ${source})
+    string(REGEX REPLACE "\\.cpp$" "" rel "${rel}")
+    get_filename_component(stem ${source} NAME_WE)
+    # A *_serial_test.cpp measures time or keeps every core busy: it runs
+    # with no other test beside it. --warn NoTests: a test whose name the
+    # filter does not match (a ';' in a TEST_CASE name splits it into two
+    # CTest tests) fails instead of passing without running anything.
+    # HB_TEST_PROPERTIES_<stem>, set by the caller, adds CTest properties
+    # to every case of one file (e.g. a fixture it needs).
+    set(properties ${HB_TEST_PROPERTIES_${stem}})
+    if(rel MATCHES "_serial_test$")
+      list(APPEND properties RUN_SERIAL TRUE)
+    endif()
+    if(properties)
+      list(PREPEND properties PROPERTIES)
+    endif()
+    catch_discover_tests(${target} TEST_SPEC "[#${stem}]" TEST_PREFIX "${rel}: "
+                         EXTRA_ARGS --warn NoTests ${properties})
+  endforeach()
 endfunction()
 
 # hb_builder_sources_hash(SOURCE FILES f...): compiles SOURCE with
@@ -72,7 +121,9 @@ endfunction()
 # sanitizers and without debug information: one such unit took over six
 # minutes and 3.6 GB to compile sanitized with -g. Our code in every other
 # unit is still checked.
+# They never use a target's precompiled headers, whose flags may differ.
 function(hb_heavy_sources)
+  set_source_files_properties(${ARGN} PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
   if(HAPTICBENCH_SANITIZE_SKIP_HEAVY)
     set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "-fno-sanitize=all;-g0")
   endif()

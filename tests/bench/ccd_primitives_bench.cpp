@@ -1,5 +1,5 @@
 // Cost of one primitive continuous collision query (vertex–face, edge–edge,
-// linear motion) over the shared sample queries, ns per query. Each
+// linear motion) over the sample queries of tests/data/, ns per query. Each
 // iteration runs the next query of the set, so the time is the mean over
 // the set's mix of quick rejections and full bisections. Run:
 //   build/tests/bench/ccd_primitives_bench --benchmark_repetitions=5
@@ -16,7 +16,7 @@ namespace hb {
 namespace {
 
 const std::filesystem::path kQueryDir =
-    std::filesystem::path(HAPTICBENCH_SOURCE_DIR) / "../shared/data/ccd-sample-queries";
+    std::filesystem::path(HAPTICBENCH_SOURCE_DIR) / "tests/data/ccd-sample-queries";
 
 /// Every query of one kind under kQueryDir (empty when the data is absent);
 /// `collisions_only` keeps the queries whose truth is a contact.

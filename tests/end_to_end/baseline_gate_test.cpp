@@ -3,8 +3,9 @@
 // slow-loop schedules, so that the figures do not depend on the machine's
 // speed), instruction counts (deterministic: the hard cost gate), wall-clock
 // timing only where both runs measured a quiet machine of the same CPU and
-// speed, and determinism between two runs of this build. Runs alone
-// (RUN_SERIAL), but must pass with other processes loading every core.
+// speed, and determinism between two runs of this build. Runs beside other
+// tests: on a loaded machine the noise floor calls the runs busy, and their
+// wall-clock rows inform instead of gating.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <string>
@@ -38,8 +39,7 @@ TEST_CASE("the smoke suite passes the gate against the committed baselines") {
   // same calibrated speed, where a 2x slowdown that the rank test calls
   // significant fails; otherwise they inform.
   const hb::test::CommandResult gate = hb::test::run_hapticbench(
-      "compare " + baselines +
-          " first --gate --timing-same-cpu --timing-quiet-only --timing-ratio 1.8 --out gate",
+      "compare " + baselines + " first --gate --timing-same-cpu --timing-ratio 1.8 --out gate",
       work);
   INFO(gate.stdout_text << gate.stderr_text);
   CHECK(gate.exit_code == 0);

@@ -1,4 +1,4 @@
-// End-to-end: `hapticbench ccd` on every shared sample query file (no missed
+// End-to-end: `hapticbench ccd` on every sample query file (tests/data/) (no missed
 // contact anywhere), its JSON lines, and its answers to bad input.
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kQueryDir = fs::path(HAPTICBENCH_SHARED_DIR) / "data/ccd-sample-queries";
+const fs::path kQueryDir = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/data/ccd-sample-queries";
 
 std::vector<fs::path> all_query_files() {
   std::vector<fs::path> files;

@@ -9,6 +9,7 @@
 
 #include "algorithms/core/shapes.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/shortened_scenario.h"
 
 namespace {
 
@@ -151,12 +152,20 @@ TEST_CASE("a self-intersecting scene mesh is refused unless marked distance_only
 namespace {
 
 TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
+  // Every scenario of the suite, its trace cut to 0.6 s (the approach and
+  // press of each, 6 exact CGAL ticks): the oracles' agreement does not
+  // need the release and hold. The time goes into the oracles' per-tick
+  // queries on 20k-90k triangle meshes.
   const hb::test::ScratchDir work_dir("e2e_oracle_meshes");
   const fs::path& work = work_dir.path();
   const fs::path suite = fs::path(HAPTICBENCH_SOURCE_DIR) / "scenarios/meshes";
-  REQUIRE(
-      hb::test::run_hapticbench("run " + suite.string() + "/*.json --out runs", work).exit_code ==
-      0);
+  fs::create_directories(work / "scenarios");
+  std::string arguments;
+  for (const auto& entry : fs::directory_iterator(suite))
+    if (entry.path().extension() == ".json")
+      arguments +=
+          " '" + hb::test::shortened_scenario(entry.path(), 0.6, work / "scenarios").string() + "'";
+  REQUIRE(hb::test::run_hapticbench("run" + arguments + " --out runs", work).exit_code == 0);
   int scenarios = 0;
   for (const auto& entry : fs::directory_iterator(work / "runs")) {
     ++scenarios;

@@ -13,6 +13,7 @@
 
 #include "harness/output/ticks_csv.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/shortened_scenario.h"
 #include "tests/support/summary_runs.h"
 
 namespace {
@@ -301,14 +302,18 @@ void check_stress_part(int part) {
   // The part that holds it checks the thin wall at 4 m/s below.
   REQUIRE(std::count(all.begin(), all.end(), kSource / "scenarios/stress/thin_wall_4mps.json") ==
           1);
+  // A scenario longer than 10 s (the 60-cycle contact release) runs its
+  // first 10 cycles: a crash or a non-finite force needs no more.
+  const hb::test::ScratchDir work_dir("e2e_stress_suite_" + std::to_string(part));
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "scenarios");
   std::string arguments;
   std::vector<fs::path> files;
   for (std::size_t i = static_cast<std::size_t>(part); i < all.size(); i += kStressParts) {
     files.push_back(all[i]);
-    arguments += " '" + all[i].string() + "'";
+    arguments +=
+        " '" + hb::test::shortened_scenario(all[i], 10.0, work / "scenarios").string() + "'";
   }
-  const hb::test::ScratchDir work_dir("e2e_stress_suite_" + std::to_string(part));
-  const fs::path& work = work_dir.path();
   const hb::test::CommandResult result =
       hb::test::run_hapticbench("run" + arguments + " --out stress", work);
   INFO(result.stderr_text);

@@ -1,0 +1,1 @@
+// Empty: the unit that builds a shared precompiled header (cmake/hapticbench.cmake).
