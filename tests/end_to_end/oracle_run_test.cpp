@@ -193,7 +193,11 @@ TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
         // its standoff, so neither oracle finds any point inside.
         CHECK(embree == 0.0);
         CHECK(cgal == 0.0);
-        CHECK(oracle.at("intersection_volume_max_m3").get<double>() == 0.0);
+        // Null: no exact tick found the tool's bounds touching the scene's
+        // (the proxy's slow loop runs on a measured schedule, so which
+        // ticks those are varies from run to run); never a volume above 0.
+        const json& volume = oracle.at("intersection_volume_max_m3");
+        CHECK((volume.is_null() || volume.get<double>() == 0.0));
         continue;
       }
       // CGAL sees every exact_every-th tick only, so it can miss the deepest one.
