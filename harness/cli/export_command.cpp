@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/replacing_file.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
@@ -158,24 +159,7 @@ int export_command(const std::vector<std::string>& args) {
     std::cout << text;
     return kExitOk;
   }
-  fs::path temporary = *out;
-  temporary += ".partial";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file << text;
-    file.close();
-    if (!file) {
-      std::error_code ignored;
-      fs::remove(temporary, ignored);
-      throw InputError(out->string(), "", "cannot write the file");
-    }
-  }
-  std::error_code error;
-  fs::rename(temporary, *out, error);
-  if (error) {
-    fs::remove(temporary, error);
-    throw InputError(out->string(), "", "cannot write the file: " + error.message());
-  }
+  write_file_replacing(*out, text);
   std::cerr << "export: " << benchmarks.size() << " benchmarks -> " << out->string() << "\n";
   return kExitOk;
 }

@@ -13,10 +13,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
-#include <system_error>
 
 #include "algorithms/core/content_hash.h"
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/input_file.h"
+#include "algorithms/core/replacing_file.h"
 #include "harness/trace/trace.h"
 
 namespace hb {
@@ -55,6 +56,7 @@ std::string_view trim(std::string_view text) {
 }
 
 std::string read_file_bytes(const std::string& path) {
+  require_regular_file(path, "a trace file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the trace file for reading");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -348,29 +350,6 @@ std::string format_csv(const Trace& trace, bool with_twist) {
   return out;
 }
 
-/// Writes bytes to `<path>.tmp`; the caller renames it into place.
-std::string write_temporary(const std::string& path, const std::string& bytes) {
-  const std::string temporary = path + ".tmp";
-  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path, "", "cannot open " + temporary + " for writing");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) {
-    std::filesystem::remove(temporary);
-    throw InputError(path, "", "cannot write " + temporary);
-  }
-  return temporary;
-}
-
-void rename_into_place(const std::string& temporary, const std::string& path) {
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary);
-    throw InputError(path, "", "cannot rename " + temporary + ": " + error.message());
-  }
-}
-
 }  // namespace
 
 std::string sidecar_path(const std::string& trace_path) {
@@ -445,24 +424,16 @@ void write_trace_file(const std::string& path, const Trace& trace) {
   sidecar["samples"] = samples.size();
   sidecar["duration_s"] = static_cast<double>(samples.back().t_ns - samples.front().t_ns) * 1e-9;
 
-  const std::string json_path = sidecar_path(path);
-  const std::string csv_temporary = write_temporary(path, csv);
-  std::string json_temporary;
-  try {
-    json_temporary = write_temporary(json_path, sidecar.dump(2) + "\n");
-  } catch (...) {
-    std::filesystem::remove(csv_temporary);
-    throw;
-  }
-  // A crash between the two renames leaves a sidecar whose hash does not
-  // match the CSV, which read_trace_file reports: never a silent mismatch.
-  try {
-    rename_into_place(csv_temporary, path);
-  } catch (...) {
-    std::filesystem::remove(json_temporary);
-    throw;
-  }
-  rename_into_place(json_temporary, json_path);
+  // Both files go through temporary files of their own (never a name of
+  // the user's); a crash between the two renames leaves a sidecar whose
+  // hash does not match the CSV, which read_trace_file reports: never a
+  // silent mismatch.
+  TemporarySibling csv_file(path);
+  TemporarySibling json_file(sidecar_path(path));
+  csv_file.write(csv);
+  json_file.write(sidecar.dump(2) + "\n");
+  csv_file.commit();
+  json_file.commit();
 }
 
 }  // namespace hb

@@ -150,6 +150,36 @@ TEST_CASE(
   check_refused(run_hapticbench(generate + "gen.csv", work), "gen.csv");
 }
 
+TEST_CASE("export and generate write through temporary names of their own, never a neighbour's") {
+  // Names the writers once used for their temporary files, taken by the
+  // user: a file of theirs, and a symlink to another of theirs.
+  const ScratchDir work_dir("e2e_out_neighbours");
+  const fs::path& work = work_dir.path();
+  REQUIRE(run_hapticbench("run " + kPress + " --out run", work).exit_code == 0);
+  write_text(work / "victim.txt", "precious");
+  write_text(work / "bench.json.partial", "mine");
+  fs::create_symlink("victim.txt", work / "other.json.partial");
+  write_text(work / "t.csv.tmp", "mine too");
+  fs::create_symlink("victim.txt", work / "t.json.tmp");
+  const std::set<std::string> before = listing(work);
+
+  CHECK(run_hapticbench("export --format gbench run --out bench.json", work).exit_code == 0);
+  CHECK(run_hapticbench("export --format gbench run --out other.json", work).exit_code == 0);
+  CHECK(run_hapticbench("generate press --duration 0.1 --out t.csv", work).exit_code == 0);
+
+  CHECK(read_text_file(work / "bench.json.partial") == "mine");
+  CHECK(read_text_file(work / "t.csv.tmp") == "mine too");
+  CHECK(fs::is_symlink(work / "other.json.partial"));
+  CHECK(fs::is_symlink(work / "t.json.tmp"));
+  CHECK(read_text_file(work / "victim.txt") == "precious");
+  CHECK(contains(read_text_file(work / "bench.json"), "\"benchmarks\""));
+  CHECK(contains(read_text_file(work / "t.json"), "\"samples\": 101"));
+  // Nothing else: the outputs, and no temporary file left behind.
+  std::set<std::string> expected = before;
+  expected.insert({"bench.json", "other.json", "t.csv", "t.json"});
+  CHECK(listing(work) == expected);
+}
+
 TEST_CASE("report and compare never replace a file or folder of the user's") {
   const ScratchDir work_dir("e2e_out_report");
   const fs::path& work = work_dir.path();
