@@ -3,10 +3,12 @@
 // The key holds the vertices' and triangles' bytes' hash and a hash of this
 // folder's sources (HB_BUILDER_SOURCES_HASH, from CMake), so a structure
 // built by other code or from other input never matches.
+#include <cmath>
 #include <cstring>
 #include <optional>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include "algorithms/ccd/mesh_features.h"
 #include "algorithms/core/build_progress.h"
@@ -57,6 +59,69 @@ std::string payload_of(const MeshFeatures& mesh) {
 
 // The stored parts around the given vertices and triangles, when they fit
 // them (sizes and indices in range); the checksum has ruled out damage.
+// A payload that passes its checksum is still untrusted input (the checksum
+// can be recomputed by anyone): every index the queries follow is checked
+// here, so that a crafted file is rebuilt instead of crashing a query or
+// sending the tree search round a cycle. Children follow their parent
+// (first > the node's index), so every descent ends.
+bool valid_structure(const MeshFeatures& mesh, const std::vector<SphereTreeNode>& nodes,
+                     const std::vector<int>& order, std::size_t n_vertices,
+                     std::size_t n_triangles) {
+  const auto in_range = [](long long value, std::size_t size) {
+    return value >= 0 && static_cast<unsigned long long>(value) < size;
+  };
+  const std::size_t n_edges = mesh.edges.size();
+  for (const auto& edge : mesh.edges)
+    for (const int v : edge)
+      if (!in_range(v, n_vertices)) return false;
+  for (const auto& edges : mesh.triangle_edges)
+    for (const int e : edges)
+      if (!in_range(e, n_edges)) return false;
+  if (mesh.edge_face_begin.front() != 0 ||
+      mesh.edge_face_begin.back() != static_cast<long long>(mesh.edge_faces.size()))
+    return false;
+  for (std::size_t e = 0; e < n_edges; ++e)
+    if (mesh.edge_face_begin[e] > mesh.edge_face_begin[e + 1]) return false;
+  for (const int t : mesh.edge_faces)
+    if (!in_range(t, n_triangles)) return false;
+  std::vector<char> seen(n_triangles, 0);
+  for (const int t : order) {
+    if (!in_range(t, n_triangles) || seen[static_cast<std::size_t>(t)]) return false;
+    seen[static_cast<std::size_t>(t)] = 1;
+  }
+  if (n_triangles > 0 && nodes.empty()) return false;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const SphereTreeNode& node = nodes[i];
+    if (!node.centre.allFinite() || !std::isfinite(node.radius) || node.radius < 0) return false;
+    if (node.count == 0) {  // inner: two children after it
+      if (node.first <= static_cast<long long>(i) || !in_range(node.first + 1LL, nodes.size()) ||
+          mesh.leaf_slot[i] != -1)
+        return false;
+    } else if (node.count < 0 || node.count > SphereTree::kMaxLeafTriangles || node.first < 0 ||
+               static_cast<std::size_t>(node.first) + static_cast<std::size_t>(node.count) >
+                   n_triangles ||
+               !in_range(mesh.leaf_slot[i], mesh.leaves.size())) {
+      return false;
+    }
+  }
+  for (const LeafFeatures& leaf : mesh.leaves) {
+    if (leaf.triangle_count < 1 || leaf.triangle_count > LeafFeatures::kMaxTriangles ||
+        leaf.vertex_count < 0 || leaf.vertex_count > LeafFeatures::kMaxVertices ||
+        leaf.edge_count < 0 || leaf.edge_count > LeafFeatures::kMaxVertices)
+      return false;
+    for (int k = 0; k < leaf.triangle_count; ++k) {
+      if (!in_range(leaf.triangles[k], n_triangles)) return false;
+      for (const int corner : leaf.corner[k])
+        if (!in_range(corner, static_cast<std::size_t>(leaf.vertex_count))) return false;
+    }
+    for (int k = 0; k < leaf.vertex_count; ++k)
+      if (!in_range(leaf.vertices[k], n_vertices)) return false;
+    for (int k = 0; k < leaf.edge_count; ++k)
+      if (!in_range(leaf.edges[k], n_edges)) return false;
+  }
+  return true;
+}
+
 std::optional<MeshFeatures> parse_payload(std::string_view payload, std::vector<Vec3>& vertices,
                                           std::vector<std::array<int, 3>>& triangles) {
   PayloadReader in(payload);
@@ -75,15 +140,7 @@ std::optional<MeshFeatures> parse_payload(std::string_view payload, std::vector<
       mesh.edge_face_begin.size() != mesh.edges.size() + 1 || mesh.slabs.size() != nodes.size() ||
       mesh.leaf_slot.size() != nodes.size())
     return std::nullopt;
-  for (const auto& edge : mesh.edges)
-    for (const int v : edge)
-      if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return std::nullopt;
-  for (const int slot : mesh.leaf_slot)
-    if (slot < -1 || slot >= static_cast<int>(mesh.leaves.size())) return std::nullopt;
-  for (const SphereTreeNode& node : nodes)
-    if (node.first < 0 || node.count < 0 ||
-        static_cast<std::size_t>(node.first) + static_cast<std::size_t>(node.count) > n_triangles)
-      return std::nullopt;
+  if (!valid_structure(mesh, nodes, order, vertices.size(), n_triangles)) return std::nullopt;
   mesh.vertices = std::move(vertices);
   mesh.triangles = std::move(triangles);
   mesh.tree = SphereTree(std::move(nodes), std::move(order));

@@ -57,6 +57,28 @@ fs::path temporary_sibling(const fs::path& target) {
                                  "-" + std::to_string(counter++));
 }
 
+// What is wrong with the header at the start of the open file `fd` of
+// `file_bytes` bytes ("" when it names this kind and this file's length).
+std::string header_problem(int fd, const std::string& kind, std::size_t file_bytes) {
+  char buffer[256];
+  const ssize_t got = ::pread(fd, buffer, sizeof buffer, 0);
+  if (got <= 0) return "is unreadable";
+  const std::string_view head(buffer, static_cast<std::size_t>(got));
+  const std::size_t magic_end = head.find('\n');
+  if (magic_end == std::string_view::npos ||
+      head.substr(0, magic_end) != std::string(kMagic) + kind)
+    return "has no valid header";
+  const std::size_t sizes_end = head.find('\n', magic_end + 1);
+  if (sizes_end == std::string_view::npos) return "has no valid header";
+  std::istringstream sizes(std::string(head.substr(magic_end + 1, sizes_end - magic_end - 1)));
+  std::size_t key_bytes = 0, payload_bytes = 0;
+  if (!(sizes >> key_bytes >> payload_bytes)) return "has no valid header";
+  if (key_bytes > kMaxKeyBytes || payload_bytes > file_bytes ||
+      sizes_end + 1 + key_bytes + payload_bytes != file_bytes)
+    return "has the wrong length";
+  return "";
+}
+
 }  // namespace
 
 DiskCache::DiskCache(std::optional<fs::path> folder, std::string kind)
@@ -79,14 +101,22 @@ DiskCache::Lookup DiskCache::read(const std::string& key) const {
     return lookup;
   };
   // Mapped, not read: a hit costs no copy of what may be tens of megabytes.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: a FIFO put in a cache file's place opens at once (and is
+  // then refused) instead of blocking until someone writes to it.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return fail("is unreadable");
   struct stat status {};
-  if (::fstat(fd, &status) != 0 || status.st_size <= 0) {
+  if (::fstat(fd, &status) != 0 || !S_ISREG(status.st_mode) || status.st_size <= 0) {
     ::close(fd);
-    return fail("is unreadable or empty");
+    return fail("is not a readable regular file, or is empty");
   }
   const auto file_bytes = static_cast<std::size_t>(status.st_size);
+  // The header is checked before anything is mapped: a large file of
+  // anything else in a cache file's place is never paged in.
+  if (const std::string why = header_problem(fd, kind_, file_bytes); !why.empty()) {
+    ::close(fd);
+    return fail(why);
+  }
   void* address = ::mmap(nullptr, file_bytes, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
   ::close(fd);
   if (address == MAP_FAILED) return fail("cannot be mapped");

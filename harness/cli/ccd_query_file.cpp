@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/input_file.h"
 
 namespace hb {
 
@@ -140,6 +141,7 @@ CcdQueryFile read_ccd_query_file(const std::filesystem::path& path) {
                      "cannot tell the query kind: expected a folder or file name containing "
                      "\"vertex-face\" or \"edge-edge\" (e.g. .../vertex-face/data_0_0.csv)");
   file.kind = *kind;
+  require_regular_file(path, "a CCD query file");
   std::ifstream in(path);
   if (!in) throw InputError(source, "", "cannot open the file for reading");
 

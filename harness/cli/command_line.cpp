@@ -18,6 +18,10 @@ int print_help(std::string_view usage) {
 
 const std::string& option_value(const std::vector<std::string>& args, std::size_t& i) {
   if (i + 1 >= args.size()) throw UsageError{args[i] + " needs a value"};
+  // "--out --quiet" is a forgotten value, not a folder named --quiet (a
+  // value that starts with "--" can be given as ./--name).
+  if (args[i + 1].rfind("--", 0) == 0)
+    throw UsageError{args[i] + " needs a value, got the option " + args[i + 1]};
   return args[++i];
 }
 

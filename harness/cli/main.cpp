@@ -1,13 +1,19 @@
 // hapticbench: benchmarks and validates 6-DOF haptic rendering algorithms.
+#include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
 #include "harness/process/interrupt.h"
+#include "harness/process/memory_limit.h"
 
 namespace {
 constexpr const char* kUsage =
@@ -24,7 +30,28 @@ constexpr const char* kUsage =
     "                                              largest stable value of one parameter\n"
     "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
     "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
+    "every command: --memory-limit MB   the most memory it may use (default: half of the\n"
+    "                                   machine's); an input that needs more is exit 2\n"
     "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
+
+// Takes `--memory-limit MB` out of the arguments (anywhere after the
+// command): MB, or the default when absent; 0 with a message on stderr when
+// the value is not a whole number in [64, 2^40].
+std::uint64_t take_memory_limit(std::vector<std::string>& args) {
+  const auto at = std::find(args.begin(), args.end(), "--memory-limit");
+  if (at == args.end()) return hb::default_memory_limit_mb();
+  std::uint64_t mb = 0;
+  const std::string value = at + 1 != args.end() ? *(at + 1) : "";
+  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), mb);
+  if (error != std::errc() || end != value.data() + value.size() || mb < 64 ||
+      mb > (std::uint64_t{1} << 40)) {
+    std::cerr << "error: --memory-limit expects a whole number of MB in [64, 2^40], got \"" << value
+              << "\"\n";
+    return 0;
+  }
+  args.erase(at, at + 2);
+  return mb;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -34,7 +61,10 @@ int main(int argc, char** argv) {
   }
   const std::string command = argv[1];
   hb::install_interrupt_handlers();
-  const std::vector<std::string> args(argv + 2, argv + argc);
+  std::vector<std::string> args(argv + 2, argv + argc);
+  const std::uint64_t memory_limit_mb = take_memory_limit(args);
+  if (memory_limit_mb == 0) return hb::kExitBadInput;
+  hb::apply_memory_limit(memory_limit_mb);
   try {
     if (command == "run") return hb::run_command(args);
     if (command == "validate") return hb::validate_command(args);
@@ -67,6 +97,21 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << error.path1().string() << ": " << error.code().message() << " ("
               << error.what() << ")\n";
     return hb::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    // Every reader bounds what it allocates by what its file can hold; an
+    // input that still asks for more than the ceiling ends here.
+    std::cerr << "error: " << hb::memory_limit_message() << "\n";
+    return hb::kExitBadInput;
+  } catch (const std::system_error& error) {
+    // A thread or a mapping refused under the ceiling is the same case.
+    if (hb::applied_memory_limit_mb() != 0 &&
+        (error.code() == std::errc::not_enough_memory ||
+         error.code() == std::errc::resource_unavailable_try_again)) {
+      std::cerr << "error: " << hb::memory_limit_message() << " (" << error.what() << ")\n";
+      return hb::kExitBadInput;
+    }
+    std::cerr << "internal error: " << error.what() << "\n";
+    return hb::kExitInternal;
   } catch (const std::exception& error) {
     std::cerr << "internal error: " << error.what() << "\n";
     return hb::kExitInternal;

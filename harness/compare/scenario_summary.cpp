@@ -8,6 +8,7 @@
 #include <set>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/input_file.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/scenario/json_fields.h"
 
@@ -126,6 +127,7 @@ RunSummary read_run(const JsonField& run) {
 }
 
 std::string read_file_text(const std::filesystem::path& path) {
+  require_regular_file(path, "a summary.json");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "", "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

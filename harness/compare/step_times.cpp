@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/input_file.h"
 
 namespace hb {
 
@@ -29,6 +30,7 @@ std::optional<std::string_view> csv_field(std::string_view line, std::size_t ind
 std::optional<std::vector<double>> read_ticks_step_ns(const std::filesystem::path& ticks_csv) {
   if (!std::filesystem::exists(ticks_csv)) return std::nullopt;
   const std::string source = ticks_csv.string();
+  require_regular_file(ticks_csv, "a ticks CSV");
   std::ifstream in(ticks_csv, std::ios::binary);
   if (!in) throw InputError(source, "", "cannot open file");
 

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "harness/process/memory_limit.h"
 
 namespace hb {
 
@@ -334,6 +335,78 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
   }
 }
 
+// Text OFF, read here rather than by CGAL: one reader, so that what the
+// checks above accept is exactly what is read (a vertex line with an extra
+// number once shifted CGAL's reading of every face after it, and a face
+// then declared 2e9 corners), and nothing is allocated beyond what the
+// file's bytes can hold. Lines: the header keyword ([ST][C][N]OFF; the 4
+// and n variants are refused), the counts, one vertex per line (three
+// coordinates; colours or normals after them are ignored), one face per
+// line (a count k, k vertex indices, an optional colour). Returns false
+// when the file is not text OFF of that form (the caller reports it).
+bool read_off_text(const std::string& path, std::uintmax_t file_bytes,
+                   std::vector<FilePoint>& points, std::vector<FilePolygon>& polygons) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::size_t line_number = 0;
+  // Keyword, vertex and face counts (an edge count may follow them on
+  // their line): whole lines until the three are read.
+  std::vector<std::string> header_storage;
+  while (header_storage.size() < 3 && std::getline(in, line)) {
+    ++line_number;
+    for (std::string_view word : words_of(line)) header_storage.emplace_back(word);
+  }
+  if (header_storage.size() < 3) return false;
+  const std::string& keyword = header_storage[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0 ||
+      keyword.find_first_not_of("STCNOF") != std::string::npos)
+    throw InputError(path, "line 1",
+                     "expected the keyword OFF (or COFF, NOFF, STOFF ...), got \"" +
+                         keyword.substr(0, 40) + "\"; 4OFF and nOFF are not read");
+  std::size_t counts[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const std::string& word = header_storage[1 + k];
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), counts[k]);
+    if (error != std::errc() || end != word.data() + word.size())
+      throw InputError(path, "header",
+                       std::string("expected the number of ") + (k == 0 ? "vertices" : "faces") +
+                           ", got \"" + word.substr(0, 40) + "\"");
+  }
+  // Each vertex line takes at least 6 bytes ("0 0 0\n") and each face 8.
+  points.reserve(std::min<std::uintmax_t>(counts[0], file_bytes / 6));
+  polygons.reserve(std::min<std::uintmax_t>(counts[1], file_bytes / 8));
+  while ((points.size() < counts[0] || polygons.size() < counts[1]) && std::getline(in, line)) {
+    ++line_number;
+    const std::vector<std::string_view> words = words_of(line);
+    if (words.empty()) continue;
+    if (points.size() < counts[0]) {
+      check_off_vertex_line(path, line_number, words);
+      double xyz[3];
+      for (int k = 0; k < 3; ++k)
+        std::from_chars(words[k].data(), words[k].data() + words[k].size(), xyz[k]);
+      points.emplace_back(xyz[0], xyz[1], xyz[2]);
+      continue;
+    }
+    const LineTokens tokens = tokens_of(words);
+    if (!tokens.first_integer)
+      throw InputError(path, "line " + std::to_string(line_number),
+                       "expected a face: a number of corners, then the vertex indices");
+    check_list_line(path, line_number, tokens);
+    check_off_face_indices(path, line_number, words, counts[0]);
+    FilePolygon polygon(static_cast<std::size_t>(*tokens.first_integer));
+    for (std::size_t k = 0; k < polygon.size(); ++k)
+      std::from_chars(words[k + 1].data(), words[k + 1].data() + words[k + 1].size(), polygon[k]);
+    polygons.push_back(std::move(polygon));
+  }
+  if (points.size() < counts[0] || polygons.size() < counts[1])
+    throw InputError(path, "line " + std::to_string(line_number),
+                     "the file ends after " + std::to_string(points.size()) + " of " +
+                         std::to_string(counts[0]) + " vertices and " +
+                         std::to_string(polygons.size()) + " of " + std::to_string(counts[1]) +
+                         " faces its header declares");
+  return true;
+}
+
 }  // namespace
 
 TriangleMesh read_mesh_file(const std::string& path, double scale) {
@@ -364,10 +437,14 @@ TriangleMesh read_mesh_file(const std::string& path, double scale) {
   std::vector<FilePolygon> polygons;
   bool parsed = false;
   try {
-    parsed = CGAL::IO::read_polygon_soup(path, points, polygons);
+    parsed = std::string(format->name) == "OFF"
+                 ? read_off_text(path, file_bytes, points, polygons)
+                 : CGAL::IO::read_polygon_soup(path, points, polygons);
   } catch (const std::bad_alloc&) {
     // e.g. a face whose declared number of corners is absurd
-    throw InputError(path, "", "declares more data than fits in memory (a corrupt count?)");
+    throw InputError(
+        path, "",
+        "declares more data than fits in memory (a corrupt count?): " + memory_limit_message());
   } catch (const std::length_error&) {
     throw InputError(path, "", "declares more data than fits in memory (a corrupt count?)");
   }

@@ -5,9 +5,12 @@
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/core/replacing_file.h"
 #include "harness/output/output_ownership.h"
+#include "harness/process/scratch_folder.h"
 
 namespace hb {
 
@@ -15,11 +18,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Throws std::filesystem::filesystem_error with the path and the cause.
 void write_whole_file(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.close();
-  if (!out) throw std::runtime_error("cannot write " + path.string());
+  write_file_replacing(path, content);
 }
 
 /// A name beside `destination` for a folder of this process; one left by an
@@ -40,13 +41,44 @@ fs::path sibling_of_ours(const fs::path& destination, const std::string& suffix)
 
 }  // namespace
 
+// Staging and set-aside folders beside `destination` (<name>.partial-<pid>,
+// <name>.old-<pid>) that a process no longer running left behind (killed
+// before it could clean up) and that carry hapticbench's marker.
+void remove_stale_siblings(const fs::path& destination) {
+  const fs::path parent = destination.has_parent_path() ? destination.parent_path() : ".";
+  const std::string name = destination.filename().string();
+  std::error_code error;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(parent, error)) {
+    const std::string file = entry.path().filename().string();
+    for (const char* suffix : {".partial-", ".old-"}) {
+      const std::string prefix = name + suffix;
+      if (file.size() <= prefix.size() || file.compare(0, prefix.size(), prefix) != 0 ||
+          file.size() - prefix.size() > 9 ||
+          file.find_first_not_of("0123456789", prefix.size()) != std::string::npos)
+        continue;
+      if (process_is_gone(std::stol(file.substr(prefix.size())))) stale.push_back(entry.path());
+    }
+  }
+  for (const fs::path& path : stale)
+    if (is_owned_folder(path)) fs::remove_all(path, error);
+}
+
 StagedRunFolder::StagedRunFolder(fs::path destination, OutputFolderKind kind)
     : destination_(std::move(destination)), kind_(kind) {
   require_replaceable_folder(destination_, kind_);
+  remove_stale_siblings(destination_);
   staging_ = sibling_of_ours(destination_, ".partial-");
   if (staging_.has_parent_path()) fs::create_directories(staging_.parent_path());
   fs::create_directory(staging_);
-  write_whole_file(staging_ / kOwnershipMarkerName, ownership_marker_text(kind_, {}));
+  try {
+    write_whole_file(staging_ / kOwnershipMarkerName, ownership_marker_text(kind_, {}));
+  } catch (...) {
+    // The destructor does not run for a constructor that throws.
+    std::error_code ignored;
+    fs::remove_all(staging_, ignored);
+    throw;
+  }
 }
 
 StagedRunFolder::~StagedRunFolder() {

@@ -2,8 +2,11 @@
 // with ground truth, metrics and the ticks log, per algorithm.
 #include "harness/run/scenario_runner.h"
 
+#include <sys/statvfs.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -19,6 +22,20 @@
 #include "harness/replay/noise_floor.h"
 
 namespace hb {
+
+namespace {
+
+// Why a buffered write to `path` failed: the errno of the failed call when
+// it set one, else ENOSPC when the filesystem has no block left for us (an
+// earlier write failed and the stream stayed bad), else EIO.
+int write_failure_cause(const std::filesystem::path& path) {
+  if (errno != 0) return errno;
+  struct statvfs space {};
+  if (::statvfs(path.parent_path().c_str(), &space) == 0 && space.f_bavail == 0) return ENOSPC;
+  return EIO;
+}
+
+}  // namespace
 
 namespace {
 
@@ -215,9 +232,11 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
       progress->phase(truth.oracle ? "evaluation pass + oracle" : "evaluation pass", ticks);
     EvaluatingObserver observer(truth, metrics_settings, &timing, ticks_out, progress);
     replay(*algorithm.renderer, scenario.trajectory, evaluation_settings, observer);
+    errno = 0;
     if (!observer.ticks().finish())
-      throw std::filesystem::filesystem_error("cannot write the ticks log", ticks_path,
-                                              std::make_error_code(std::errc::io_error));
+      throw std::filesystem::filesystem_error(
+          "cannot write the ticks log", ticks_path,
+          std::error_code(write_failure_cause(ticks_path), std::generic_category()));
 
     AlgorithmRun run;
     run.name = algorithm.spec->name;

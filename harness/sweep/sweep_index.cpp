@@ -1,10 +1,10 @@
 #include "harness/sweep/sweep_index.h"
 
-#include <unistd.h>
-
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+
+#include "algorithms/core/replacing_file.h"
 
 namespace hb {
 
@@ -32,6 +32,9 @@ SweepJobState sweep_job_state_on_disk(const fs::path& run_folder) {
   const Json summary = Json::parse(in, nullptr, /*allow_exceptions=*/false);
   if (summary.is_discarded() || !summary.contains("runs") || !summary["runs"].is_array())
     return state;
+  if (summary.contains("scenario") && summary["scenario"].is_object() &&
+      summary["scenario"].contains("hash") && summary["scenario"]["hash"].is_string())
+    state.scenario_hash = summary["scenario"]["hash"].get<std::string>();
   bool pass = true;
   for (const Json& run : summary["runs"]) {
     if (!run.contains("budgets") || !run["budgets"].is_array()) continue;
@@ -72,15 +75,7 @@ Json sweep_index_json(const SweepSpec& spec, const std::vector<SweepJob>& jobs,
 
 void write_sweep_index(const fs::path& out_dir, const Json& index) {
   const fs::path destination = out_dir / "sweep.json";
-  fs::path temporary = destination;
-  temporary += ".partial-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << index.dump(2) << "\n";
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + temporary.string());
-  }
-  fs::rename(temporary, destination);
+  write_file_replacing(destination, index.dump(2) + "\n");
 }
 
 bool is_sweep_index_file(const fs::path& path) {

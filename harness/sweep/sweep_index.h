@@ -29,6 +29,9 @@ struct SweepJobState {
   SweepJobStatus status = SweepJobStatus::kPending;
   bool done_earlier = false;  ///< its summary.json existed before this invocation started
   std::string detail;         ///< how a crashed worker ended, e.g. "killed by signal 11 (...)"
+  /// The scenario hash its summary.json records ("" without one): a run
+  /// folder is the job's only when it equals the job's scenario hash.
+  std::string scenario_hash;
 };
 
 /// The state a job's run folder records: kOk or kBudgetFailed from the

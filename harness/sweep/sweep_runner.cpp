@@ -68,10 +68,14 @@ namespace {
 // the scene, the tool and the reference settings, so they are built once
 // per distinct combination; most grids vary algorithm parameters or the
 // coupling and share one.
-void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
+// Checks every job's scenario as a run would; returns each job's scenario
+// content hash, by job index.
+std::vector<std::string> validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
   std::set<std::string> checked_ground_truth;
+  std::vector<std::string> hashes(jobs.size());
   for (const SweepJob& job : jobs) {
     Scenario scenario = load_sweep_job_scenario(spec, job);
+    hashes[job.index] = scenario.content_hash;
     std::string ground_truth_key;
     for (const char* key : {"scene", "tool", "reference"})
       ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
@@ -83,6 +87,7 @@ void validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
       throw sweep_job_error(spec, job, error);
     }
   }
+  return hashes;
 }
 
 // Staging folders an interrupted worker left beside a job's run folder
@@ -120,7 +125,7 @@ std::string last_lines(const std::string& text, std::size_t count) {
 int run_sweep(const SweepRunSettings& args) {
   const SweepSpec spec = load_sweep_spec(args.sweep_file);
   const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
-  validate_jobs(spec, jobs);
+  const std::vector<std::string> scenario_hashes = validate_jobs(spec, jobs);
 
   const SweepShard shard = args.shard.value_or(SweepShard{});
   const fs::path out_dir = output_folder(args, spec);
@@ -134,7 +139,11 @@ int run_sweep(const SweepRunSettings& args) {
     states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
     if (!in_shard(job.index, shard)) continue;
     ++in_this_shard;
-    if (fs::exists(out_dir / job.name / "summary.json")) {
+    // A finished run folder is this job's only when it ran this job's
+    // scenario: another sweep into the same folder (another algorithm or
+    // grid value under the same job name) is run again, not reused.
+    if (fs::exists(out_dir / job.name / "summary.json") &&
+        states[job.index].scenario_hash == scenario_hashes[job.index]) {
       states[job.index].done_earlier = true;
       ++done_earlier;
     } else {

@@ -2,6 +2,8 @@
 // message naming the file and the field or line, within the stated memory
 // budget (2 GiB of address space), and output paths that cannot be written
 // are the user's error (exit 2), not an internal one.
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -80,6 +82,52 @@ TEST_CASE("mesh headers that claim more elements than the file holds are refused
   write_text(work.path() / "valence.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
   check_refused(run_hapticbench_limited("validate valence.off", work.path(), kBudgetKib),
                 {"valence.off", "line 6", "declares 2000000000 corners"});
+}
+
+TEST_CASE("an OFF vertex line with an extra number shifts nothing after it") {
+  // Found by fuzzing: 56 bytes that once held 15.6 GB for 50 s. The first
+  // vertex line has four numbers; the face after the vertices declares
+  // 2e9 corners. Refused by its line, under a 512 MB ceiling the reader
+  // never comes near (a reader that allocated for the count would hit it
+  // and say so instead).
+  const ScratchDir work("limits_off_shift");
+  write_text(work.path() / "shift.off",
+             "OFF\n3  10\n00000000 00 0 0\n1 0 0\n0 1 0\n2000000000 0 1\n3 0 1 2\n");
+  const CommandResult result =
+      run_hapticbench("validate shift.off --memory-limit 512", work.path());
+  check_refused(result, {"shift.off", "line 6", "declares 2000000000 corners"});
+  CHECK_FALSE(contains(result.stderr_text, "MB of memory"));
+}
+
+TEST_CASE("a memory ceiling: an allocation beyond it is exit 2 saying so") {
+  const ScratchDir work("limits_memory_ceiling");
+  // A well-formed trace of 2 million samples is some 100 MB once read: too
+  // much under a 64 MB ceiling, fine under the default.
+  std::string csv = "t_ns,px,py,pz,qw,qx,qy,qz\n";
+  for (int i = 0; i < 2000000; ++i) csv += std::to_string(i * 1000000LL) + ",0,0,0.1,1,0,0,0\n";
+  write_text(work.path() / "long.csv", csv);
+  check_refused(run_hapticbench("validate long.csv --memory-limit 64", work.path()),
+                {"needs more than 64 MB of memory", "--memory-limit"});
+  CHECK(run_hapticbench("validate long.csv", work.path()).exit_code == 0);
+  check_refused(run_hapticbench("validate long.csv --memory-limit lots", work.path()),
+                {"--memory-limit expects a whole number of MB"});
+}
+
+TEST_CASE("a FIFO given as an input is refused at once, not read until someone writes") {
+  const ScratchDir work("limits_fifo");
+  const fs::path dir = work.path();
+  fs::create_directories(dir / "vertex-face");
+  fs::create_directories(dir / "run");
+  for (const char* name : {"trace.csv", "vertex-face/queries.csv", "run/summary.json"})
+    REQUIRE(::mkfifo((dir / name).c_str(), 0600) == 0);
+  // `timeout`: a reader that blocks shows as exit 124, not as a hung test.
+  const auto refused = [&](const std::string& args, const char* path) {
+    const CommandResult result = hb::test::run_hapticbench_after("timeout 20", args, dir);
+    check_refused(result, {path, "not a regular file"});
+  };
+  refused("validate trace.csv", "trace.csv");
+  refused("ccd vertex-face/queries.csv", "queries.csv");
+  refused("compare run run --no-timing", "summary.json");
 }
 
 TEST_CASE("implausible physical settings are warned about, and still run") {

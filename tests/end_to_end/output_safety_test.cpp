@@ -180,6 +180,37 @@ TEST_CASE("export and generate write through temporary names of their own, never
   CHECK(listing(work) == expected);
 }
 
+TEST_CASE("the next run removes what a killed run left: its staging and scratch folders") {
+  // As SIGKILL leaves them: with hapticbench's markers, named after a
+  // process that is gone (99999999 is above any pid_max). A folder of the
+  // same form without a marker is someone else's and stays.
+  const ScratchDir work_dir("e2e_out_stale");
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "tmp");
+  const fs::path staging = work / "run.partial-99999999";
+  fs::create_directories(staging);
+  write_text(staging / ".hapticbench-output",
+             R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
+  write_text(staging / "ticks_a.csv", "tick\n");
+  const fs::path scratch = work / "tmp/hapticbench-run-99999999-AbC123";
+  fs::create_directories(scratch);
+  write_text(scratch / ".hapticbench-scratch", "scratch folder of hapticbench process 99999999\n");
+  write_text(scratch / "ticks_penalty.csv", std::string(100000, 'x'));
+  const fs::path foreign = work / "tmp/hapticbench-run-99999998-mine";
+  fs::create_directories(foreign);
+  write_text(foreign / "notes.txt", "mine");
+
+  const CommandResult result = hb::test::run_hapticbench_after(
+      "TMPDIR='" + (work / "tmp").string() + "'", "run " + kPress + " --out run --quiet", work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  CHECK_FALSE(fs::exists(staging));
+  CHECK_FALSE(fs::exists(scratch));
+  CHECK(read_text_file(foreign / "notes.txt") == "mine");
+  // Its own scratch folder is gone too: only the foreign one is left.
+  CHECK(listing(work / "tmp") == std::set<std::string>{"hapticbench-run-99999998-mine"});
+}
+
 TEST_CASE("report and compare never replace a file or folder of the user's") {
   const ScratchDir work_dir("e2e_out_report");
   const fs::path& work = work_dir.path();

@@ -371,6 +371,13 @@ TEST_CASE("usage errors exit with 2") {
   CHECK(hb::test::run_hapticbench("run", work).exit_code == 2);
   CHECK(hb::test::run_hapticbench("run --bogus x.json", work).exit_code == 2);
   CHECK(hb::test::run_hapticbench("run does_not_exist.json", work).exit_code == 2);
+  // A forgotten value is not taken from the next option.
+  const std::string press = (kSource / "scenarios/smoke/sphere_press_box.json").string();
+  const hb::test::CommandResult forgotten =
+      hb::test::run_hapticbench("run '" + press + "' --out --quiet", work);
+  CHECK(forgotten.exit_code == 2);
+  CHECK(forgotten.stderr_text.find("--out needs a value") != std::string::npos);
+  CHECK_FALSE(fs::exists(work / "--quiet"));
 }
 
 }  // namespace

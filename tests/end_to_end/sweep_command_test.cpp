@@ -268,6 +268,33 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
     CHECK(fs::last_write_time(out / name / "summary.json") == written[name]);
 }
 
+TEST_CASE("another sweep into the same folder runs its own jobs, reusing none of the first's") {
+  // Same scenario, same grid and so the same job names, but only the
+  // penalty algorithm: a different scenario for every job.
+  const hb::test::ScratchDir work_dir("e2e_sweep_other");
+  const fs::path& work = work_dir.path();
+  write_grid(work);
+  write_file(work / "sweeps" / "penalty_only.json", R"({
+    "name": "grid",
+    "scenarios": ["../scenarios/press.json"],
+    "only_algorithms": ["penalty"],
+    "grid": { "/coupling/k_t": [1000, 2000], "/algorithms/1/params/contact_stiffness": [1000, 3000] }
+  })");
+  REQUIRE(hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
+  const CommandResult other = hapticbench("sweep sweeps/penalty_only.json --out runs", work);
+  INFO(other.stderr_text);
+  REQUIRE(other.exit_code == 0);
+  CHECK(other.stderr_text.find("0 done earlier, 4 to run") != std::string::npos);
+  for (const std::string& name : expected_job_names()) {
+    const json runs = summary_of(work / "runs" / name).at("runs");
+    REQUIRE(runs.size() == 1);
+    CHECK(runs[0].at("label") == "penalty");
+  }
+  // Run again, the second sweep's jobs are its own: all reused.
+  const CommandResult again = hapticbench("sweep sweeps/penalty_only.json --out runs", work);
+  CHECK(again.stderr_text.find("4 done earlier, 0 to run") != std::string::npos);
+}
+
 TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
   const hb::test::ScratchDir work_dir("e2e_sweep_shards");
   const fs::path& work = work_dir.path();

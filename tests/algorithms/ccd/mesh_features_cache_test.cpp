@@ -2,12 +2,14 @@
 // structure a fresh build gives, array for array and bit for bit; a
 // damaged file is rebuilt; the input checks are made on a hit too.
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
 #include "algorithms/ccd/mesh_features.h"
+#include "algorithms/core/disk_cache.h"
 #include "algorithms/core/input_error.h"
 #include "algorithms/core/shapes.h"
 #include "tests/support/scratch_dir.h"
@@ -88,6 +90,64 @@ TEST_CASE("a damaged mesh-features file is rebuilt, and input is checked on a hi
   std::vector<std::array<int, 3>> bad = mesh.triangles;
   bad[3][1] = static_cast<int>(mesh.vertices.size());
   CHECK_THROWS_AS(cached_mesh_features(mesh.vertices, bad, "tool", &hit), InputError);
+}
+
+// The one cache file of `folder`, split into its key and payload.
+struct CacheFile {
+  std::string key, payload;
+};
+CacheFile read_cache_file(const fs::path& folder) {
+  fs::path path;
+  for (const auto& entry : fs::directory_iterator(folder)) path = entry.path();
+  const std::string bytes = test::read_text_file(path);
+  const std::size_t magic_end = bytes.find('\n');
+  const std::size_t sizes_end = bytes.find('\n', magic_end + 1);
+  std::size_t key_bytes = 0, payload_bytes = 0;
+  std::sscanf(bytes.c_str() + magic_end + 1, "%zu %zu", &key_bytes, &payload_bytes);
+  return {bytes.substr(sizes_end + 1, key_bytes), bytes.substr(sizes_end + 1 + key_bytes)};
+}
+
+// The offset in a features payload of its tree's first node: the arrays
+// before it (each a 64-bit count, then its elements) skipped.
+std::size_t first_node_offset(const std::string& payload) {
+  const std::size_t element_bytes[] = {sizeof(std::array<int, 2>),
+                                       sizeof(std::array<int, 3>),
+                                       sizeof(int),
+                                       sizeof(int),
+                                       sizeof(Vec3),
+                                       sizeof(FacePlane)};
+  std::size_t at = 0;
+  for (const std::size_t bytes : element_bytes) {
+    std::uint64_t count = 0;
+    std::memcpy(&count, payload.data() + at, sizeof count);
+    at += sizeof count + count * bytes;
+  }
+  return at + sizeof(std::uint64_t);
+}
+
+TEST_CASE("a crafted mesh-features file that passes its checksum is rebuilt, not followed") {
+  // The checksum only catches accidents: anyone can recompute it. A tree
+  // whose root is its own child (an endless search) or whose child lies
+  // past the last node (a read out of bounds) is rebuilt.
+  const TriangleMesh mesh = sphere_mesh();
+  const MeshFeatures fresh = build_mesh_features(mesh.vertices, mesh.triangles, "tool");
+  for (const int root_child : {0, 1 << 20}) {
+    INFO("root's first child " << root_child);
+    const CacheFolder cache;
+    bool hit = false;
+    cached_mesh_features(mesh.vertices, mesh.triangles, "tool", &hit);
+    CacheFile file = read_cache_file(cache.dir.path());
+    SphereTreeNode root;
+    const std::size_t at = first_node_offset(file.payload);
+    std::memcpy(&root, file.payload.data() + at, sizeof root);
+    REQUIRE(root.count == 0);  // an inner node
+    root.first = root_child;
+    std::memcpy(file.payload.data() + at, &root, sizeof root);
+    REQUIRE(DiskCache(cache.dir.path(), "mesh_features").write(file.key, file.payload).empty());
+    const MeshFeatures rebuilt = cached_mesh_features(mesh.vertices, mesh.triangles, "tool", &hit);
+    CHECK_FALSE(hit);
+    check_same(rebuilt, fresh);
+  }
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 #include "algorithms/core/disk_cache.h"
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -67,6 +70,20 @@ TEST_CASE("a damaged, truncated or foreign file is a miss that says why") {
     cache.write("other key", payload);
     fs::rename(cache.path_of("other key"), file);
     CHECK_THAT(cache.read("k").problem, Catch::Contains("another key"));
+  }
+  SECTION("a FIFO in its place: a miss at once, not a read that waits for a writer") {
+    REQUIRE(::mkfifo(file.c_str(), 0600) == 0);
+    CHECK_THAT(cache.read("k").problem, Catch::Contains("regular file"));
+  }
+  SECTION("a 2 GB file of something else: refused by its header, never paged in") {
+    { std::ofstream(file, std::ios::binary) << "not a cache file\n"; }
+    fs::resize_file(file, std::uintmax_t{2} << 30);  // sparse: no disk used
+    rusage before{};
+    ::getrusage(RUSAGE_SELF, &before);
+    CHECK_THAT(cache.read("k").problem, Catch::Contains("header"));
+    rusage after{};
+    ::getrusage(RUSAGE_SELF, &after);
+    CHECK(after.ru_maxrss - before.ru_maxrss < 100 * 1024);  // KiB: under 100 MB more
   }
   // Written again, it reads back.
   CHECK(cache.write("k", payload).empty());

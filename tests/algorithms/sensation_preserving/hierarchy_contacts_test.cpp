@@ -536,7 +536,8 @@ Eigen::AlignedBox3d bounding_box(const std::vector<Vec3>& points) {
 
 TEST_CASE(
     "built hierarchies of two knots: leaf contacts match CGAL and coarse answers obey the rule") {
-  const std::string path = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/knot1.off";
+  const std::string path =
+      (std::filesystem::path(HAPTICBENCH_SOURCE_DIR) / "models/knot1.off").string();
   if (!std::filesystem::exists(path))
     FAIL(path << " is missing: run scripts/extract-models (CMake's configure step runs it)");
   const TriangleMesh mesh = read_mesh_file(path, 0.05);

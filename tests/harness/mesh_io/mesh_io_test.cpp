@@ -188,7 +188,7 @@ TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io
 
   const std::string garbage = "this is not a mesh\n\x01\x02 3 4 5\n";
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.off", garbage)); }),
-             Catch::Contains("bad.off") && Catch::Contains("could not parse as OFF"));
+             Catch::Contains("bad.off") && Catch::Contains("expected the keyword OFF"));
   CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("bad.obj", garbage)); }),
              Catch::Contains("bad.obj") && Catch::Contains("could not parse as OBJ"));
   // PLY headers are checked line by line before the reader sees them.

@@ -1,0 +1,57 @@
+#include "harness/process/memory_limit.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+namespace hb {
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+std::uint64_t applied_mb = 0;
+
+}  // namespace
+
+std::uint64_t default_memory_limit_mb() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page_bytes = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page_bytes <= 0) return 0;
+  const std::uint64_t physical_mb =
+      static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_bytes) >> 20;
+  return std::max<std::uint64_t>(physical_mb / 2, 1024);
+}
+
+bool apply_memory_limit(std::uint64_t mb) {
+  if (kAddressSanitizer || mb == 0) return false;
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0) return false;
+  const rlim_t bytes = static_cast<rlim_t>(mb) << 20;
+  if (limit.rlim_max != RLIM_INFINITY && limit.rlim_max < bytes) return false;
+  limit.rlim_cur = bytes;
+  if (::setrlimit(RLIMIT_AS, &limit) != 0) return false;
+  applied_mb = mb;
+  return true;
+}
+
+std::uint64_t applied_memory_limit_mb() { return applied_mb; }
+
+std::string memory_limit_message() {
+  if (applied_mb == 0) return "the input needs more memory than the machine has";
+  return "the input needs more than " + std::to_string(applied_mb) +
+         " MB of memory (the limit; --memory-limit MB raises it)";
+}
+
+}  // namespace hb
