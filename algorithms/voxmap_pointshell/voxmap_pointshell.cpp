@@ -26,6 +26,8 @@ constexpr double kMaxPointShellPoints = 4e6;
 // can slide a little beyond the device).
 constexpr double kReachMarginPerToolRadius = 0.1;
 
+constexpr double kMinVoxelSize = 2e-5;  // m
+
 struct VoxmapPointShellSettings {
   VoxmapSettings voxmap;
   double pointshell_spacing_m = 0;
@@ -36,9 +38,12 @@ struct VoxmapPointShellSettings {
 
 VoxmapPointShellSettings read_settings(const RenderContext& context, const ParamSet& params) {
   VoxmapPointShellSettings settings;
-  settings.voxmap.voxel_size_m = params.number("voxel_size", 0.002, 1e-5, 1.0);
+  // At least 20 µm: OpenVDB refuses a linear transform whose scale's cube
+  // is within its tolerance of zero (1.2e-5 m fails, 1.5e-5 m does), which
+  // was an internal error at the documented 1e-5.
+  settings.voxmap.voxel_size_m = params.number("voxel_size", 0.002, kMinVoxelSize, 1.0);
   settings.pointshell_spacing_m =
-      params.number("pointshell_spacing", settings.voxmap.voxel_size_m, 1e-5, 1.0);
+      params.number("pointshell_spacing", settings.voxmap.voxel_size_m, kMinVoxelSize, 1.0);
   settings.gains.stiffness = params.number("point_stiffness", 10000, 0, 1e9);
   const std::string variant = params.choice("variant", "voxmap", {"voxmap", "signed_distance"});
   settings.voxmap.signed_distance = variant == "signed_distance";

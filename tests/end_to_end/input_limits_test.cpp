@@ -130,6 +130,28 @@ TEST_CASE("a FIFO given as an input is refused at once, not read until someone w
   refused("compare run run --no-timing", "summary.json");
 }
 
+TEST_CASE(
+    "a voxel size below what OpenVDB can map is refused by its field, not an internal error") {
+  // A 1 mm sphere: 1e-5 m voxels were accepted and ended in OpenVDB's
+  // ArithmeticError (exit 3); 2e-5 m, the smallest allowed, builds.
+  const ScratchDir work("limits_voxel_size");
+  nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
+  scenario["tool"]["shape"]["radius"] = 0.0005;
+  scenario["trace"]["duration_s"] = 0.05;
+  scenario["budgets"] = nlohmann::json::object();
+  for (const double size : {1e-5, 2e-5}) {
+    scenario["algorithms"] = {{{"name", "voxmap_pointshell"}, {"params", {{"voxel_size", size}}}}};
+    write_text(work.path() / "tiny.json", scenario.dump());
+    const CommandResult result = run_hapticbench("validate tiny.json", work.path());
+    INFO(size << ": " << result.stderr_text);
+    if (size < 2e-5) {
+      check_refused(result, {"tiny.json", "/algorithms/0/params/voxel_size", "2e-05"});
+    } else {
+      CHECK(result.exit_code == 0);
+    }
+  }
+}
+
 TEST_CASE("implausible physical settings are warned about, and still run") {
   const ScratchDir work("limits_plausibility");
   nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
