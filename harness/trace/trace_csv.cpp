@@ -25,6 +25,7 @@ namespace hb {
 namespace {
 
 constexpr std::string_view kPoseHeader = "t_ns,px,py,pz,qw,qx,qy,qz";
+constexpr int64_t kOneTickNs = 1'000'000;  // the 1 kHz virtual clock
 constexpr std::string_view kPoseTwistHeader = "t_ns,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
 constexpr std::string_view kColumnNames[] = {"t_ns", "px", "py", "pz", "qw", "qx", "qy",
                                              "qz",   "vx", "vy", "vz", "wx", "wy", "wz"};
@@ -136,6 +137,21 @@ class RowParser {
   void check_enough_samples(const std::vector<TraceSample>& samples) const {
     if (samples.size() < 2)
       fail("expected at least 2 samples, found " + std::to_string(samples.size()));
+    // Samples closer together than one 1 kHz tick in all: times in other
+    // units than ns (a trace "sampled at 1 ns" replayed as one tick).
+    const int64_t span_ns = samples.back().t_ns - samples.front().t_ns;
+    if (span_ns < kOneTickNs)
+      fail("the " + std::to_string(samples.size()) + " samples span " + std::to_string(span_ns) +
+           " ns, less than one 1 kHz tick (1,000,000 ns): t_ns must be nanoseconds");
+  }
+
+  /// The first sample's time, at its line: a trace starts at t = 0 (within
+  /// one tick). Before 0 its samples would be dropped; after it, its first
+  /// pose would be held, silently, until the first sample.
+  void check_start(int64_t t_ns) const {
+    if (t_ns < 0 || t_ns > kOneTickNs)
+      fail("expected the first sample at t_ns = 0 (a trace starts at t = 0), found " +
+           std::to_string(t_ns) + " ns: shift the times so that the first is 0");
   }
 
  private:
@@ -202,6 +218,7 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
     double value[14];
     for (std::size_t c = 1; c < columns; ++c)
       value[c] = parser.finite_number(fields[c], kColumnNames[c]);
+    if (samples.empty()) parser.check_start(sample.t_ns);
     parser.check_increasing(samples, sample.t_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[4], value[5], value[6], value[7]);
@@ -273,6 +290,7 @@ std::vector<TraceSample> parse_tum(const std::string& path, std::string_view byt
     if (samples.empty()) t0_ns = absolute_ns;
     TraceSample sample;
     sample.t_ns = absolute_ns - t0_ns;
+    if (samples.empty()) parser.check_start(sample.t_ns);
     parser.check_increasing(samples, sample.t_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[7], value[4], value[5], value[6]);

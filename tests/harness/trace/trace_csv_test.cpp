@@ -223,6 +223,14 @@ TEST_CASE("malformed trace CSV files name the file and the line") {
        "expected 8 comma-separated values"},
       {"long_row", kHeader + "0,0,0,0,1,0,0,0,9\n1000,0,0,0,1,0,0,0\n", "line 2", "found 9"},
       {"one_row", kHeader + "0,0,0,0,1,0,0,0\n", "line 3", "expected at least 2 samples, found 1"},
+      // Times before 0 were dropped, a late start held the first pose, and
+      // samples 1 ns apart made a one-tick run: each without a word.
+      {"negative_start", kHeader + "-5000000,0,0,0,1,0,0,0\n5000000,0,0,0,1,0,0,0\n", "line 2",
+       "expected the first sample at t_ns = 0"},
+      {"late_start", kHeader + "5000000000,0,0,0,1,0,0,0\n6000000000,0,0,0,1,0,0,0\n", "line 2",
+       "found 5000000000 ns: shift the times"},
+      {"nanosecond_steps", kHeader + "0,0,0,0,1,0,0,0\n1,0,0,0,1,0,0,0\n2,0,0,0,1,0,0,0\n",
+       "line 5", "span 2 ns, less than one 1 kHz tick"},
   };
   for (const BadInput& bad : cases) {
     INFO(bad.name);
