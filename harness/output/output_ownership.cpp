@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <string>
 
 #include "algorithms/core/input_error.h"
 
@@ -106,8 +107,21 @@ bool is_owned_folder(const fs::path& folder, std::optional<OutputFolderKind> kin
   return !error;
 }
 
+namespace {
+constexpr std::size_t kMaxOutputNameBytes = 255 - std::char_traits<char>::length(".partial-") - 10;
+}  // namespace
+
 bool require_replaceable_folder(const fs::path& destination, OutputFolderKind kind) {
   if (destination.empty()) throw InputError("", "", "the output path is empty");
+  // The folder is staged as <name>.partial-<pid> and set aside as
+  // <name>.old-<pid>: those names must fit a file name too (255 bytes), or
+  // the run would fail only when it writes, after all its work.
+  const std::size_t name_bytes = destination.filename().string().size();
+  if (name_bytes > kMaxOutputNameBytes)
+    throw InputError(destination.string(), "",
+                     "the folder name is " + std::to_string(name_bytes) + " bytes; at most " +
+                         std::to_string(kMaxOutputNameBytes) +
+                         " (255 less the staging suffix \".partial-<pid>\")");
   const fs::file_type type = type_at(destination);
   if (type == fs::file_type::not_found) return false;
   if (type != fs::file_type::directory)

@@ -226,6 +226,14 @@ TEST_CASE("output paths that cannot be written are exit 2 with the path") {
                 {"a_file/run"});
   check_refused(run_hapticbench("list /nonexistent_scenarios", work.path()),
                 {"/nonexistent_scenarios", "not a folder"});
+  // 240 bytes fit a file name, but not with ".partial-<pid>" after them:
+  // refused before the run, not after it.
+  const std::string long_name(240, 'r');
+  const CommandResult long_out =
+      run_hapticbench("run " + kPress + " --out " + long_name + " --quiet", work.path());
+  check_refused(long_out, {"240 bytes", "at most 236"});
+  CHECK_FALSE(contains(long_out.stdout_text, "scenario sphere_press_box"));
+  CHECK_FALSE(fs::exists(work.path() / long_name));
 }
 
 TEST_CASE("report: an unwritable page or a damaged run folder is exit 2 without a traceback") {
