@@ -1,12 +1,20 @@
 #include "algorithms/core/build_progress.h"
 
+#include <atomic>
 #include <string>
 
 namespace hb {
 
 namespace {
 thread_local BuildProgressListener* current_listener = nullptr;
+std::atomic<void (*)()> stop_check{nullptr};
 }  // namespace
+
+void check_build_stop() {
+  if (void (*check)() = stop_check.load(std::memory_order_relaxed)) check();
+}
+
+void set_build_stop_check(void (*check)()) { stop_check.store(check); }
 
 void announce_build_stage(std::string_view stage) {
   if (current_listener != nullptr) current_listener->build_stage(stage);

@@ -28,6 +28,15 @@ void announce_build_progress(std::size_t done, std::size_t total);
 /// "<what>: cache hit" or "<what>: building".
 void announce_cached_build(std::string_view what, bool cache_hit);
 
+/// Calls the process's stop check, which throws when the user asked to
+/// stop (the command line tool's throws Interrupted after SIGINT or
+/// SIGTERM), so that a build of minutes ends within moments of the signal
+/// and leaves nothing behind. Builders call it inside their long loops;
+/// without a check installed it is a load and a branch.
+void check_build_stop();
+/// Installs the process-wide stop check (null: none).
+void set_build_stop_check(void (*check)());
+
 /// Makes `listener` receive this thread's announcements while it lives
 /// (null: none); the previous listener is restored on destruction.
 class ScopedBuildProgressListener {

@@ -243,6 +243,7 @@ class HierarchyBuilder {
     std::iota(alive_.begin(), alive_.end(), 0);
     hierarchy_.pieces_per_level.push_back(static_cast<int>(alive_.size()));
     const std::size_t merges = alive_.size() - 1;  // each merge joins two pieces into one
+    merges_total_ = merges;
     for (int level = 1; alive_.size() > 1; ++level) {
       merge_level(level);
       std::vector<int> next;
@@ -358,7 +359,10 @@ class HierarchyBuilder {
                         std::vector<bool>& merged, std::size_t target) {
     std::vector<Candidate> candidates;
     candidates.reserve(pairs.size());
-    for (const auto& [a, b] : pairs) candidates.push_back(evaluate(a, b));
+    for (const auto& [a, b] : pairs) {
+      check_build_stop();  // 50k triangles take minutes: a signal ends them
+      candidates.push_back(evaluate(a, b));
+    }
     std::vector<std::size_t> order(candidates.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
@@ -371,7 +375,10 @@ class HierarchyBuilder {
       if (alive_count_ <= target) break;
       Candidate& c = candidates[k];
       if (merged[at(c.a)] || merged[at(c.b)]) continue;
+      check_build_stop();
       merge(c, level, merged);
+      // Progress within the level, not only at its end.
+      announce_build_progress(++merges_done_, merges_total_);
     }
   }
 
@@ -436,9 +443,10 @@ class HierarchyBuilder {
   std::vector<int> alive_;      // nodes without a parent at the level's start
   std::vector<bool> is_alive_;  // per node: has no parent yet
   std::size_t alive_count_ = 0;
-  std::vector<std::vector<int>> covered_;     // triangles under each alive node
-  std::vector<std::vector<int>> neighbours_;  // alive nodes whose patches touch
-  std::vector<std::vector<Vec3>> proxy_;      // see merge_proxy
+  std::size_t merges_done_ = 0, merges_total_ = 0;  // for progress
+  std::vector<std::vector<int>> covered_;           // triangles under each alive node
+  std::vector<std::vector<int>> neighbours_;        // alive nodes whose patches touch
+  std::vector<std::vector<Vec3>> proxy_;            // see merge_proxy
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/input_error.h"
 #include "harness/cli/commands.h"
 #include "harness/process/interrupt.h"
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   }
   const std::string command = argv[1];
   hb::install_interrupt_handlers();
+  hb::set_build_stop_check(&hb::throw_if_interrupted);
   std::vector<std::string> args(argv + 2, argv + argc);
   const std::uint64_t memory_limit_mb = take_memory_limit(args);
   if (memory_limit_mb == 0) return hb::kExitBadInput;

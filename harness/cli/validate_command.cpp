@@ -19,6 +19,7 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "harness/process/interrupt.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
@@ -196,6 +197,8 @@ int validate_command(const std::vector<std::string>& args) {
       progress.print_above(std::cout, report.str());
       progress.print_above(std::cerr, "error: " + std::string(error.what()) + "\n");
       status = std::max<int>(status, kExitBadInput);
+    } catch (const Interrupted&) {
+      throw;  // main reports it and exits with 128 + the signal
     } catch (const std::exception& error) {
       progress.finish_task();
       progress.print_above(std::cout, report.str());

@@ -113,6 +113,37 @@ TEST_CASE("SIGINT during a run: exit 130, a message, and no run folder or stagin
   CHECK(entries(work.path()) == std::vector<std::string>{"long.json"});
 }
 
+TEST_CASE("SIGTERM during a convex hierarchy build ends it within moments") {
+  // A cold cache: armadillo_on_bunny builds the sensation-preserving
+  // hierarchies of the armadillo and of the bunny (75k triangles, some 18 s
+  // here); the signal comes once the bunny's build has run for a second.
+  // A build that ignored it ran to its end (114 s for 50k triangles once).
+  const ScratchDir work("interrupt_hierarchy");
+  const fs::path scenario =
+      fs::path(HAPTICBENCH_SOURCE_DIR) / "scenarios/meshes/armadillo_on_bunny.json";
+  ::setenv("HAPTICBENCH_CACHE_DIR", (work.path() / "cache").c_str(), 1);
+  const Started run = start({"validate", scenario.string(), "--progress", "plain"}, work.path());
+  ::unsetenv("HAPTICBENCH_CACHE_DIR");
+  const fs::path err = work.path() / "stderr.txt";
+  REQUIRE(wait_for(
+      [&] {
+        return hb::test::read_text_file(err).find("convex hierarchy of bunny00.off: building") !=
+               std::string::npos;
+      },
+      600));
+  REQUIRE(kill(run.pid, SIGTERM) == 0);
+  int status = 0;
+  const bool ended = wait_for([&] { return waitpid(run.pid, &status, WNOHANG) == run.pid; }, 5);
+  if (!ended) {
+    kill(run.pid, SIGKILL);
+    waitpid(run.pid, &status, 0);
+  }
+  INFO(hb::test::read_text_file(err));
+  CHECK(ended);
+  CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGTERM));
+  CHECK(hb::test::read_text_file(err).find("interrupted") != std::string::npos);
+}
+
 TEST_CASE("SIGTERM during a sweep keeps finished jobs, and the next sweep runs only the rest") {
   const ScratchDir work("interrupt_sweep");
   write_file(work.path() / "scenarios" / "long.json", press_scenario(40));
