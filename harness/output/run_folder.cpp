@@ -39,8 +39,6 @@ fs::path sibling_of_ours(const fs::path& destination, const std::string& suffix)
   return path;
 }
 
-}  // namespace
-
 // Staging and set-aside folders beside `destination` (<name>.partial-<pid>,
 // <name>.old-<pid>) that a process no longer running left behind (killed
 // before it could clean up) and that carry hapticbench's marker.
@@ -64,10 +62,12 @@ void remove_stale_siblings(const fs::path& destination) {
     if (is_owned_folder(path)) fs::remove_all(path, error);
 }
 
-StagedRunFolder::StagedRunFolder(fs::path destination, OutputFolderKind kind)
+}  // namespace
+
+StagedRunFolder::StagedRunFolder(fs::path destination, OutputFolderKind kind, bool remove_stale)
     : destination_(std::move(destination)), kind_(kind) {
   require_replaceable_folder(destination_, kind_);
-  remove_stale_siblings(destination_);
+  if (remove_stale) remove_stale_siblings(destination_);
   staging_ = sibling_of_ours(destination_, ".partial-");
   if (staging_.has_parent_path()) fs::create_directories(staging_.parent_path());
   fs::create_directory(staging_);

@@ -16,8 +16,13 @@ class StagedRunFolder {
  public:
   /// Checks that `destination` may be replaced (require_replaceable_folder;
   /// InputError if not), then creates `<destination>.partial-<pid>` with
-  /// the marker (parents created as needed).
-  StagedRunFolder(std::filesystem::path destination, OutputFolderKind kind);
+  /// the marker (parents created as needed). With `remove_stale` it first
+  /// removes the staging folders beside it that dead processes left, which
+  /// lists the parent folder: a sweep's jobs pass false, since the sweep
+  /// cleans its folder once before they start (a scan per job of a
+  /// 100,000-job folder would be quadratic).
+  StagedRunFolder(std::filesystem::path destination, OutputFolderKind kind,
+                  bool remove_stale = true);
   /// Removes the staging folder unless commit() succeeded.
   ~StagedRunFolder();
   StagedRunFolder(const StagedRunFolder&) = delete;

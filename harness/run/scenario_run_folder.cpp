@@ -6,8 +6,8 @@
 namespace hb {
 
 bool write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
-                               const std::vector<RunFolderFile>& extra_files) {
-  StagedRunFolder staged(folder, OutputFolderKind::kRun);
+                               const std::vector<RunFolderFile>& extra_files, bool sweep_job) {
+  StagedRunFolder staged(folder, OutputFolderKind::kRun, /*remove_stale=*/!sweep_job);
   for (std::size_t i = 0; i < outcome.report.runs.size(); ++i) {
     staged.move_file(outcome.report.runs[i].ticks_file, outcome.ticks_files[i]);
     if (!outcome.report.runs[i].schedule_file.empty())

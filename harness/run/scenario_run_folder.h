@@ -23,7 +23,10 @@ struct RunFolderFile {
 /// the previous folder (or none) in place. Only an empty folder or a folder
 /// hapticbench wrote is replaced (InputError otherwise); returns true when
 /// an earlier folder of hapticbench's was.
+/// `sweep_job`: the folder is a sweep job's, whose stale staging the sweep
+/// removed before its jobs started (StagedRunFolder's remove_stale).
 bool write_scenario_run_folder(const std::filesystem::path& folder, const ScenarioOutcome& outcome,
-                               const std::vector<RunFolderFile>& extra_files = {});
+                               const std::vector<RunFolderFile>& extra_files = {},
+                               bool sweep_job = false);
 
 }  // namespace hb

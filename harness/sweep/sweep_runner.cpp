@@ -54,7 +54,8 @@ int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
   }
   const ScenarioOutcome outcome = run_prepared(prepared);
   const fs::path folder = output_folder(args, spec) / job.name;
-  write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}});
+  write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}},
+                            /*sweep_job=*/true);
   std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
   print_run_table(std::cout, outcome.report);
   return outcome.report.all_budgets_pass() ? kSweepOk : kSweepBudgetFailed;
