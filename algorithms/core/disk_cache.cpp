@@ -57,26 +57,35 @@ fs::path temporary_sibling(const fs::path& target) {
                                  "-" + std::to_string(counter++));
 }
 
-// What is wrong with the header at the start of the open file `fd` of
-// `file_bytes` bytes ("" when it names this kind and this file's length).
-std::string header_problem(int fd, const std::string& kind, std::size_t file_bytes) {
-  char buffer[256];
-  const ssize_t got = ::pread(fd, buffer, sizeof buffer, 0);
-  if (got <= 0) return "is unreadable";
-  const std::string_view head(buffer, static_cast<std::size_t>(got));
+// A cache file's header: "<magic><kind>\n<key bytes> <payload bytes> <checksum>\n".
+struct CacheHeader {
+  std::size_t header_bytes = 0, key_bytes = 0, payload_bytes = 0;
+  std::string checksum;
+  std::string problem;  ///< "" when it names this kind and the file's length
+};
+
+// Reads the header from the first bytes of a file of `file_bytes` bytes.
+CacheHeader parse_header(std::string_view head, const std::string& kind, std::size_t file_bytes) {
+  CacheHeader header;
   const std::size_t magic_end = head.find('\n');
+  const std::size_t sizes_end =
+      magic_end == std::string_view::npos ? magic_end : head.find('\n', magic_end + 1);
   if (magic_end == std::string_view::npos ||
-      head.substr(0, magic_end) != std::string(kMagic) + kind)
-    return "has no valid header";
-  const std::size_t sizes_end = head.find('\n', magic_end + 1);
-  if (sizes_end == std::string_view::npos) return "has no valid header";
+      head.substr(0, magic_end) != std::string(kMagic) + kind ||
+      sizes_end == std::string_view::npos || sizes_end - magic_end > 100) {
+    header.problem = "has no valid header";
+    return header;
+  }
   std::istringstream sizes(std::string(head.substr(magic_end + 1, sizes_end - magic_end - 1)));
-  std::size_t key_bytes = 0, payload_bytes = 0;
-  if (!(sizes >> key_bytes >> payload_bytes)) return "has no valid header";
-  if (key_bytes > kMaxKeyBytes || payload_bytes > file_bytes ||
-      sizes_end + 1 + key_bytes + payload_bytes != file_bytes)
-    return "has the wrong length";
-  return "";
+  if (!(sizes >> header.key_bytes >> header.payload_bytes >> header.checksum)) {
+    header.problem = "has no valid header";
+    return header;
+  }
+  header.header_bytes = sizes_end + 1;
+  if (header.key_bytes > kMaxKeyBytes || header.payload_bytes > file_bytes ||
+      header.header_bytes + header.key_bytes + header.payload_bytes != file_bytes)
+    header.problem = "has the wrong length";
+  return header;
 }
 
 }  // namespace
@@ -111,11 +120,16 @@ DiskCache::Lookup DiskCache::read(const std::string& key) const {
     return fail("is not a readable regular file, or is empty");
   }
   const auto file_bytes = static_cast<std::size_t>(status.st_size);
-  // The header is checked before anything is mapped: a large file of
-  // anything else in a cache file's place is never paged in.
-  if (const std::string why = header_problem(fd, kind_, file_bytes); !why.empty()) {
+  // The header is read and checked before anything is mapped: a large file
+  // of anything else in a cache file's place is never paged in.
+  char head[256];
+  const ssize_t head_bytes = ::pread(fd, head, sizeof head, 0);
+  const CacheHeader header = parse_header(
+      std::string_view(head, head_bytes > 0 ? static_cast<std::size_t>(head_bytes) : 0), kind_,
+      file_bytes);
+  if (!header.problem.empty()) {
     ::close(fd);
-    return fail(why);
+    return fail(header.problem);
   }
   void* address = ::mmap(nullptr, file_bytes, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
   ::close(fd);
@@ -124,25 +138,10 @@ DiskCache::Lookup DiskCache::read(const std::string& key) const {
       address, [file_bytes](const void* p) { ::munmap(const_cast<void*>(p), file_bytes); });
   const std::string_view bytes(static_cast<const char*>(address), file_bytes);
 
-  // Header: "<magic><kind>\n<key bytes> <payload bytes> <checksum>\n".
-  const std::size_t magic_end = bytes.find('\n');
-  if (magic_end == std::string_view::npos ||
-      bytes.substr(0, magic_end) != std::string(kMagic) + kind_)
-    return fail("has no valid header");
-  const std::size_t sizes_end = bytes.find('\n', magic_end + 1);
-  if (sizes_end == std::string_view::npos || sizes_end - magic_end > 100)
-    return fail("has no valid header");
-  std::istringstream sizes(std::string(bytes.substr(magic_end + 1, sizes_end - magic_end - 1)));
-  std::size_t key_bytes = 0, payload_bytes = 0;
-  std::string payload_hash;
-  if (!(sizes >> key_bytes >> payload_bytes >> payload_hash)) return fail("has no valid header");
-  const std::size_t header_bytes = sizes_end + 1;
-  if (key_bytes > kMaxKeyBytes || payload_bytes > file_bytes ||
-      header_bytes + key_bytes + payload_bytes != file_bytes)
-    return fail("has the wrong length");
-  if (bytes.substr(header_bytes, key_bytes) != key) return fail("holds another key");
-  const std::string_view payload = bytes.substr(header_bytes + key_bytes, payload_bytes);
-  if (payload_checksum(payload) != payload_hash) return fail("is damaged");
+  if (bytes.substr(header.header_bytes, header.key_bytes) != key) return fail("holds another key");
+  const std::string_view payload =
+      bytes.substr(header.header_bytes + header.key_bytes, header.payload_bytes);
+  if (payload_checksum(payload) != header.checksum) return fail("is damaged");
   lookup.payload = payload;
   return lookup;
 }
