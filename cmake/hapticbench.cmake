@@ -116,7 +116,7 @@ function(hb_builder_sources_hash source)
 endfunction()
 
 # hb_heavy_sources(FILES...): translation units that mostly instantiate a
-# heavy library (CGAL, OpenVDB). With HAPTICBENCH_SANITIZE_SKIP_HEAVY (the
+# heavy library (CGAL, OpenVDB, Catch2's runner). With HAPTICBENCH_SANITIZE_SKIP_HEAVY (the
 # quick sanitizer pass, scripts/sanitize --quick) they are compiled without
 # sanitizers and without debug information: one such unit took over six
 # minutes and 3.6 GB to compile sanitized with -g. Our code in every other
