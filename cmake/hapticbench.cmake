@@ -59,8 +59,8 @@ endfunction()
 # hb_test_folder(TARGET SOURCES ... DEPENDS ...): one Catch2 executable for
 # the *_test.cpp files of one test folder (a link per folder, not per file),
 # registered with CTest case by case under each file's own name:
-# "algorithms/ccd/mesh_ccd_test: <case>". The test main tags every case
-# with its file's name, and discovery selects them file by file.
+# "algorithms/ccd/mesh_ccd_test:<case>" (cmake/discover_folder_tests.cmake,
+# after each link, from one listing of the executable).
 function(hb_test_folder target)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
   add_executable(${target} ${ARG_SOURCES})
@@ -74,26 +74,43 @@ function(hb_test_folder target)
     HAPTICBENCH_BIN="$<TARGET_FILE:hapticbench>")
   add_dependencies(${target} hapticbench)
   hb_precompile(${target} test)
+  set(files_config "")
+  set(stems "")
   foreach(source ${ARG_SOURCES})
     file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/tests ${source})
     string(REGEX REPLACE "\\.cpp$" "" rel "${rel}")
     get_filename_component(stem ${source} NAME_WE)
+    list(APPEND stems ${stem})
     # A *_serial_test.cpp measures time or keeps every core busy: it runs
-    # with no other test beside it. --warn NoTests: a test whose name the
-    # filter does not match (a ';' in a TEST_CASE name splits it into two
-    # CTest tests) fails instead of passing without running anything.
-    # HB_TEST_PROPERTIES_<stem>, set by the caller, adds CTest properties
-    # to every case of one file (e.g. a fixture it needs).
+    # with no other test beside it. HB_TEST_PROPERTIES_<stem>, set by the
+    # caller, adds CTest properties to every case of one file (e.g. a
+    # fixture it needs).
     set(properties ${HB_TEST_PROPERTIES_${stem}})
     if(rel MATCHES "_serial_test$")
       list(APPEND properties RUN_SERIAL TRUE)
     endif()
-    if(properties)
-      list(PREPEND properties PROPERTIES)
-    endif()
-    catch_discover_tests(${target} TEST_SPEC "[#${stem}]" TEST_PREFIX "${rel}: "
-                         EXTRA_ARGS --warn NoTests ${properties})
+    string(APPEND files_config "set(hb_prefix_${stem} [==[${rel}:]==])\n"
+                               "set(hb_properties_${stem} ${properties})\n")
   endforeach()
+  string(PREPEND files_config "set(hb_stems ${stems})\n")
+  set(files_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_files.cmake")
+  set(ctest_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_tests.cmake")
+  set(include_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_include.cmake")
+  file(WRITE "${files_file}" "${files_config}")
+  add_custom_command(TARGET ${target} POST_BUILD
+    BYPRODUCTS "${ctest_file}"
+    COMMAND "${CMAKE_COMMAND}" -D "TEST_EXECUTABLE=$<TARGET_FILE:${target}>"
+            -D "FILES_CONFIG=${files_file}" -D "WORKING_DIR=${CMAKE_CURRENT_BINARY_DIR}"
+            -D "CTEST_FILE=${ctest_file}"
+            -P "${PROJECT_SOURCE_DIR}/cmake/discover_folder_tests.cmake"
+    VERBATIM)
+  file(WRITE "${include_file}"
+    "if(EXISTS \"${ctest_file}\")\n"
+    "  include(\"${ctest_file}\")\n"
+    "else()\n"
+    "  add_test(${target}_NOT_BUILT ${target}_NOT_BUILT)\n"
+    "endif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${include_file}")
 endfunction()
 
 # hb_builder_sources_hash(SOURCE FILES f...): compiles SOURCE with
