@@ -7,6 +7,7 @@
 
 #include "algorithms/ccd/ccd_settings.h"
 #include "algorithms/ccd/interval.h"
+#include "algorithms/core/build_progress.h"
 #include "algorithms/core/input_error.h"
 
 namespace hb::ccd_detail {
@@ -200,9 +201,14 @@ MeshFeatures build_mesh_features(std::vector<Vec3> vertices,
   MeshFeatures mesh;
   mesh.vertices = std::move(vertices);
   mesh.triangles = std::move(triangles);
+  // Each stage takes well under a second on the largest meshes: a stop
+  // request is honoured between them.
   build_edges(mesh);
+  check_build_stop();
   build_planes(mesh);
+  check_build_stop();
   mesh.tree = SphereTree(mesh.vertices, mesh.triangles);
+  check_build_stop();
   build_node_data(mesh);
   return mesh;
 }

@@ -14,6 +14,15 @@ void check_build_stop() {
   if (void (*check)() = stop_check.load(std::memory_order_relaxed)) check();
 }
 
+bool build_stop_requested() {
+  try {
+    check_build_stop();
+    return false;
+  } catch (...) {
+    return true;
+  }
+}
+
 void set_build_stop_check(void (*check)()) { stop_check.store(check); }
 
 void announce_build_stage(std::string_view stage) {

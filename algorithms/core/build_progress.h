@@ -34,6 +34,10 @@ void announce_cached_build(std::string_view what, bool cache_hit);
 /// and leaves nothing behind. Builders call it inside their long loops;
 /// without a check installed it is a load and a branch.
 void check_build_stop();
+/// Whether the stop check would throw now: for loops that must not throw,
+/// such as a library's worker threads (OpenVDB's interrupter). The caller
+/// ends its work and calls check_build_stop() on its own thread.
+bool build_stop_requested();
 /// Installs the process-wide stop check (null: none).
 void set_build_stop_check(void (*check)());
 

@@ -25,6 +25,13 @@ namespace hb {
 
 namespace {
 
+// OpenVDB's mesh-to-volume conversion asks this, from its worker threads,
+// whether to give up: it does once the user asked the build to stop. The
+// caller then throws with check_build_stop() on its own thread.
+struct BuildStopInterrupter : openvdb::util::NullInterrupter {
+  bool wasInterrupted(int /*percent*/ = -1) override { return build_stop_requested(); }
+};
+
 // Bump when what a cache file holds, or how it is computed, changes.
 // Layout version and a hash of this file and its header (set by CMake):
 // caches built by other code do not match.
@@ -59,7 +66,12 @@ class MeshAdapter {
   std::size_t polygonCount() const { return triangles_.size(); }
   std::size_t pointCount() const { return points_.size(); }
   std::size_t vertexCount(std::size_t) const { return 3; }
+  // OpenVDB reads every triangle through here, also inside its narrow-band
+  // expansion, which asks its interrupter nothing for minutes: a stop
+  // request throws here, on a TBB worker, and TBB passes the exception on
+  // to the thread that called meshToVolume.
   void getIndexSpacePoint(std::size_t n, std::size_t v, openvdb::Vec3d& pos) const {
+    if (v == 0) check_build_stop();
     pos = points_[static_cast<std::size_t>(triangles_[n][v])];
   }
 
@@ -167,9 +179,11 @@ openvdb::FloatGrid::Ptr scene_distance(const std::vector<const SceneObject*>& ob
     // its voxels are surface, proximity or free, never interior.
     const int flags = openvdb::tools::DISABLE_RENORMALIZATION |
                       (object->distance_only ? openvdb::tools::UNSIGNED_DISTANCE_FIELD : 0);
+    BuildStopInterrupter interrupter;
     openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        mesh, *transform, static_cast<float>(exterior_band_voxels(settings)),
+        interrupter, mesh, *transform, static_cast<float>(exterior_band_voxels(settings)),
         static_cast<float>(interior_band_voxels(settings)), flags);
+    check_build_stop();  // a grid cut short by the interrupter is never used
     if (!result) {
       result = grid;
       continue;
@@ -211,6 +225,7 @@ openvdb::GridPtrVec voxmap_grids(const openvdb::FloatGrid& phi, const openvdb::C
   std::optional<openvdb::FloatGrid::Accessor> distance_access;
   if (distance) distance_access.emplace(distance->getAccessor());
   for (auto leaf = phi.tree().cbeginLeaf(); leaf; ++leaf) {
+    check_build_stop();
     if (!region.hasOverlap(leaf->getNodeBoundingBox())) continue;
     for (auto v = leaf->cbeginValueAll(); v; ++v) {
       const openvdb::Coord c = v.getCoord();
@@ -248,6 +263,7 @@ VoxelLookup fill_lookup(const openvdb::Int32Grid& states, const openvdb::FloatGr
   std::array<uint8_t, VoxelLookup::kBlockVoxels> block_states;
   std::array<float, VoxelLookup::kBlockVoxels> block_distances;
   for (int x = 0; x < block_count.x(); ++x) {
+    check_build_stop();
     for (int y = 0; y < block_count.y(); ++y) {
       for (int z = 0; z < block_count.z(); ++z) {
         const Eigen::Vector3i b(x, y, z);
@@ -394,8 +410,11 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
         openvdb::math::Transform::createLinearTransform(spacing_m);
     const MeshAdapter mesh(tool_mesh, Pose{}, spacing_m);
     openvdb::Int32Grid closest(0);
+    BuildStopInterrupter interrupter;
     const openvdb::FloatGrid::Ptr phi = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        mesh, *transform, 2.0f, 2.0f, openvdb::tools::DISABLE_RENORMALIZATION, &closest);
+        interrupter, mesh, *transform, 2.0f, 2.0f, openvdb::tools::DISABLE_RENORMALIZATION,
+        &closest);
+    check_build_stop();
     normals = openvdb::Vec3SGrid::create(openvdb::Vec3s(0, 0, 0));
     normals->setName(kPointShellGrid);
     normals->setTransform(transform->copy());
