@@ -1,8 +1,5 @@
 #include "harness/mesh_io/mesh_io.h"
 
-#include <CGAL/IO/polygon_soup_io.h>
-#include <CGAL/Simple_cartesian.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -23,13 +20,17 @@
 #include <vector>
 
 #include "algorithms/core/input_error.h"
+#include "harness/mesh_io/mesh_formats.h"
 #include "harness/process/memory_limit.h"
 
 namespace hb {
 
 namespace {
 
-using FilePoint = CGAL::Simple_cartesian<double>::Point_3;
+using mesh_formats::check_declared_count;
+using mesh_formats::preview_text;
+using mesh_formats::words_of;
+using FilePoint = std::array<double, 3>;
 using FilePolygon = std::vector<std::size_t>;
 
 struct MeshFormat {
@@ -73,42 +74,6 @@ struct ExactPointHash {
   }
 };
 
-// Element counts a mesh header declares are checked against the file's size
-// before the reader allocates for them: every vertex and face takes at
-// least two bytes in any encoding (a number and a separator), so a header
-// claiming more than that is refused (a 20-byte OFF file claiming 2^31
-// vertices once ended in std::bad_alloc). kMaxMeshElements bounds the
-// memory a mesh may take (about 100 bytes per element on reading).
-constexpr std::uintmax_t kMaxMeshElements = 20'000'000;
-
-void check_declared_count(const std::string& path, const std::string& what, long double count,
-                          std::uintmax_t file_bytes) {
-  if (count < 0 || count > static_cast<long double>(file_bytes) / 2 ||
-      count > static_cast<long double>(kMaxMeshElements)) {
-    std::ostringstream text;
-    text << std::fixed << std::setprecision(0) << "the header declares " << count << " " << what
-         << ", but the file has only " << file_bytes << " bytes";
-    if (count > static_cast<long double>(kMaxMeshElements))
-      text << " (and hapticbench reads at most " << kMaxMeshElements << " per mesh)";
-    throw InputError(path, "header", text.str());
-  }
-}
-
-// Whitespace-separated words of a line up to a '#' comment.
-std::vector<std::string_view> words_of(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size() && line[i] != '#') {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i >= line.size() || line[i] == '#') break;
-    const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i])) && line[i] != '#')
-      ++i;
-    words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
-
 // A line's number of words and the integer its first word starts with, as
 // a stream reads it (an optional '+', digits, then anything: the readers
 // take "2000000000" from "2000000000\x1f..." and stop there).
@@ -142,12 +107,6 @@ void check_list_line(const std::string& path, std::size_t line_number, const Lin
                      "a face declares " + std::to_string(declared) +
                          " corners but the line lists " + std::to_string(tokens.count - 1) +
                          " numbers");
-}
-
-std::string preview_text(std::string_view line) {
-  std::string text(line.substr(0, 60));
-  if (line.size() > 60) text += "...";
-  return "\"" + text + "\"";
 }
 
 // An OFF vertex line starts with three finite coordinates (colours may follow).
@@ -190,15 +149,13 @@ void check_off_face_indices(const std::string& path, std::size_t line_number,
 }
 
 // The counts in an OFF header ("[C][N][4]OFF" then "vertices faces edges",
-// '#' comments allowed) or a PLY header ("element vertex N" ...), and, in
-// text files, every face line against the corners it declares.
-void check_header_counts(const std::string& path, const MeshFormat& format,
-                         std::uintmax_t file_bytes) {
+// '#' comments allowed), and every face line against the corners it
+// declares.
+void check_off_header(const std::string& path, std::uintmax_t file_bytes) {
   std::ifstream in(path, std::ios::binary);
-  const std::string name = format.name;
   std::string line;
   std::size_t line_number = 0;
-  if (name == "OFF") {
+  {
     // The header's words as the reader takes them: a keyword is its word's
     // leading letters and digits, and the character after them is consumed
     // ("OFF>3" is OFF then 3, "BINARY]" is BINARY; found by fuzzing).
@@ -254,91 +211,13 @@ void check_header_counts(const std::string& path, const MeshFormat& format,
       check_list_line(path, line_number, line_tokens);
       check_off_face_indices(path, line_number, words, vertex_lines);
     }
-  } else if (name == "STL") {
-    // A binary STL (one not starting with "solid") holds an 80-byte header,
-    // a 32-bit triangle count and 50 bytes per triangle: the count must fit
-    // the file (a 233-byte file declaring 8e8 triangles once kept the
-    // reader busy with them).
-    char head[84] = {};
-    in.read(head, sizeof head);
-    if (std::string_view(head, 5) == "solid") return;
-    if (in.gcount() < 84)
-      throw InputError(path, "", "a binary STL file needs at least 84 bytes (header and count)");
-    uint32_t count = 0;
-    for (int k = 3; k >= 0; --k) count = (count << 8) | static_cast<unsigned char>(head[80 + k]);
-    const std::uintmax_t needed = 84 + 50 * static_cast<std::uintmax_t>(count);
-    if (needed > file_bytes)
-      throw InputError(path, "triangle count",
-                       "the binary STL header declares " + std::to_string(count) +
-                           " triangles, which need " + std::to_string(needed) +
-                           " bytes; the file has " + std::to_string(file_bytes));
-  } else if (name == "PLY") {
-    // Elements in header order, with whether each holds a list (faces).
-    // The header is checked line by line before CGAL's reader sees it: that
-    // reader crashed (SIGSEGV) on a "property" line before any "element".
-    std::vector<std::pair<std::size_t, bool>> elements;
-    bool ascii = false, ended = false;
-    std::string current_element;
-    const auto header_error = [&](const std::string& why) {
-      throw InputError(path, "line " + std::to_string(line_number), why);
-    };
-    for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
-      ++line_number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      std::istringstream words(line);
-      std::string keyword, element;
-      words >> keyword;
-      if (line_number == 1) {
-        if (keyword != "ply") header_error("expected \"ply\" on the first line");
-        continue;
-      }
-      if (keyword == "end_header") {
-        ended = true;
-        break;
-      }
-      long double count = 0;
-      if (keyword == "format") {
-        ascii = line.rfind("format ascii", 0) == 0;
-      } else if (keyword == "element") {
-        if (!(words >> element >> count))
-          header_error("expected \"element NAME COUNT\", got " + preview_text(line));
-        check_declared_count(path, "elements of \"" + element + "\"", count, file_bytes);
-        elements.emplace_back(static_cast<std::size_t>(count), false);
-        current_element = element;
-      } else if (keyword == "property") {
-        if (elements.empty()) header_error("a property before any element");
-        std::string type, name;
-        if (words >> type && type == "list") elements.back().second = true;
-        // The reader takes vertex coordinates from float or double
-        // properties only; another type made it crash (found by fuzzing).
-        if (current_element == "vertex" && type != "list" && words >> name &&
-            (name == "x" || name == "y" || name == "z") && type != "float" && type != "float32" &&
-            type != "double" && type != "float64")
-          header_error("vertex coordinate \"" + name + "\" has type \"" + type +
-                       "\"; expected float or double");
-      } else if (keyword != "comment" && keyword != "obj_info" && !keyword.empty()) {
-        header_error("unknown header line " + preview_text(line) +
-                     " (expected format, element, property, comment or end_header)");
-      }
-    }
-    if (!ended) header_error("no \"end_header\" line in the first 1000 lines");
-    if (!ascii) return;
-    for (const auto& [count, is_list] : elements) {
-      for (std::size_t i = 0; i < count && std::getline(in, line);) {
-        ++line_number;
-        const LineTokens line_tokens = tokens_of(words_of(line));
-        if (line_tokens.count == 0) continue;
-        ++i;
-        if (is_list) check_list_line(path, line_number, line_tokens);
-      }
-    }
   }
 }
 
-// Text OFF, read here rather than by CGAL: one reader, so that what the
-// checks above accept is exactly what is read (a vertex line with an extra
-// number once shifted CGAL's reading of every face after it, and a face
-// then declared 2e9 corners), and nothing is allocated beyond what the
+// Text OFF, read here rather than by a library's reader: one reader, so
+// that what the checks above accept is exactly what is read (a vertex line
+// with an extra number once shifted CGAL's reading of every face after it,
+// and a face then declared 2e9 corners), and nothing is allocated beyond what the
 // file's bytes can hold. Lines: the header keyword ([ST][C][N]OFF; the 4
 // and n variants are refused), the counts, one vertex per line (three
 // coordinates; colours or normals after them are ignored), one face per
@@ -384,7 +263,7 @@ bool read_off_text(const std::string& path, std::uintmax_t file_bytes,
       double xyz[3];
       for (int k = 0; k < 3; ++k)
         std::from_chars(words[k].data(), words[k].data() + words[k].size(), xyz[k]);
-      points.emplace_back(xyz[0], xyz[1], xyz[2]);
+      points.push_back({xyz[0], xyz[1], xyz[2]});
       continue;
     }
     const LineTokens tokens = tokens_of(words);
@@ -431,15 +310,18 @@ TriangleMesh read_mesh_file(const std::string& path, double scale) {
 
   const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
   if (error) throw InputError(path, "", "cannot read the file's size: " + error.message());
-  check_header_counts(path, *format, file_bytes);
+  if (std::string(format->name) == "OFF") check_off_header(path, file_bytes);
 
-  std::vector<FilePoint> points;
-  std::vector<FilePolygon> polygons;
-  bool parsed = false;
+  mesh_formats::PolygonSoup soup;
+  std::vector<FilePoint>& points = soup.points;
+  std::vector<FilePolygon>& polygons = soup.polygons;
+  bool parsed = true;
   try {
-    parsed = std::string(format->name) == "OFF"
-                 ? read_off_text(path, file_bytes, points, polygons)
-                 : CGAL::IO::read_polygon_soup(path, points, polygons);
+    const std::string name = format->name;
+    if (name == "OFF") parsed = read_off_text(path, file_bytes, points, polygons);
+    if (name == "OBJ") mesh_formats::read_obj(path, soup);
+    if (name == "STL") mesh_formats::read_stl(path, file_bytes, soup);
+    if (name == "PLY") mesh_formats::read_ply(path, file_bytes, soup);
   } catch (const std::bad_alloc&) {
     // e.g. a face whose declared number of corners is absurd
     throw InputError(
@@ -461,7 +343,7 @@ TriangleMesh read_mesh_file(const std::string& path, double scale) {
   std::unordered_map<ExactPoint, int, ExactPointHash> index_of_point;
   index_of_point.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const ExactPoint key{{points[i].x() + 0.0, points[i].y() + 0.0, points[i].z() + 0.0}};
+    const ExactPoint key{{points[i][0] + 0.0, points[i][1] + 0.0, points[i][2] + 0.0}};
     const auto [it, inserted] =
         index_of_point.try_emplace(key, static_cast<int>(mesh.vertices.size()));
     if (inserted) mesh.vertices.emplace_back(scale * Vec3(key.xyz[0], key.xyz[1], key.xyz[2]));

@@ -1,5 +1,5 @@
-// Reading triangle meshes from OFF, OBJ, STL and PLY files (CGAL's readers,
-// kept inside mesh_io.cpp).
+// Reading triangle meshes from OFF, OBJ, STL and PLY files, with strict
+// readers whose memory is bounded by the file's size (mesh_formats.h).
 #pragma once
 
 #include <string>

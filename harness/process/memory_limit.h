@@ -9,6 +9,16 @@
 
 namespace hb {
 
+/// The memory rule for reading input files (meshes, traces, scenarios,
+/// sweeps, summaries; docs/limits.md, "Memory"): parsing n bytes takes at
+/// most kInputMemoryPerByte · n bytes of heap plus kInputMemoryAllowance.
+/// The densest cases are short text records that become fixed-size
+/// structures: "0 0 0\n" (6 bytes) becomes a 24-byte point, a hash-map
+/// entry and a merged vertex. The fuzz targets' replay checks every corpus
+/// input against it (tests/fuzz/replay_main.cpp).
+constexpr std::uint64_t kInputMemoryPerByte = 40;
+constexpr std::uint64_t kInputMemoryAllowance = 16u << 20;
+
 /// The default ceiling (MB): half of the machine's physical memory.
 std::uint64_t default_memory_limit_mb();
 

@@ -208,7 +208,7 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
   // fuzzing: each made the reader allocate 16 GB).
   TempFolder folder;
   const std::string head = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
-  for (const std::string face :
+  for (const std::string& face :
        {std::string("2000000000\x1f\x15 0 1 2\n"), std::string("+2000000000 0 1 2\n")}) {
     CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("count.off", head + face)); }),
                Catch::Contains("count.off: line 6") &&
@@ -255,6 +255,70 @@ TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
                  Catch::Contains("declares 805306369 triangles"));
 }
 
+TEST_CASE("no reader allocates for a count its bytes cannot hold", "[mesh_io]") {
+  TempFolder folder;
+  const std::string ply_head = "ply\nformat ascii 1.0\n";
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  const std::string face_list = "property list uchar int vertex_indices\n";
+  // A header count above what the file's bytes can hold.
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write("count.ply", ply_head + "element vertex 1000000000\n" +
+                                                            xyz + "element face 1\n" + face_list +
+                                                            "end_header\n0 0 0\n"));
+             }),
+             Catch::Contains("count.ply: header") &&
+                 Catch::Contains("declares 1000000000 elements of \"vertex\""));
+  // An ASCII list longer than its line.
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write("list.ply", ply_head + "element vertex 3\n" + xyz +
+                                                           "element face 1\n" + face_list +
+                                                           "end_header\n0 0 0\n1 0 0\n0 1 0\n"
+                                                           "2000000000 0 1 2\n"));
+             }),
+             Catch::Contains("list.ply: line 13") &&
+                 Catch::Contains("a list declares 2000000000 entries but the line has 3"));
+  // Binary PLY: elements that need more bytes than are left, and a list
+  // count of 2^32 - 1 with a few bytes behind it.
+  const std::string binary_head =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + xyz + "element face 1\n";
+  std::string corners(36, '\0');
+  const float one = 1.0f;
+  std::memcpy(corners.data() + 12, &one, 4);
+  std::memcpy(corners.data() + 28, &one, 4);
+  const std::string triangle_ply =
+      binary_head + face_list + "end_header\n" + corners +
+      std::string("\x03\x00\x00\x00\x00\x01\x00\x00\x00\x02\x00\x00\x00", 13);
+  const TriangleMesh one_triangle = read_mesh_file(folder.write("triangle.ply", triangle_ply));
+  CHECK(one_triangle.triangles.size() == 1);
+  CHECK(one_triangle.vertices.size() == 3);
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write(
+                   "short.ply", binary_head + face_list + "end_header\n" + corners.substr(0, 20)));
+             }),
+             Catch::Contains("short.ply: element vertex") && Catch::Contains("need at least 36"));
+  const std::string long_list = binary_head + "property list uint int vertex_indices\n" +
+                                "end_header\n" + corners + std::string("\xff\xff\xff\xff", 4) +
+                                std::string(12, '\0');
+  CHECK_THAT(input_error_text([&] { read_mesh_file(folder.write("long.ply", long_list)); }),
+             Catch::Contains("long.ply: element face 0") &&
+                 Catch::Contains("a list declares 4294967295 entries; 12 bytes are left"));
+  // OBJ declares no counts: a face lists what its line holds, and corners
+  // counting back past the first vertex are refused.
+  CHECK_THAT(input_error_text([&] {
+               read_mesh_file(folder.write("back.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"));
+             }),
+             Catch::Contains("back.obj: line 4") && Catch::Contains("counts back past the first"));
+  // ASCII STL: a facet's loop holds three vertices.
+  CHECK_THAT(
+      input_error_text([&] {
+        read_mesh_file(folder.write("four.stl",
+                                    "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                    "vertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\n"
+                                    "endsolid s\n"));
+      }),
+      Catch::Contains("four.stl: line 7") && Catch::Contains("more than three vertices"));
+}
+
 TEST_CASE("face with an out-of-range vertex index", "[mesh_io]") {
   TempFolder folder;
   const std::string path =
@@ -288,6 +352,39 @@ TEST_CASE("Stanford bunny from CGAL's data, if installed", "[mesh_io]") {
   CHECK(mesh.triangles.size() == face_count);
   CHECK_FALSE(find_mesh_defect(mesh));
   CHECK(mass_properties_from_density(mesh, 1000.0).mass_kg > 0.0);
+}
+
+TEST_CASE("CGAL's PLY and STL files read as the closed meshes they are, if installed",
+          "[mesh_io]") {
+  const fs::path archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
+  if (!fs::exists(archive)) {
+    WARN("skipped: " << archive << " is not installed");
+    return;
+  }
+  TempFolder folder;
+  const std::string command = "tar -xzf " + archive.string() + " -C " + folder.path().string() +
+                              " data/meshes/sphere.ply data/meshes/sphere.stl"
+                              " data/meshes/colored_tetra.ply data/meshes/pig.stl";
+  REQUIRE(std::system(command.c_str()) == 0);
+  const fs::path meshes = folder.path() / "data/meshes";
+  // ASCII PLY of an icosphere: 162 vertices, 320 triangles, as its header says.
+  const TriangleMesh sphere_ply = read_mesh_file((meshes / "sphere.ply").string());
+  CHECK(sphere_ply.vertices.size() == 162);
+  CHECK(sphere_ply.triangles.size() == 320);
+  CHECK_FALSE(find_mesh_defect(sphere_ply));
+  // Binary STL (its header starts with neither "solid" nor a count that
+  // lies): every triangle's own corners merge into a closed surface.
+  const TriangleMesh sphere_stl = read_mesh_file((meshes / "sphere.stl").string());
+  CHECK(sphere_stl.triangles.size() == (fs::file_size(meshes / "sphere.stl") - 84) / 50);
+  CHECK_FALSE(find_mesh_defect(sphere_stl));
+  const TriangleMesh pig = read_mesh_file((meshes / "pig.stl").string());
+  CHECK(pig.triangles.size() == (fs::file_size(meshes / "pig.stl") - 84) / 50);
+  CHECK(pig.vertices.size() < pig.triangles.size());
+  // Doubles with normals, colours and an id beside them; a list per face.
+  const TriangleMesh tetra = read_mesh_file((meshes / "colored_tetra.ply").string());
+  CHECK(tetra.vertices.size() == 4);
+  CHECK(tetra.triangles.size() == 4);
+  CHECK_FALSE(find_mesh_defect(tetra));
 }
 
 }  // namespace hb
