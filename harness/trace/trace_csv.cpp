@@ -1,6 +1,7 @@
 // Reading and writing device traces: the hapticbench CSV with its JSON
 // sidecar, and import of the TUM trajectory format. Every malformed input
 // is an InputError naming the file, the line and what was expected.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -185,6 +186,15 @@ std::vector<std::string_view> split_whitespace(std::string_view line) {
   return fields;
 }
 
+/// Room for the samples of a file of `line_count` lines and `byte_count`
+/// bytes: a sample row holds at least 8 numbers and 7 separators (15
+/// bytes), so blank or comment lines (one byte each, against a 120-byte
+/// sample) cannot make the reservation outgrow the memory rule.
+std::size_t row_capacity(std::size_t line_count, std::size_t byte_count) {
+  constexpr std::size_t kMinRowBytes = 15;
+  return std::min(line_count, byte_count / kMinRowBytes + 1);
+}
+
 /// Average sampling rate (Hz) of strictly increasing samples.
 double average_rate_hz(const std::vector<TraceSample>& samples) {
   const double span_ns = static_cast<double>(samples.back().t_ns - samples.front().t_ns);
@@ -205,7 +215,7 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
   const std::size_t columns = has_twist ? 14 : 8;
 
   std::vector<TraceSample> samples;
-  samples.reserve(lines.size());
+  samples.reserve(row_capacity(lines.size(), bytes.size()));
   for (std::size_t i = 1; i < lines.size(); ++i) {
     parser.set_line(static_cast<int64_t>(i) + 1);
     if (trim(lines[i]).empty()) continue;
@@ -267,7 +277,7 @@ std::vector<TraceSample> parse_tum(const std::string& path, std::string_view byt
   const std::vector<std::string_view> lines = split_lines(bytes);
   RowParser parser(path);
   std::vector<TraceSample> samples;
-  samples.reserve(lines.size());
+  samples.reserve(row_capacity(lines.size(), bytes.size()));
   int64_t t0_ns = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     parser.set_line(static_cast<int64_t>(i) + 1);
