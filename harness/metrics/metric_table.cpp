@@ -112,7 +112,9 @@ constexpr MetricDefinition kMetrics[] = {
      [](const RunMetrics& m) -> std::optional<double> {
        return m.stability.passivity_energy_min_j;
      },
-     "minimum over time of the passivity observer's energy (below zero: energy given away)", true},
+     "minimum over time of the port energy: the held wrench's work on the device, plus the "
+     "coupling's store at the first tick (below zero: energy generated)",
+     true},
     {"tunnelled", "/stability/tunnelled", "passes", Better::kLower, true, 1, CompareRule::kCount, 0,
      true,
      [](const RunMetrics& m) -> std::optional<double> {
@@ -123,7 +125,7 @@ constexpr MetricDefinition kMetrics[] = {
     {"energy_drift_j_per_s", "/stability/energy_drift_j_per_s", "J/s", Better::kHigher, false, 1,
      CompareRule::kTolerance, kEnergyAbsTolJ, true,
      [](const RunMetrics& m) { return m.stability.energy_drift_j_per_s; },
-     "least-squares slope of the passivity energy over the run (below zero: energy given away "
+     "least-squares slope of the port energy over the run (below zero: energy generated "
      "steadily)"},
     {"proxy_chatter_m", "/stability/proxy_chatter_m", "m", Better::kLower, true, 1,
      CompareRule::kNone, 0, false,

@@ -23,6 +23,7 @@ double angle_deg(const Vec3& a, const Vec3& b) {
 
 MetricsAccumulator::MetricsAccumulator(MetricsSettings settings)
     : settings_(settings),
+      port_energy_(settings.coupling_k_t, settings.coupling_k_r),
       volume_ns_(settings.exact_percentile_capacity),
       step_ns_(settings.exact_percentile_capacity),
       free_step_ns_(settings.exact_percentile_capacity),
@@ -71,7 +72,6 @@ void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
 void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& evaluation) {
   const TickResult& result = record.result;
   const DeviceSample& device = *record.device;
-  const double dt = 1e-9 * static_cast<double>(kTickNs);
 
   // Harness-side guard: a renderer must never display non-finite numbers,
   // but if one does, the run counts it and uses zero instead.
@@ -114,8 +114,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     }
   }
 
-  // Stability and passivity. The coupling force on the proxy is the
-  // negated display; its power at the device port is F_c·v_h + tau_c·w_h.
+  // Stability and passivity (the port energy: passivity_energy.h).
   // A finite proxy far enough away overflows the distance: that counts as non-finite too.
   const double raw_separation_m = (result.proxy.p - device.pose.p).norm();
   const bool proxy_finite = is_finite(result.proxy) && std::isfinite(raw_separation_m);
@@ -129,7 +128,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     partial_.stability.diverged = true;
     partial_.stability.diverged_at_tick = device.tick;
   }
-  energy_ += (-display.force.dot(device.twist.v) - display.torque.dot(device.twist.w)) * dt;
+  energy_ = port_energy_.add(display, device.pose);
   partial_.stability.passivity_energy_min_j =
       std::min(partial_.stability.passivity_energy_min_j, energy_);
   partial_.stability.passivity_energy_final_j = energy_;

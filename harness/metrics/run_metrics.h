@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/core/pose.h"
+#include "harness/metrics/passivity_energy.h"
 #include "harness/metrics/percentiles.h"
 #include "harness/metrics/spill_buffer.h"
 #include "harness/reference/oracle_evaluation.h"
@@ -82,8 +83,11 @@ struct StabilityMetrics {
   double max_proxy_separation_m =
       0;  ///< max |x_proxy - x_device| of the tool frames (finite ticks)
   int64_t proxy_nonfinite_ticks = 0;  ///< ticks whose proxy pose (or its distance) was not finite
-  double passivity_energy_min_j = 0;  ///< min over time of E = sum (F_c·v_h + tau_c·w_h) dt
-  double passivity_energy_final_j = 0;
+  /// J: minimum over the run of the port energy E (passivity_energy.h):
+  /// the energy the device supplied through the held wrench, plus what the
+  /// coupling stored at the first tick. Below zero: energy generated.
+  double passivity_energy_min_j = 0;
+  double passivity_energy_final_j = 0;  ///< J: E after the last tick
   double force_jump_max_n = 0;          ///< max |F(k) - F(k-1)|
   double force_hf_energy_fraction = 0;  ///< share of force signal energy above 100 Hz (no DC)
   /// J/s: the least-squares slope of the passivity energy E(t) over the
@@ -174,6 +178,9 @@ struct RunMetrics {
 
 struct MetricsSettings {
   double divergence_distance_m = 0.1;  ///< proxy-device separation that counts as divergence
+  /// The scenario's coupling, for the energy it stores at the first tick
+  /// (N/m, N·m/rad; 0: none counted).
+  double coupling_k_t = 0, coupling_k_r = 0;
   /// Ticks the run will have (0: unknown), to spread the step-time sample
   /// evenly over the run without keeping every tick.
   int64_t expected_ticks = 0;
@@ -198,6 +205,7 @@ class MetricsAccumulator {
   void add_oracle(const OracleTickEvaluation& oracle);
 
   MetricsSettings settings_;
+  PortEnergy port_energy_;
   struct BackendSums {
     StreamingPercentiles ns;
     double depth_sq = 0;
@@ -230,7 +238,7 @@ class MetricsAccumulator {
   double force_err_sq_ = 0, torque_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
   int64_t ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
   int64_t contacts_sum_ = 0;
-  double energy_ = 0;
+  double energy_ = 0;  ///< J: port_energy_ after the latest tick
   // Streaming least-squares fit of the energy against time (Welford).
   int64_t energy_fit_n_ = 0;
   double energy_fit_mean_t_ = 0, energy_fit_mean_e_ = 0, energy_fit_cov_ = 0, energy_fit_var_t_ = 0;

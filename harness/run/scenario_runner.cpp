@@ -186,6 +186,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   const double tool_radius = tool.mesh.radius_about(tool.mass.centre_of_mass);
   metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
   metrics_settings.expected_ticks = scenario.trajectory.ticks();
+  metrics_settings.coupling_k_t = scenario.context.coupling.k_t;
+  metrics_settings.coupling_k_r = scenario.context.coupling.k_r;
   outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 
   ProgressDisplay* const progress = options.progress;

@@ -1,8 +1,10 @@
 // End-to-end: `hapticbench stability` against the closed form of explicit
 // Euler on the free-space virtual coupling, and its bad input.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -94,6 +96,61 @@ TEST_CASE("the stability search finds explicit Euler's contact limit (k_t + k_c)
     if (!run.at("stable").get<bool>() && !run.at("diverged").get<bool>())
       chatter_decided = chatter_decided || run.at("chatters").get<bool>();
   CHECK(chatter_decided);  // some unstable run was bounded: chatter, not divergence, told
+}
+
+// A 2 cm sphere over the top face (z = 0) of a box, the device moving
+// z = −1 mm − 1 mm·sin(2π 20 Hz t) for 1 s (20 cycles, in contact 0–2 mm
+// deep), with its exact velocity, rendered by the god-object: a proxy at
+// rest on the face and a sampled coupling spring behind it.
+void write_wall_scenario(const fs::path& folder) {
+  std::ofstream trace(folder / "oscillation.csv");
+  trace << "t_ns,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  const double amplitude = 1e-3, omega = 2 * M_PI * 20, radius = 0.02;
+  for (int n = 0; n <= 1000; ++n) {
+    const double t = 1e-3 * n;
+    const double z = radius - amplitude - amplitude * std::sin(omega * t);
+    const double vz = -amplitude * omega * std::cos(omega * t);
+    trace << n * 1'000'000LL << ",0,0," << std::setprecision(17) << z << ",1,0,0,0,0,0," << vz
+          << ",0,0,0\n";
+  }
+  std::ofstream(folder / "wall.json") << R"({
+    "name": "sampled_wall",
+    "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] },
+                 "pose": { "p": [0, 0, -0.01], "q": [1, 0, 0, 0] } } ],
+    "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 3 }, "density": 1000 },
+    "trace": { "file": "oscillation.csv" },
+    "coupling": { "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 },
+    "algorithms": [ { "name": "god_object", "label": "god_object" } ] })";
+}
+
+TEST_CASE("the held-force port energy changes sign at the sampled wall's limit k_t = 2 b_t / T") {
+  // Colgate & Schenkel 1997: a wall behind a spring sampled every T with
+  // damping b is passive only while k T / 2 < b. With the exact velocity of
+  // a sinusoid of θ = ωT a tick the held-force energy per tick in contact is
+  // ≈ Δx² (b / T − k / 2), so the limit is 2 b_t / T = 10,000 N/m (within
+  // θ²/12 = 0.1 %). The earlier observer (F_n · v_n T) saw only the damping
+  // and called every stiffness passive.
+  const hb::test::ScratchDir work_dir("e2e_stability_wall");
+  const fs::path& work = work_dir.path();
+  write_wall_scenario(work);
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
+      "stability wall.json --label god_object --param /coupling/k_t --range 2000 50000 "
+      "--tolerance 0.01 --out margin",
+      work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  const json margin = json::parse(hb::test::read_text_file(work / "margin/stability.json"));
+  const double stable = margin.at("largest_stable").get<double>();
+  const double unstable = margin.at("smallest_unstable").get<double>();
+  const double limit = 2 * 5.0 / 1e-3;
+  CHECK(stable == Approx(limit).epsilon(0.02));
+  CHECK(unstable == Approx(limit).epsilon(0.02));
+  for (const json& run : margin.at("runs")) {
+    INFO(run.dump());
+    CHECK(run.at("stable").get<bool>() == (run.at("value").get<double>() <= stable));
+    // Passivity, not divergence or chatter, decides: the proxy rests on the face.
+    CHECK_FALSE(run.at("diverged").get<bool>());
+  }
 }
 
 TEST_CASE("stability: bad input exits with 2, names what is wrong, and writes nothing") {

@@ -191,17 +191,17 @@ TEST_CASE("metrics without a reference are absent, not zero") {
   CHECK_FALSE(verdict.value);
 }
 
-TEST_CASE("passivity energy integrates F_c·v_h at the device port") {
+TEST_CASE("passivity energy is the held wrench's work at the device port") {
   SyntheticRun run;
   run.samples.reserve(200);
-  // Display pushes along +x while the device moves along +x at 0.1 m/s: the
-  // coupling force on the proxy is -2 N x, so energy flows out of the
-  // virtual world: E decreases by 2 N * 0.1 m/s * 1 ms per tick.
+  // Display pushes along +x while the device moves along +x by 0.1 mm a
+  // tick: energy flows out of the virtual world, 2 N * 0.1 mm for each of
+  // the 99 ticks whose wrench was held while the device moved.
   Wrench display;
   display.force = Vec3(2, 0, 0);
   for (int k = 0; k < 100; ++k) run.tick(display, std::nullopt, 10);
   const RunMetrics m = run.metrics.finish();
-  CHECK(m.stability.passivity_energy_final_j == Approx(-100 * 2 * 0.1 * 1e-3));
+  CHECK(m.stability.passivity_energy_final_j == Approx(-99 * 2 * 0.1e-3));
   CHECK(m.stability.passivity_energy_min_j == Approx(m.stability.passivity_energy_final_j));
   CHECK(m.stability.force_jump_max_n == 0);
   CHECK(budget_is_lower_bound("passivity_energy_min_j"));
