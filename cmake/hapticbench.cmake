@@ -9,8 +9,10 @@ set(HB_TEST_OPTIMIZATION -O1)
 # 60 % of a sanitized build's compile time. Its allocations still go
 # through AddressSanitizer's allocator, so an overrun by library code into
 # a test's buffer is still caught.
+# HAPTICBENCH_TOOL_ASAN tells such tests that the tool they start runs
+# with AddressSanitizer (tests/support/cli_runner.h).
 if(HAPTICBENCH_SANITIZE_SKIP_HEAVY)
-  list(APPEND HB_TEST_OPTIMIZATION -fno-sanitize=all)
+  list(APPEND HB_TEST_OPTIMIZATION -fno-sanitize=all -DHAPTICBENCH_TOOL_ASAN=1)
 endif()
 if(HAPTICBENCH_WERROR)
   list(APPEND HAPTICBENCH_WARNINGS -Werror)
