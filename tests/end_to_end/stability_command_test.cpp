@@ -26,19 +26,36 @@ void write_jump_scenario(const fs::path& path) {
   std::ofstream(path) << scenario.dump(2);
 }
 
+// Runs `hapticbench stability ARGS --out OUT` in `work`; requires exit 0
+// and returns OUT/stability.json with the command's output.
+struct Margin {
+  hb::test::CommandResult result;
+  json search;
+  double stable = 0, unstable = 0;
+};
+Margin search_margin(const std::string& args, const std::string& out, const fs::path& work) {
+  Margin margin;
+  margin.result = hb::test::run_hapticbench("stability " + args + " --out " + out, work);
+  INFO(margin.result.stderr_text);
+  REQUIRE(margin.result.exit_code == 0);
+  margin.search = json::parse(hb::test::read_text_file(work / out / "stability.json"));
+  margin.stable = margin.search.at("largest_stable").get<double>();
+  if (!margin.search.at("smallest_unstable").is_null())
+    margin.unstable = margin.search.at("smallest_unstable").get<double>();
+  return margin;
+}
+
 TEST_CASE("the stability search finds explicit Euler's coupling limit k_t < b_t / dt") {
   const hb::test::ScratchDir work_dir("e2e_stability_coupling");
   const fs::path& work = work_dir.path();
   write_jump_scenario(work / "jump.json");
-  const hb::test::CommandResult result = hb::test::run_hapticbench(
-      "stability jump.json --label explicit_euler --param /coupling/k_t --range 1000 100000 "
-      "--tolerance 0.02 --out margin",
-      work);
-  INFO(result.stderr_text);
-  REQUIRE(result.exit_code == 0);
-  const json margin = json::parse(hb::test::read_text_file(work / "margin/stability.json"));
-  const double stable = margin.at("largest_stable").get<double>();
-  const double unstable = margin.at("smallest_unstable").get<double>();
+  const Margin found = search_margin(
+      "jump.json --label explicit_euler --param /coupling/k_t --range 1000 100000 "
+      "--tolerance 0.02",
+      "margin", work);
+  const hb::test::CommandResult& result = found.result;
+  const json& margin = found.search;
+  const double stable = found.stable, unstable = found.unstable;
   const double limit = 5.0 / 1e-3;  // b_t / dt
   CHECK(unstable / stable - 1 <= 0.02);
   // Within the tolerance of the closed form (a finite run sees growth just
@@ -75,16 +92,13 @@ TEST_CASE("the stability search finds explicit Euler's contact limit (k_t + k_c)
   // held still; the chatter criterion sees it.
   const hb::test::ScratchDir work_dir("e2e_stability_contact");
   const fs::path& work = work_dir.path();
-  const hb::test::CommandResult result = hb::test::run_hapticbench(
-      "stability " + (kSource / "scenarios/margins/sphere_on_box.json").string() +
-          " --label penalty_explicit --param /algorithms/0/params/contact_stiffness"
-          " --range 1000 100000 --tolerance 0.02 --out contact",
-      work);
-  INFO(result.stderr_text);
-  REQUIRE(result.exit_code == 0);
-  const json margin = json::parse(hb::test::read_text_file(work / "contact/stability.json"));
-  const double stable = margin.at("largest_stable").get<double>();
-  const double unstable = margin.at("smallest_unstable").get<double>();
+  const Margin found =
+      search_margin((kSource / "scenarios/margins/sphere_on_box.json").string() +
+                        " --label penalty_explicit --param /algorithms/0/params/contact_stiffness"
+                        " --range 1000 100000 --tolerance 0.02",
+                    "contact", work);
+  const json& margin = found.search;
+  const double stable = found.stable, unstable = found.unstable;
   const double limit = (5.0 + 2.0) / 1e-3 - 2000.0;
   CHECK(unstable / stable - 1 <= 0.02);
   // Just below the limit an oscillation dies out slowly, just above it
@@ -133,15 +147,11 @@ TEST_CASE("the held-force port energy changes sign at the sampled wall's limit k
   const hb::test::ScratchDir work_dir("e2e_stability_wall");
   const fs::path& work = work_dir.path();
   write_wall_scenario(work);
-  const hb::test::CommandResult result = hb::test::run_hapticbench(
-      "stability wall.json --label god_object --param /coupling/k_t --range 2000 50000 "
-      "--tolerance 0.01 --out margin",
-      work);
-  INFO(result.stderr_text);
-  REQUIRE(result.exit_code == 0);
-  const json margin = json::parse(hb::test::read_text_file(work / "margin/stability.json"));
-  const double stable = margin.at("largest_stable").get<double>();
-  const double unstable = margin.at("smallest_unstable").get<double>();
+  const Margin found = search_margin(
+      "wall.json --label god_object --param /coupling/k_t --range 2000 50000 --tolerance 0.01",
+      "margin", work);
+  const json& margin = found.search;
+  const double stable = found.stable, unstable = found.unstable;
   const double limit = 2 * 5.0 / 1e-3;
   CHECK(stable == Approx(limit).epsilon(0.02));
   CHECK(unstable == Approx(limit).epsilon(0.02));
