@@ -155,62 +155,60 @@ void check_off_header(const std::string& path, std::uintmax_t file_bytes) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   std::size_t line_number = 0;
-  {
-    // The header's words as the reader takes them: a keyword is its word's
-    // leading letters and digits, and the character after them is consumed
-    // ("OFF>3" is OFF then 3, "BINARY]" is BINARY; found by fuzzing).
-    const auto keyword = [](const std::string& token) {
-      const auto end = std::find_if(token.begin(), token.end(),
-                                    [](unsigned char c) { return !std::isalnum(c); });
-      return std::string(token.begin(), end);
-    };
-    std::vector<std::string> tokens;
-    while (tokens.size() < 4 && std::getline(in, line)) {
-      ++line_number;
-      line = line.substr(0, line.find('#'));
-      std::istringstream words(line);
-      for (std::string word; tokens.size() < 4 && words >> word;) {
-        if (!tokens.empty()) {
-          tokens.push_back(word);
-          continue;
-        }
-        tokens.push_back(keyword(word));
-        if (tokens[0].size() + 1 < word.size()) tokens.push_back(word.substr(tokens[0].size() + 1));
-      }
-    }
-    if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
-    // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
-    // below cannot read, and the reader trusted them (found by fuzzing: a
-    // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
-    if (tokens[0].find("BINARY") != std::string::npos ||
-        (tokens.size() > 1 && keyword(tokens[1]) == "BINARY"))
-      throw InputError(path, "line 1",
-                       "binary OFF is not read; convert the mesh to text OFF, PLY, OBJ or STL");
-    long double counts[2] = {0, 0};
-    const char* names[] = {"vertices", "faces"};
-    for (std::size_t k = 1; k < 3 && k < tokens.size(); ++k) {
-      std::istringstream number(tokens[k]);
-      if (!(number >> counts[k - 1])) return;  // the reader reports it
-      check_declared_count(path, names[k - 1], counts[k - 1], file_bytes);
-    }
-    if (tokens.size() < 4) return;
-    const auto vertex_lines = static_cast<std::size_t>(counts[0]);
-    const auto face_lines = static_cast<std::size_t>(counts[1]);
-    std::size_t vertices = 0, faces = 0;
-    while (faces < face_lines && std::getline(in, line)) {
-      ++line_number;
-      const std::vector<std::string_view> words = words_of(line);
-      const LineTokens line_tokens = tokens_of(words);
-      if (line_tokens.count == 0) continue;
-      if (vertices < vertex_lines) {
-        ++vertices;
-        check_off_vertex_line(path, line_number, words);
+  // The header's words as the reader takes them: a keyword is its word's
+  // leading letters and digits, and the character after them is consumed
+  // ("OFF>3" is OFF then 3, "BINARY]" is BINARY; found by fuzzing).
+  const auto keyword = [](const std::string& token) {
+    const auto end =
+        std::find_if(token.begin(), token.end(), [](unsigned char c) { return !std::isalnum(c); });
+    return std::string(token.begin(), end);
+  };
+  std::vector<std::string> tokens;
+  while (tokens.size() < 4 && std::getline(in, line)) {
+    ++line_number;
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    for (std::string word; tokens.size() < 4 && words >> word;) {
+      if (!tokens.empty()) {
+        tokens.push_back(word);
         continue;
       }
-      ++faces;
-      check_list_line(path, line_number, line_tokens);
-      check_off_face_indices(path, line_number, words, vertex_lines);
+      tokens.push_back(keyword(word));
+      if (tokens[0].size() + 1 < word.size()) tokens.push_back(word.substr(tokens[0].size() + 1));
     }
+  }
+  if (tokens.empty() || tokens[0].find("OFF") == std::string::npos) return;
+  // Binary OFF ("OFF BINARY"): its counts are raw integers the checks
+  // below cannot read, and the reader trusted them (found by fuzzing: a
+  // 200-byte file made it allocate 4 GB). Text OFF is what OFF files are.
+  if (tokens[0].find("BINARY") != std::string::npos ||
+      (tokens.size() > 1 && keyword(tokens[1]) == "BINARY"))
+    throw InputError(path, "line 1",
+                     "binary OFF is not read; convert the mesh to text OFF, PLY, OBJ or STL");
+  long double counts[2] = {0, 0};
+  const char* names[] = {"vertices", "faces"};
+  for (std::size_t k = 1; k < 3 && k < tokens.size(); ++k) {
+    std::istringstream number(tokens[k]);
+    if (!(number >> counts[k - 1])) return;  // the reader reports it
+    check_declared_count(path, names[k - 1], counts[k - 1], file_bytes);
+  }
+  if (tokens.size() < 4) return;
+  const auto vertex_lines = static_cast<std::size_t>(counts[0]);
+  const auto face_lines = static_cast<std::size_t>(counts[1]);
+  std::size_t vertices = 0, faces = 0;
+  while (faces < face_lines && std::getline(in, line)) {
+    ++line_number;
+    const std::vector<std::string_view> words = words_of(line);
+    const LineTokens line_tokens = tokens_of(words);
+    if (line_tokens.count == 0) continue;
+    if (vertices < vertex_lines) {
+      ++vertices;
+      check_off_vertex_line(path, line_number, words);
+      continue;
+    }
+    ++faces;
+    check_list_line(path, line_number, line_tokens);
+    check_off_face_indices(path, line_number, words, vertex_lines);
   }
 }
 

@@ -128,18 +128,18 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     partial_.stability.diverged = true;
     partial_.stability.diverged_at_tick = device.tick;
   }
-  energy_ = port_energy_.add(display, device.pose);
+  const double energy = port_energy_.add(display, device.pose);
   partial_.stability.passivity_energy_min_j =
-      std::min(partial_.stability.passivity_energy_min_j, energy_);
-  partial_.stability.passivity_energy_final_j = energy_;
+      std::min(partial_.stability.passivity_energy_min_j, energy);
+  partial_.stability.passivity_energy_final_j = energy;
   {
     const double t = 1e-9 * static_cast<double>(device.t_ns);
     ++energy_fit_n_;
     const double n = static_cast<double>(energy_fit_n_);
     const double dt_mean = t - energy_fit_mean_t_;
     energy_fit_mean_t_ += dt_mean / n;
-    energy_fit_mean_e_ += (energy_ - energy_fit_mean_e_) / n;
-    energy_fit_cov_ += dt_mean * (energy_ - energy_fit_mean_e_);
+    energy_fit_mean_e_ += (energy - energy_fit_mean_e_) / n;
+    energy_fit_cov_ += dt_mean * (energy - energy_fit_mean_e_);
     energy_fit_var_t_ += dt_mean * (t - energy_fit_mean_t_);
   }
   if (proxy_finite) {

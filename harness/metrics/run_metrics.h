@@ -238,7 +238,6 @@ class MetricsAccumulator {
   double force_err_sq_ = 0, torque_err_sq_ = 0, pen_sq_ = 0, free_force_sq_ = 0;
   int64_t ideal_ticks_ = 0, pen_ticks_ = 0, evaluated_pen_ticks_ = 0;
   int64_t contacts_sum_ = 0;
-  double energy_ = 0;  ///< J: port_energy_ after the latest tick
   // Streaming least-squares fit of the energy against time (Welford).
   int64_t energy_fit_n_ = 0;
   double energy_fit_mean_t_ = 0, energy_fit_mean_e_ = 0, energy_fit_cov_ = 0, energy_fit_var_t_ = 0;
