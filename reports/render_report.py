@@ -1172,7 +1172,7 @@ def margin_value_html(value, bound, data):
 
 def unstable_because(data, smallest):
     """Why the run at the smallest unstable value was unstable: ' (diverged,
-    passivity, chatter)', or ''."""
+    passivity, chatter, display passivity, limit cycle)', or ''."""
     run = next((r for r in data["runs"] if isinstance(r, dict) and r.get("value") == smallest
                 and r.get("stable") is False), None)
     if run is None:
@@ -1183,7 +1183,11 @@ def unstable_because(data, smallest):
         ("passivity %s mJ" % fmt(run.get("passivity_energy_min_j"), "%.3g", 1e3),
          number_or_none(run.get("passivity_energy_min_j")) is not None
          and run["passivity_energy_min_j"] < -(number_or_none(data.get("epsilon_j")) or 0)),
-        ("chatter", run.get("chatters"))) if failed]
+        ("chatter", run.get("chatters")),
+        ("display passivity %s mJ" % fmt(run.get("display_energy_min_j"), "%.3g", 1e3),
+         number_or_none(run.get("display_energy_min_j")) is not None
+         and run["display_energy_min_j"] < -(number_or_none(data.get("epsilon_j")) or 0)),
+        ("limit cycle", run.get("limit_cycle"))) if failed]
     return " (%s)" % ", ".join(reasons) if reasons else ""
 
 

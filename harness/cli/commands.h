@@ -20,6 +20,7 @@ int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sw
 int ccd_command(const std::vector<std::string>& args);       ///< hapticbench ccd
 int export_command(const std::vector<std::string>& args);    ///< hapticbench export
 int stability_command(const std::vector<std::string>& args);  ///< hapticbench stability
+int zwidth_command(const std::vector<std::string>& args);     ///< hapticbench zwidth
 /// hapticbench count-instructions (internal: the child of run --instructions)
 int count_instructions_command(const std::vector<std::string>& args);
 

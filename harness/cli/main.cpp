@@ -29,6 +29,8 @@ constexpr const char* kUsage =
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
     "  stability SCENARIO.json --label L --param PTR --range LO HI [--tolerance R] [--out DIR]\n"
     "                                              largest stable value of one parameter\n"
+    "  zwidth SCENARIO.json --label L --x PTR --x-values V,.. --y PTR --y-range LO HI\n"
+    "                                              stable region over two parameters (Z-width)\n"
     "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
     "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
     "every command: --memory-limit MB   the most memory it may use (default: half of the\n"
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
     if (command == "sweep") return hb::sweep_command(args);
     if (command == "ccd") return hb::ccd_command(args);
     if (command == "stability") return hb::stability_command(args);
+    if (command == "zwidth") return hb::zwidth_command(args);
     if (command == "export") return hb::export_command(args);
     if (command == "count-instructions") return hb::count_instructions_command(args);
     if (command == "-h" || command == "--help" || command == "help") {

@@ -140,6 +140,57 @@ constexpr MetricDefinition kMetrics[] = {
      CompareRule::kTolerance, kForceAbsTolN, false,
      [](const RunMetrics& m) -> std::optional<double> { return m.stability.force_jump_max_n; },
      "largest change of the displayed force between two ticks"},
+    // Closed loop (docs/closed-loop.md): what the device held by the hand did.
+    {"limit_cycle", "/closed_loop/limit_cycle", "flag", Better::kLower, true, 1, CompareRule::kFlag,
+     0, true,
+     [](const RunMetrics& m) -> std::
+                                 optional<double> {
+                                   if (!m.closed_loop) return std::nullopt;
+                                   return m.closed_loop->limit_cycles.limit_cycle ? 1.0 : 0.0;
+                                 },
+     "closed loop: the device keeps oscillating in contact (at least a quarter of the contact "
+     "blocks, not dying out), an oscillation the intent does not explain",
+     true},
+    {"limit_cycle_amplitude_m", "/closed_loop/limit_cycle_amplitude_m", "m", Better::kLower, true,
+     1, CompareRule::kTolerance, kLengthAbsTolM, true,
+     [](const RunMetrics&
+            m) { return m.closed_loop ? m.closed_loop->limit_cycles.amplitude_m : std::nullopt; },
+     "closed loop: median amplitude of the device's oscillation over the oscillating contact "
+     "blocks"},
+    {"limit_cycle_frequency_hz", "/closed_loop/limit_cycle_frequency_hz", "Hz", Better::kLower,
+     false, 1, CompareRule::kNone, 0, true,
+     [](const RunMetrics&
+            m) { return m.closed_loop ? m.closed_loop->limit_cycles.frequency_hz : std::nullopt; },
+     "closed loop: median frequency of the device's oscillation over the oscillating contact "
+     "blocks"},
+    {"limit_cycle_share", "/closed_loop/limit_cycle_share", "fraction", Better::kLower, true, 1,
+     CompareRule::kTolerance, 0.01, true,
+     [](const RunMetrics& m) -> std::
+                                 optional<double> {
+                                   if (!m.closed_loop) return std::nullopt;
+                                   return m.closed_loop->limit_cycles.share;
+                                 },
+     "closed loop: share of the contact blocks in which the device oscillates"},
+    {"display_energy_min_j", "/closed_loop/display_energy_min_j", "J", Better::kHigher, true, 1,
+     CompareRule::kTolerance, kEnergyAbsTolJ, true,
+     [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.closed_loop) return std::nullopt;
+       return m.closed_loop->display_energy_min_j;
+     },
+     "closed loop: minimum over time of the energy the hand put into the device through the "
+     "grip (port energy plus the device's own kinetic energy and friction losses; below zero: "
+     "the display gives energy to the hand)"},
+    {"device_penetration_max_m", "/closed_loop/device_penetration_max_m", "m", Better::kLower, true,
+     1, CompareRule::kTolerance, kLengthAbsTolM, true,
+     [](const RunMetrics&
+            m) { return m.closed_loop ? m.closed_loop->device_penetration_max_m : std::nullopt; },
+     "closed loop: deepest penetration of the device's own tool pose into the scene"},
+    {"displayed_stiffness_n_per_m", "/closed_loop/displayed_stiffness_n_per_m", "N/m",
+     Better::kHigher, true, 1, CompareRule::kTolerance, 1.0, true,
+     [](const RunMetrics&
+            m) { return m.closed_loop ? m.closed_loop->displayed_stiffness_n_per_m : std::nullopt; },
+     "closed loop: least-squares slope of the displayed force against the device's "
+     "penetration (the stiffness the user feels)"},
     // Transparency.
     {"free_space_force_max_n", "/transparency/free_space_force_max_n", "N", Better::kLower, true, 1,
      CompareRule::kNone, 0, false,

@@ -31,7 +31,28 @@ MetricsAccumulator::MetricsAccumulator(MetricsSettings settings)
       slow_ns_(settings.exact_percentile_capacity),
       sample_stride_(
           std::max<int64_t>(1, (settings.expected_ticks + kStepSampleSize - 1) / kStepSampleSize)),
-      cpu_ns_(settings.exact_percentile_capacity) {}
+      cpu_ns_(settings.exact_percentile_capacity) {
+  if (settings.closed_loop) limit_cycles_.emplace(settings.limit_cycle_floor_m);
+}
+
+void MetricsAccumulator::add_closed_loop(const TickRecord& record, const TickEvaluation& evaluation,
+                                         const Vec3& force, bool in_contact, double port_energy_j) {
+  display_energy_min_j_ = std::min(display_energy_min_j_, port_energy_j + record.device_absorbed_j);
+  const Vec3& intent = record.intent ? record.intent->pose.p : record.device->pose.p;
+  limit_cycles_->add(device_pose(record).p, intent, force, in_contact);
+  if (!evaluation.device_penetration_m) return;
+  const double d = *evaluation.device_penetration_m;
+  device_penetration_max_m_ = std::max(device_penetration_max_m_.value_or(0.0), d);
+  if (d <= 0) return;
+  const double f = force.norm();
+  stiffness_d_min_ = stiffness_n_ == 0 ? d : std::min(stiffness_d_min_, d);
+  stiffness_d_max_ = std::max(stiffness_d_max_, d);
+  ++stiffness_n_;
+  stiffness_d_ += d;
+  stiffness_f_ += f;
+  stiffness_dd_ += d * d;
+  stiffness_df_ += d * f;
+}
 
 void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
   const int64_t index = ticks_++;
@@ -72,6 +93,9 @@ void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
 void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& evaluation) {
   const TickResult& result = record.result;
   const DeviceSample& device = *record.device;
+  // Energy, separation and chatter are the physical device's: in closed
+  // loop its true pose, not the encoders' reading the renderer saw.
+  const Pose& device_at = device_pose(record);
 
   // Harness-side guard: a renderer must never display non-finite numbers,
   // but if one does, the run counts it and uses zero instead.
@@ -116,7 +140,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
 
   // Stability and passivity (the port energy: passivity_energy.h).
   // A finite proxy far enough away overflows the distance: that counts as non-finite too.
-  const double raw_separation_m = (result.proxy.p - device.pose.p).norm();
+  const double raw_separation_m = (result.proxy.p - device_at.p).norm();
   const bool proxy_finite = is_finite(result.proxy) && std::isfinite(raw_separation_m);
   if (!proxy_finite) ++partial_.stability.proxy_nonfinite_ticks;
   const double separation_m = proxy_finite ? raw_separation_m : 0.0;
@@ -128,7 +152,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     partial_.stability.diverged = true;
     partial_.stability.diverged_at_tick = device.tick;
   }
-  const double energy = port_energy_.add(display, device.pose);
+  const double energy = port_energy_.add(display, device_at);
   partial_.stability.passivity_energy_min_j =
       std::min(partial_.stability.passivity_energy_min_j, energy);
   partial_.stability.passivity_energy_final_j = energy;
@@ -159,11 +183,11 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
       }
       ChatterBlock& block = chatter_blocks_.back();
       block.proxy_sq += (result.proxy.p - 2 * last_proxy_p_[1] + last_proxy_p_[0]).squaredNorm();
-      block.device_sq += (device.pose.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
+      block.device_sq += (device_at.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
       ++block.ticks;
     }
     last_proxy_p_ = {last_proxy_p_[1], result.proxy.p};
-    last_device_p_ = {last_device_p_[1], device.pose.p};
+    last_device_p_ = {last_device_p_[1], device_at.p};
     ++positions_seen_;
   } else {
     positions_seen_ = 0;  // a reset proxy starts afresh
@@ -202,6 +226,8 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
     }
   }
   if (evaluation.oracle) add_oracle(*evaluation.oracle);
+  if (limit_cycles_)
+    add_closed_loop(record, evaluation, display.force, in_contact, port_energy_.energy_j());
 }
 
 namespace {
@@ -375,6 +401,18 @@ RunMetrics MetricsAccumulator::finish() const {
   }
   if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
     m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;
+  if (limit_cycles_) {
+    ClosedLoopMetrics& closed = m.closed_loop.emplace();
+    closed.limit_cycles = limit_cycles_->finish();
+    closed.device_penetration_max_m = device_penetration_max_m_;
+    closed.display_energy_min_j = display_energy_min_j_;
+    const double n = static_cast<double>(stiffness_n_);
+    const double variance = stiffness_dd_ - stiffness_d_ * stiffness_d_ / std::max(n, 1.0);
+    if (stiffness_n_ >= kMinStiffnessTicks &&
+        stiffness_d_max_ - stiffness_d_min_ >= kMinStiffnessSpanM && variance > 0)
+      closed.displayed_stiffness_n_per_m =
+          (stiffness_df_ - stiffness_d_ * stiffness_f_ / n) / variance;
+  }
   return m;
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/core/pose.h"
+#include "harness/metrics/limit_cycles.h"
 #include "harness/metrics/passivity_energy.h"
 #include "harness/metrics/percentiles.h"
 #include "harness/metrics/spill_buffer.h"
@@ -32,6 +33,9 @@ struct TickEvaluation {
   /// (tunnelling.h: the analytic box where there is one, else the primary
   /// oracle); null without ground truth.
   std::optional<bool> tunnelled;
+  /// Closed loop: the penetration of the device's own tool pose into the
+  /// scene (m; the analytic reference's, else the primary oracle's).
+  std::optional<double> device_penetration_m;
 };
 
 /// CPU time per tick of both loops together: the tick's step() plus, for
@@ -167,13 +171,37 @@ struct OracleMetrics {
   }
 };
 
+/// Closed-loop replay only (docs/closed-loop.md): what the device held by
+/// the hand did.
+struct ClosedLoopMetrics {
+  /// m: deepest penetration of the device's true tool pose into the scene;
+  /// null without a reference that measures it.
+  std::optional<double> device_penetration_max_m;
+  /// N/m: the stiffness the user feels, the least-squares slope of the
+  /// displayed force's magnitude against the device's penetration over the
+  /// ticks with penetration (at least kMinStiffnessTicks, spanning at least
+  /// kMinStiffnessSpanM); null otherwise.
+  std::optional<double> displayed_stiffness_n_per_m;
+  LimitCycleMetrics limit_cycles;
+  /// J: minimum over time of the energy the hand has put into the device
+  /// through the grip: the port energy (passivity_energy_min_j's) plus what
+  /// the device itself took in (its kinetic energy and friction losses).
+  /// Below zero the display as a whole gives energy to the hand; Colgate &
+  /// Schenkel's b > KT/2 + |B| is the condition that it never does.
+  double display_energy_min_j = 0;
+};
+
+inline constexpr int64_t kMinStiffnessTicks = 10;
+inline constexpr double kMinStiffnessSpanM = 1e-5;
+
 struct RunMetrics {
   TimingMetrics timing;
   AccuracyMetrics accuracy;
   StabilityMetrics stability;
   TransparencyMetrics transparency;
   ContactMetrics contacts;
-  std::optional<OracleMetrics> oracle;  ///< empty when the scenario asks for no oracle
+  std::optional<OracleMetrics> oracle;           ///< empty when the scenario asks for no oracle
+  std::optional<ClosedLoopMetrics> closed_loop;  ///< empty in open loop
 };
 
 struct MetricsSettings {
@@ -184,6 +212,10 @@ struct MetricsSettings {
   /// Ticks the run will have (0: unknown), to spread the step-time sample
   /// evenly over the run without keeping every tick.
   int64_t expected_ticks = 0;
+  /// Closed loop: the device's metrics are computed, with oscillations
+  /// below this amplitude (m) not counted as limit cycles.
+  bool closed_loop = false;
+  double limit_cycle_floor_m = LimitCycleDetector::kDefaultFloorM;
   /// Values each timing percentile keeps exactly (StreamingPercentiles).
   std::size_t exact_percentile_capacity = StreamingPercentiles::kDefaultExactCapacity;
 };
@@ -203,6 +235,8 @@ class MetricsAccumulator {
  private:
   void add_timing(const TickRecord& record, bool in_contact);
   void add_oracle(const OracleTickEvaluation& oracle);
+  void add_closed_loop(const TickRecord& record, const TickEvaluation& evaluation,
+                       const Vec3& force, bool in_contact, double port_energy_j);
 
   MetricsSettings settings_;
   PortEnergy port_energy_;
@@ -257,6 +291,14 @@ class MetricsAccumulator {
     int64_t ticks = 0;
   };
   std::vector<ChatterBlock> chatter_blocks_;
+  // Closed loop: limit cycles, the deepest device penetration, and sums for
+  // the displayed stiffness's least-squares fit (penetration d, force f).
+  std::optional<LimitCycleDetector> limit_cycles_;
+  std::optional<double> device_penetration_max_m_;
+  double display_energy_min_j_ = 0;
+  int64_t stiffness_n_ = 0;
+  double stiffness_d_ = 0, stiffness_f_ = 0, stiffness_dd_ = 0, stiffness_df_ = 0;
+  double stiffness_d_min_ = 0, stiffness_d_max_ = 0;
 };
 
 }  // namespace hb

@@ -61,6 +61,13 @@ json oracle_json(const std::optional<OracleMetrics>& o) {
   return out;
 }
 
+// The closed-loop block's values outside the metric table; null in open loop.
+json closed_loop_json(const std::optional<ClosedLoopMetrics>& c) {
+  if (!c) return nullptr;
+  return {{"contact_blocks", c->limit_cycles.contact_blocks},
+          {"oscillating_blocks", c->limit_cycles.oscillating_blocks}};
+}
+
 // Every metric of the table at its place, typed as its unit says: a flag as
 // true/false, a count of ticks as a whole number, others as numbers; null
 // where it does not apply, unless the object that would hold it is absent
@@ -212,6 +219,7 @@ json run_json(const AlgorithmRun& run) {
         {"mean_contacts", m.contacts.mean_contacts},
         {"work", work_json(m.contacts.total_work)}}},
       {"oracle", oracle_json(m.oracle)},
+      {"closed_loop", closed_loop_json(m.closed_loop)},
       {"determinism",
        {{"ticks_hash", run.ticks_hash},
         {"timing_pass", run.timing_pass},

@@ -96,6 +96,19 @@ std::string_view OracleEvaluator::primary_name() const {
   return backends_.empty() ? std::string_view() : backends_.front().entry->name;
 }
 
+std::optional<double> OracleEvaluator::primary_penetration(const Pose& tool_pose) {
+  if (backends_.empty() || !measures_penetration_ || !is_finite(tool_pose)) return std::nullopt;
+  if (!world_bounds(tool_bounds_, tool_pose).intersects(scene_bounds_)) return 0.0;
+  for (std::size_t i = 0; i < tool_samples_.size(); ++i)
+    world_samples_[i] = tool_pose.transform_point(tool_samples_[i]);
+  PointQueryRequest request;
+  request.points = world_samples_;
+  request.want_inside = true;
+  const Oracle& oracle = *backends_.front().oracle;
+  oracle.query_points(request, primary_inside_);
+  return penetration_of_inside_points(oracle, world_samples_, primary_inside_.inside).max_depth_m;
+}
+
 OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_pose,
                                                std::span<const Contact> contacts) {
   OracleTickEvaluation out;

@@ -74,6 +74,12 @@ class OracleEvaluator {
   OracleTickEvaluation evaluate(int64_t tick, const Pose& tool_pose,
                                 std::span<const Contact> contacts);
 
+  /// The deepest tool sample at `tool_pose` by the primary backend (m; 0
+  /// with the tool's bounds clear of the scene or no sample inside), for a
+  /// pose other than the proxy's (closed loop: the device's own). Null when
+  /// the oracle does not measure penetration.
+  std::optional<double> primary_penetration(const Pose& tool_pose);
+
   std::size_t sample_count() const { return tool_samples_.size(); }
   double sample_spacing_m() const { return spacing_m_; }
   const std::vector<std::string>& distance_only_objects() const;

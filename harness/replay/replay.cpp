@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "harness/closed_loop/closed_loop_device.h"
 #include "harness/process/interrupt.h"
 #include "harness/replay/instruction_count.h"
 
@@ -77,10 +78,21 @@ SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
                         const ReplaySettings& settings, TickObserver& observer) {
   SlowLoopSchedule followed;
   if (trajectory.ticks() == 0) return followed;
+  // A block holds the samples of kBlockTicks ticks and the one after them,
+  // which closed loop needs to advance the device over the block's last tick.
   std::vector<DeviceSample> block(
-      static_cast<std::size_t>(std::min(DeviceTrajectory::kBlockTicks, trajectory.ticks())));
+      static_cast<std::size_t>(std::min(DeviceTrajectory::kBlockTicks + 1, trajectory.ticks())));
   trajectory.fill(0, std::span<DeviceSample>(block.data(), 1));
-  renderer.reset(block.front().pose);
+  std::optional<ClosedLoopDevice> device;
+  DeviceSample reported;
+  if (settings.closed_loop) {
+    device.emplace(*settings.closed_loop, static_cast<double>(kTickNs) * 1e-9);
+    device->reset(block.front().pose);
+    reported = device->report(0);
+    renderer.reset(reported.pose);
+  } else {
+    renderer.reset(block.front().pose);
+  }
   SlowLoop* slow_loop = renderer.slow_loop();
   const bool count_step = settings.counted == CountedCalls::kStep;
   const bool count_slow = settings.counted == CountedCalls::kSlowUpdate;
@@ -92,15 +104,22 @@ SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
     // The next block of device samples, computed between two ticks.
     const auto in_block = static_cast<std::size_t>(tick % DeviceTrajectory::kBlockTicks);
     if (in_block == 0) {
-      const int64_t count = std::min(DeviceTrajectory::kBlockTicks, trajectory.ticks() - tick);
+      const int64_t count = std::min(DeviceTrajectory::kBlockTicks + 1, trajectory.ticks() - tick);
       trajectory.fill(tick, std::span<DeviceSample>(block.data(), static_cast<std::size_t>(count)));
     }
-    const DeviceSample& sample = block[in_block];
+    const DeviceSample& trajectory_sample = block[in_block];
+    if (device) reported = device->report(trajectory_sample.tick);
+    const DeviceSample& sample = device ? reported : trajectory_sample;
     // A stop request (SIGINT, SIGTERM) is honoured between ticks, every
     // 256 ticks: one load of a flag, outside the timed window.
     if ((sample.tick & 255) == 0) throw_if_interrupted();
     TickRecord record;
     record.device = &sample;
+    if (device) {
+      record.intent = &trajectory_sample;
+      record.device_actual = &device->pose();
+      record.device_absorbed_j = device->absorbed_energy_j();
+    }
     bool installed_now = false;
     if (pending && pending->install_tick <= sample.tick) {
       slow_loop->install_slow_result(std::move(pending->result));
@@ -135,6 +154,13 @@ SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
       pending = PendingSlowResult{std::move(result), sample.tick, sample.tick + latency};
     }
     observer.on_tick(record);
+    if (device && tick + 1 < trajectory.ticks()) {
+      // The wrench is displayed until the next tick; a non-finite one (which
+      // device_output() never lets out) would be zero on a real device.
+      const Wrench& display = record.result.display;
+      device->advance(is_finite(display) ? display : Wrench{}, trajectory_sample.pose,
+                      block[in_block + 1].pose);
+    }
   }
   return followed;
 }

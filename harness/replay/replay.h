@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "algorithms/proxy/renderer.h"
+#include "harness/closed_loop/closed_loop_model.h"
 #include "harness/replay/slow_loop_schedule.h"
 #include "harness/trace/device_trajectory.h"
 
@@ -43,12 +44,24 @@ struct ReplaySettings {
   const SlowLoopSchedule* replayed_schedule = nullptr;
   /// Under valgrind's callgrind: collect only these calls (no effect otherwise).
   CountedCalls counted = CountedCalls::kNone;
+  /// Closed loop (closed_loop_device.h): the trajectory is the operator's
+  /// intent, and step() sees what a device held by a hand reports. Null:
+  /// open loop, the trajectory is the device.
+  const ClosedLoopModel* closed_loop = nullptr;
 };
 
 /// Everything the replay loop knows about one tick, handed to the observer
 /// after the timed window closed.
 struct TickRecord {
-  const DeviceSample* device = nullptr;
+  const DeviceSample* device = nullptr;  ///< what step() was given
+  /// Closed loop: the operator's intent (the trajectory's sample) and the
+  /// device's true pose, which `device` reports through its encoders. Null
+  /// in open loop, where the trajectory's sample is the device.
+  const DeviceSample* intent = nullptr;
+  const Pose* device_actual = nullptr;
+  /// Closed loop: the energy the device itself has taken in up to this
+  /// tick (J; ClosedLoopDevice::absorbed_energy_j); 0 in open loop.
+  double device_absorbed_j = 0;
   TickResult result;               ///< result.contacts points into `contacts`
   std::vector<Contact> contacts;   ///< copy of step()'s contacts, safe across the slow update
   int64_t step_ns = 0;             ///< wall time of step(), steady clock
@@ -67,6 +80,12 @@ class TickObserver {
   virtual void on_tick(const TickRecord& record) = 0;
 };
 
+/// The device's true pose at a tick: in closed loop the device's own, else
+/// the sample's.
+inline const Pose& device_pose(const TickRecord& record) {
+  return record.device_actual ? *record.device_actual : record.device->pose;
+}
+
 /// Resets the renderer at the first sample's pose and replays every sample.
 /// At tick k: install a pending slow result whose installation tick is k;
 /// time step(sample k); if the renderer has a slow loop and no update is in
@@ -75,7 +94,9 @@ class TickObserver {
 /// observer. Returns the schedule it followed (empty without a slow loop).
 /// Throws ScheduleMismatch when a replayed schedule does not fit.
 /// The device's samples are computed a block at a time, outside the timed
-/// windows; record.device is valid only during on_tick.
+/// windows; record.device is valid only during on_tick. In closed loop the
+/// device is advanced over each tick with the tick's displayed wrench after
+/// on_tick, also outside the timed window.
 SlowLoopSchedule replay(Renderer& renderer, const DeviceTrajectory& trajectory,
                         const ReplaySettings& settings, TickObserver& observer);
 /// The same with every tick given.

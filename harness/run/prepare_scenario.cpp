@@ -47,7 +47,10 @@ std::string with_source(const InputError& error, const std::string& path) {
 namespace {
 // What the renderers are given: the scenario's context plus the box the
 // tool can reach, the trace's tool-frame positions grown by the tool's
-// radius about its frame origin.
+// radius about its frame origin. In closed loop the trace is the intent and
+// the device strays from it by what the hand's spring lets it: the box grows
+// by kClosedLoopReachMargin more.
+constexpr double kClosedLoopReachMargin = 0.05;  // m: 15 N on the default hand
 RenderContext context_with_reach(const Scenario& scenario) {
   RenderContext context = scenario.context;
   Eigen::AlignedBox3d reach;
@@ -55,7 +58,8 @@ RenderContext context_with_reach(const Scenario& scenario) {
     if (sample.pose.p.allFinite()) reach.extend(sample.pose.p);
   });
   if (!reach.isEmpty()) {
-    const double radius = context.tool.mesh.radius_about(Vec3::Zero());
+    const double radius = context.tool.mesh.radius_about(Vec3::Zero()) +
+                          (scenario.closed_loop ? kClosedLoopReachMargin : 0.0);
     reach.min().array() -= radius;
     reach.max().array() += radius;
     context.reach = reach;
@@ -73,6 +77,7 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     if (only && spec.name != *only && spec.label != *only) continue;
     PreparedAlgorithm algorithm;
     algorithm.spec = &spec;
+    if (scenario.closed_loop) algorithm.replay.closed_loop = &*scenario.closed_loop;
     if (progress) {
       progress->task(scenario.name + " / " + spec.label);
       progress->phase("preprocessing");

@@ -118,6 +118,13 @@ class EvaluatingObserver : public TickObserver {
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
     }
     if (tunnelling_) evaluation.tunnelled = tunnelling_->update(record.result.proxy.p);
+    if (record.device_actual) {
+      if (truth_.analytic)
+        evaluation.device_penetration_m =
+            exact_penetration_depth(*truth_.analytic, *record.device_actual);
+      else if (truth_.oracle)
+        evaluation.device_penetration_m = truth_.oracle->primary_penetration(*record.device_actual);
+    }
     if (truth_.oracle) {
       evaluation.oracle =
           truth_.oracle->evaluate(record.device->tick, record.result.proxy, record.result.contacts);
@@ -188,6 +195,12 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   metrics_settings.expected_ticks = scenario.trajectory.ticks();
   metrics_settings.coupling_k_t = scenario.context.coupling.k_t;
   metrics_settings.coupling_k_r = scenario.context.coupling.k_r;
+  if (scenario.closed_loop) {
+    metrics_settings.closed_loop = true;
+    // An encoder's quantization alone dithers by about its resolution.
+    metrics_settings.limit_cycle_floor_m =
+        std::max(LimitCycleDetector::kDefaultFloorM, 2 * scenario.closed_loop->device.encoder_m);
+  }
   outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 
   ProgressDisplay* const progress = options.progress;

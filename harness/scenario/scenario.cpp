@@ -20,6 +20,7 @@
 #include "algorithms/core/shapes.h"
 #include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
+#include "harness/closed_loop/closed_loop_device.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/reference/oracle.h"
@@ -158,7 +159,8 @@ class ScenarioReader {
     const JsonField root(document, path_, "");
     root.require_object("expected a JSON object with the scenario's keys");
     root.reject_unknown_keys({"name", "description", "scene", "tool", "trace", "algorithms",
-                              "coupling", "device", "gravity", "reference", "budgets"});
+                              "coupling", "device", "gravity", "reference", "budgets",
+                              "closed_loop"});
 
     Scenario scenario;
     scenario.path = path_;
@@ -177,6 +179,8 @@ class ScenarioReader {
     if (root.has("coupling"))
       scenario.context.coupling = read_coupling(root.existing_member("coupling"));
     if (root.has("device")) scenario.context.device = read_device(root.existing_member("device"));
+    if (root.has("closed_loop"))
+      scenario.closed_loop = read_closed_loop(root.existing_member("closed_loop"));
     if (root.has("gravity"))
       scenario.context.gravity =
           root.existing_member("gravity").vec3("expected [gx, gy, gz] in m/s², finite numbers");
@@ -461,6 +465,64 @@ class ScenarioReader {
       limits.max_torque_nm = field.existing_member("max_torque_nm")
                                  .positive_number("expected a positive torque (N·m)");
     return limits;
+  }
+
+  // The hand and device of closed-loop replay; a missing key keeps its
+  // default (closed_loop_model.h).
+  ClosedLoopModel read_closed_loop(const JsonField& field) const {
+    field.require_object("expected {\"hand\": {...}, \"device\": {...}} (either may be left out)");
+    field.reject_unknown_keys({"hand", "device"});
+    ClosedLoopModel model;
+    // key, unit, where the value goes, whether it must be > 0 (else >= 0).
+    struct Setting {
+      const char* key;
+      const char* unit;
+      double* value;
+      bool positive;
+    };
+    const auto read_settings = [](const JsonField& block, std::initializer_list<Setting> settings) {
+      block.require_object("expected an object of numbers");
+      std::vector<std::string_view> keys;
+      for (const Setting& setting : settings) keys.push_back(setting.key);
+      block.reject_unknown_keys(keys);
+      for (const Setting& setting : settings) {
+        if (!block.has(setting.key)) continue;
+        const JsonField value = block.existing_member(setting.key);
+        *setting.value =
+            setting.positive
+                ? value.positive_number(std::string("expected a number > 0 (") + setting.unit + ")")
+                : value.non_negative_number(std::string("expected a number >= 0 (") + setting.unit +
+                                            ")");
+      }
+    };
+    if (field.has("hand")) {
+      HandModel& hand = model.hand;
+      read_settings(field.existing_member("hand"),
+                    {{"mass_kg", "kg", &hand.mass_kg, false},
+                     {"inertia_kgm2", "kg·m²", &hand.inertia_kgm2, false},
+                     {"k_t", "N/m", &hand.k_t, false},
+                     {"b_t", "N·s/m", &hand.b_t, false},
+                     {"k_r", "N·m/rad", &hand.k_r, false},
+                     {"b_r", "N·m·s/rad", &hand.b_r, false}});
+    }
+    if (field.has("device")) {
+      DeviceModel& device = model.device;
+      read_settings(field.existing_member("device"),
+                    {{"mass_kg", "kg", &device.mass_kg, true},
+                     {"inertia_kgm2", "kg·m²", &device.inertia_kgm2, true},
+                     {"b_t", "N·s/m", &device.b_t, false},
+                     {"b_r", "N·m·s/rad", &device.b_r, false},
+                     {"friction_n", "N", &device.friction_n, false},
+                     {"friction_nm", "N·m", &device.friction_nm, false},
+                     {"encoder_m", "m", &device.encoder_m, false},
+                     {"encoder_rad", "rad", &device.encoder_rad, false},
+                     {"velocity_filter_hz", "Hz", &device.velocity_filter_hz, false}});
+    }
+    if (!ClosedLoopDevice(model, 1 / kTicksPerSecond).well_defined())
+      field.fail(
+          "the hand and device give a motion too fast to integrate over a tick "
+          "(stiffness or damping far too large for the masses)");
+    return model;
   }
 
   // Whole ticks of the 1 kHz clock in a duration.

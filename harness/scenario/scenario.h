@@ -11,6 +11,7 @@
 #include "algorithms/core/param_set.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/proxy/renderer.h"
+#include "harness/closed_loop/closed_loop_model.h"
 #include "harness/trace/device_trajectory.h"
 
 namespace hb {
@@ -53,6 +54,10 @@ struct Scenario {
   std::vector<AlgorithmSpec> algorithms;
   ReferenceSpec reference;
   std::vector<Budget> budgets;
+  /// Closed-loop replay ("closed_loop" block, docs/closed-loop.md): the
+  /// trace is the operator's intent and a hand and a device are integrated
+  /// between ticks. Empty: open loop, the trace is the device.
+  std::optional<ClosedLoopModel> closed_loop;
   /// Physical settings outside their plausible range ("/coupling/k_t: ..."),
   /// warned about by run and validate (docs/limits.md gives the ranges).
   std::vector<std::string> warnings;

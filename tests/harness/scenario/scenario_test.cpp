@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
@@ -419,7 +420,8 @@ TEST_CASE("other rule violations name their field") {
       {"negative friction", [](Json& s) { s["scene"][0]["friction"] = -0.1; }, "/scene/0/friction"},
       {"friction not a number", [](Json& s) { s["scene"][0]["friction"] = "high"; },
        "/scene/0/friction"},
-      {"non-finite friction", [](Json& s) { s["scene"][0]["friction"] = 1e400; },
+      {"non-finite friction",
+       [](Json& s) { s["scene"][0]["friction"] = std::numeric_limits<double>::infinity(); },
        "/scene/0/friction"},
       {"scale on a shape", [](Json& s) { s["scene"][0]["scale"] = 2; }, "/scene/0/scale"},
       {"mesh and shape", [](Json& s) { s["scene"][0]["mesh"] = "x.off"; }, "/scene/0"},
@@ -478,6 +480,37 @@ TEST_CASE("other rule violations name their field") {
       {"algorithm params not an object", [](Json& s) { s["algorithms"][0]["params"] = 3; },
        "/algorithms/0/params"},
       {"no algorithms", [](Json& s) { s["algorithms"] = Json::array(); }, "/algorithms"},
+      {"closed loop as true", [](Json& s) { s["closed_loop"] = true; }, "/closed_loop"},
+      {"negative device mass",
+       [](Json& s) {
+         s["closed_loop"] = {{"device", {{"mass_kg", -0.1}}}};
+       },
+       "/closed_loop/device/mass_kg"},
+      {"zero device inertia",
+       [](Json& s) {
+         s["closed_loop"] = {{"device", {{"inertia_kgm2", 0}}}};
+       },
+       "/closed_loop/device/inertia_kgm2"},
+      {"non-finite hand damping",
+       [](Json& s) {
+         s["closed_loop"] = {{"hand", {{"b_t", std::numeric_limits<double>::infinity()}}}};
+       },
+       "/closed_loop/hand/b_t"},
+      {"hand stiffness as text",
+       [](Json& s) {
+         s["closed_loop"] = {{"hand", {{"k_t", "stiff"}}}};
+       },
+       "/closed_loop/hand/k_t"},
+      {"unknown device key",
+       [](Json& s) {
+         s["closed_loop"] = {{"device", {{"friction", 0.1}}}};
+       },
+       "/closed_loop/device/friction"},
+      {"stiffness no tick can integrate",
+       [](Json& s) {
+         s["closed_loop"] = {{"hand", {{"k_t", 1e300}}}, {"device", {{"mass_kg", 1e-300}}}};
+       },
+       "/closed_loop"},
   };
   for (const Case& c : cases) {
     INFO(c.what_breaks);
@@ -510,6 +543,22 @@ TEST_CASE("a scene object's friction coefficient is read, frictionless by defaul
   scenario["scene"][0]["friction"] = 0.8;
   CHECK(load_scenario(dir.write("rough.json", scenario.dump(2))).context.scene.front().friction ==
         0.8);
+}
+
+TEST_CASE("closed loop: an empty block takes the desk device and hand, keys override them") {
+  Json json = valid_generated_scenario();
+  ScratchDir dir;
+  CHECK_FALSE(load_scenario(dir.write("open.json", json.dump())).closed_loop);
+  json["closed_loop"] = Json::object();
+  const Scenario defaults = load_scenario(dir.write("defaults.json", json.dump()));
+  REQUIRE(defaults.closed_loop);
+  CHECK(defaults.closed_loop->device.mass_kg == ClosedLoopModel{}.device.mass_kg);
+  CHECK(defaults.closed_loop->hand.k_t == ClosedLoopModel{}.hand.k_t);
+  json["closed_loop"] = Json::parse(R"({"hand": {"k_t": 500}, "device": {"encoder_m": 0}})");
+  const Scenario set = load_scenario(dir.write("set.json", json.dump()));
+  CHECK(set.closed_loop->hand.k_t == 500);
+  CHECK(set.closed_loop->hand.b_t == ClosedLoopModel{}.hand.b_t);
+  CHECK(set.closed_loop->device.encoder_m == 0);
 }
 
 TEST_CASE("a missing scenario file is an InputError naming it") {

@@ -1,0 +1,194 @@
+#include "harness/stability/stability_search.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include "algorithms/core/input_error.h"
+#include "harness/run/scenario_runner.h"
+#include "harness/scenario/scenario.h"
+#include "harness/sweep/sweep_jobs.h"
+#include "harness/sweep/sweep_spec.h"
+
+namespace hb {
+
+namespace {
+using Json = nlohmann::ordered_json;
+constexpr int kMaxProbes = 64;
+
+Json or_null(const std::optional<double>& value) { return value ? Json(*value) : Json(); }
+}  // namespace
+
+std::optional<StabilityCriterion> stability_criterion_named(std::string_view name) {
+  if (name == "all") return StabilityCriterion::kAll;
+  if (name == "passivity") return StabilityCriterion::kPassivity;
+  if (name == "oscillation") return StabilityCriterion::kOscillation;
+  return std::nullopt;
+}
+
+std::string stability_criterion_text(StabilityCriterion criterion, double epsilon_j) {
+  const std::string base =
+      "stable: the run did not diverge (proxy farther than max(0.1 m, 5 tool radii) from the "
+      "device, or reset) and displayed no non-finite wrench";
+  const std::string passivity =
+      "its energy minimum was >= -" + std::to_string(epsilon_j) +
+      " J (the port energy in open loop; in closed loop the energy the hand put into the "
+      "device, display_energy_min_j)";
+  const std::string oscillation =
+      "the proxy did not chatter (its position's tick-to-tick second difference, RMS over the "
+      "last quarter of the run, below max(1 um, 10 times the device's)) and, in closed loop, "
+      "the device had no limit cycle (docs/closed-loop.md)";
+  switch (criterion) {
+    case StabilityCriterion::kPassivity:
+      return base + ", and " + passivity;
+    case StabilityCriterion::kOscillation:
+      return base + ", and " + oscillation;
+    case StabilityCriterion::kAll:
+      break;
+  }
+  return base + ", " + passivity + ", and " + oscillation;
+}
+
+Json probe_json(const StabilityProbe& p) {
+  Json json = Json::object();
+  for (const auto& [pointer, value] : p.settings) json["settings"][pointer] = value;
+  json["value"] = p.settings.empty() ? Json() : Json(p.settings.back().second);
+  json["stable"] = p.stable;
+  json["diverged"] = p.diverged;
+  json["nonfinite"] = p.nonfinite;
+  json["passivity_energy_min_j"] = p.passivity_min_j;
+  json["max_proxy_separation_m"] = p.max_separation_m;
+  json["chatters"] = p.chatters;
+  json["proxy_chatter_m"] = p.proxy_chatter_m;
+  json["display_energy_min_j"] = or_null(p.display_energy_min_j);
+  json["limit_cycle"] = p.limit_cycle ? Json(*p.limit_cycle) : Json();
+  json["limit_cycle_amplitude_m"] = or_null(p.limit_cycle_amplitude_m);
+  json["limit_cycle_frequency_hz"] = or_null(p.limit_cycle_frequency_hz);
+  return json;
+}
+
+struct ScenarioProber::Loaded {
+  Scenario scenario;
+};
+
+ScenarioProber::ScenarioProber(std::string scenario_path, std::string label,
+                               StabilityCriterion criterion, double epsilon_j,
+                               ProgressDisplay& progress)
+    : path_(std::move(scenario_path)),
+      label_(std::move(label)),
+      criterion_(criterion),
+      epsilon_j_(epsilon_j),
+      progress_(progress) {
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) throw InputError(path_, "", "cannot open scenario file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  try {
+    document_ = Json::parse(text);
+  } catch (const Json::exception& e) {
+    throw InputError(path_, "", std::string("not valid JSON: ") + e.what());
+  }
+  base_dir_ = std::filesystem::absolute(path_).parent_path().string();
+}
+
+ScenarioProber::Loaded ScenarioProber::load(
+    const std::vector<std::pair<std::string, double>>& settings) {
+  Json document = document_;
+  for (const auto& [pointer, value] : settings) {
+    const std::optional<std::vector<std::string>> tokens = json_pointer_tokens(pointer);
+    const std::optional<std::string> failure =
+        tokens ? set_at_pointer(document, *tokens, Json(value))
+               : std::optional<std::string>("not a JSON pointer");
+    if (failure) throw InputError(path_, pointer, "cannot set it: " + *failure);
+  }
+  // Only the algorithm asked for: the label must name one.
+  const Json& algorithms = document["algorithms"];
+  bool found = false;
+  if (algorithms.is_array())
+    for (const Json& a : algorithms)
+      if (a.is_object() && (a.value("label", "") == label_ || a.value("name", "") == label_)) {
+        found = true;
+        algorithm_ = a.value("name", "");
+        const Json params = a.value("params", Json::object());
+        integrator_ =
+            params.is_object() && params.contains("integrator") && params["integrator"].is_string()
+                ? params["integrator"].get<std::string>()
+                : "";
+      }
+  if (!found)
+    throw InputError(path_, "/algorithms", "no algorithm labelled or named \"" + label_ + "\"");
+  Loaded loaded{load_scenario_json(document.dump(), path_, base_dir_)};
+  name_ = loaded.scenario.name;
+  return loaded;
+}
+
+void ScenarioProber::check(const std::vector<std::pair<std::string, double>>& settings) {
+  load(settings);
+}
+
+StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, double>>& settings) {
+  const Loaded loaded = load(settings);
+  std::ostringstream prefix;
+  prefix << "run " << ++runs_;
+  for (const auto& [pointer, value] : settings) prefix << ", " << pointer << " = " << value;
+  progress_.set_prefix(prefix.str() + ": ");
+  PreparedScenario prepared = prepare_scenario(loaded.scenario, label_, &progress_);
+  RunOptions options;
+  options.progress = &progress_;
+  const ScenarioOutcome outcome = run_prepared(prepared, options);
+  const RunMetrics& m = outcome.report.runs.front().metrics;
+  StabilityProbe p;
+  p.settings = settings;
+  p.diverged = m.stability.diverged;
+  p.nonfinite = m.stability.nonfinite;
+  p.passivity_min_j = m.stability.passivity_energy_min_j;
+  p.max_separation_m = m.stability.max_proxy_separation_m;
+  p.chatters = m.stability.chatters;
+  p.proxy_chatter_m = m.stability.proxy_chatter_m;
+  if (m.closed_loop) {
+    p.display_energy_min_j = m.closed_loop->display_energy_min_j;
+    p.limit_cycle = m.closed_loop->limit_cycles.limit_cycle;
+    p.limit_cycle_amplitude_m = m.closed_loop->limit_cycles.amplitude_m;
+    p.limit_cycle_frequency_hz = m.closed_loop->limit_cycles.frequency_hz;
+  }
+  const bool passive = p.display_energy_min_j.value_or(p.passivity_min_j) >= -epsilon_j_;
+  const bool settled = !p.chatters && !p.limit_cycle.value_or(false);
+  p.stable = !p.diverged && p.nonfinite == 0 &&
+             (criterion_ == StabilityCriterion::kOscillation || passive) &&
+             (criterion_ == StabilityCriterion::kPassivity || settled);
+  std::ostringstream line;
+  line << "stability:";
+  for (const auto& [pointer, value] : settings) line << " " << pointer << " = " << value;
+  line << ": " << (p.stable ? "stable" : "unstable") << "\n";
+  progress_.print_above(std::cerr, line.str());
+  return p;
+}
+
+StabilityBracket search_largest_stable(const std::function<StabilityProbe(double)>& probe,
+                                       double low, double high, double tolerance) {
+  StabilityBracket bracket;
+  const auto run = [&](double value) {
+    bracket.probes.push_back(probe(value));
+    return bracket.probes.back().stable;
+  };
+  if (!run(low)) {
+    bracket.smallest_unstable = low;
+    return bracket;
+  }
+  bracket.largest_stable = low;
+  if (run(high)) {
+    bracket.largest_stable = high;
+    return bracket;
+  }
+  bracket.smallest_unstable = high;
+  for (int k = 0;
+       k<kMaxProbes&& * bracket.smallest_unstable / *bracket.largest_stable - 1> tolerance; ++k) {
+    const double middle = std::sqrt(*bracket.largest_stable * *bracket.smallest_unstable);
+    (run(middle) ? bracket.largest_stable : bracket.smallest_unstable) = middle;
+  }
+  return bracket;
+}
+
+}  // namespace hb

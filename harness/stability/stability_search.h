@@ -1,0 +1,103 @@
+// Stability searches over scenario parameters (`hapticbench stability`,
+// `hapticbench zwidth`): a probe is one run of one algorithm of a scenario
+// with some of its fields set; stable is decided by one criterion, here
+// and nowhere else; the largest stable value of a field is found by
+// bracketing and bisection on a log scale.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "harness/progress/progress_display.h"
+
+namespace hb {
+
+/// What a stable run must satisfy besides not diverging and displaying no
+/// non-finite wrench.
+enum class StabilityCriterion {
+  kAll,          ///< passivity and oscillation
+  kPassivity,    ///< energy minimum >= −ε: the port energy in open loop, the
+                 ///< energy the hand put into the device in closed loop
+  kOscillation,  ///< no proxy chatter, and in closed loop no limit cycle
+};
+
+/// "all", "passivity", "oscillation"; nullopt for anything else.
+std::optional<StabilityCriterion> stability_criterion_named(std::string_view name);
+
+/// The criterion as result files state it.
+std::string stability_criterion_text(StabilityCriterion criterion, double epsilon_j);
+
+/// One run at one setting of the fields searched.
+struct StabilityProbe {
+  std::vector<std::pair<std::string, double>> settings;  ///< JSON pointer, value
+  bool stable = false;
+  bool diverged = false;
+  int64_t nonfinite = 0;
+  double passivity_min_j = 0;
+  double max_separation_m = 0;
+  bool chatters = false;
+  double proxy_chatter_m = 0;
+  // Closed loop only.
+  std::optional<double> display_energy_min_j;
+  std::optional<bool> limit_cycle;
+  std::optional<double> limit_cycle_amplitude_m, limit_cycle_frequency_hz;
+};
+
+/// {"value" (the last setting's), "stable", ...} as stability.json lists runs.
+nlohmann::ordered_json probe_json(const StabilityProbe& probe);
+
+/// Runs one algorithm of a scenario file with fields set (the file is
+/// read once; each probe loads the changed document as a scenario).
+class ScenarioProber {
+ public:
+  /// Throws InputError naming the file when it cannot be read or is not
+  /// JSON, or names no algorithm with that label (or name).
+  ScenarioProber(std::string scenario_path, std::string label, StabilityCriterion criterion,
+                 double epsilon_j, ProgressDisplay& progress);
+
+  /// Loads the scenario with `settings` applied, without running it:
+  /// throws InputError naming the field when one cannot be set or the
+  /// scenario is invalid with it.
+  void check(const std::vector<std::pair<std::string, double>>& settings);
+
+  /// One full run with `settings` applied, judged by the criterion.
+  StabilityProbe probe(const std::vector<std::pair<std::string, double>>& settings);
+
+  const std::string& scenario_name() const { return name_; }
+  const std::string& algorithm() const { return algorithm_; }
+  /// The labelled algorithm's "integrator" parameter; empty when not given.
+  const std::string& integrator() const { return integrator_; }
+
+ private:
+  struct Loaded;
+  Loaded load(const std::vector<std::pair<std::string, double>>& settings);
+
+  std::string path_, label_;
+  StabilityCriterion criterion_;
+  double epsilon_j_;
+  ProgressDisplay& progress_;
+  nlohmann::ordered_json document_;
+  std::string base_dir_;
+  std::string name_, algorithm_, integrator_;
+  int runs_ = 0;
+};
+
+/// The outcome of a search for the largest stable value.
+struct StabilityBracket {
+  std::optional<double> largest_stable;     ///< null: unstable at the range's bottom
+  std::optional<double> smallest_unstable;  ///< null: stable at the range's top
+  std::vector<StabilityProbe> probes;       ///< in the order run
+};
+
+/// Probes `low` (unstable: done), then `high` (stable: done), then bisects
+/// the log of the interval until smallest_unstable / largest_stable − 1 <=
+/// tolerance (at most 64 probes).
+StabilityBracket search_largest_stable(const std::function<StabilityProbe(double)>& probe,
+                                       double low, double high, double tolerance);
+
+}  // namespace hb

@@ -1,0 +1,270 @@
+// End-to-end: closed-loop replay (docs/closed-loop.md). A hand holding a
+// linear device presses a 2 cm sphere into a box face rendered by the
+// god-object (a proxy at rest on the face behind the coupling spring k_t, no
+// coupling damping): one axis of a sampled virtual wall. The stability
+// command finds the display's passivity limit and the exact stability
+// limit of the sampled closed loop, both computed here from the model.
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double kTickS = 1e-3;
+constexpr double kRadius = 0.02;
+// The hand and the device of these tests: linear (no friction, exact
+// encoders, unfiltered velocity), the device's viscous friction b_d.
+constexpr double kHandMass = 0.1, kHandK = 300, kHandB = 2;
+constexpr double kDeviceMass = 0.045, kDeviceB = 5;
+
+// The intent (z of the tool frame; the sphere touches the face at z = 2 cm).
+enum class Intent {
+  // A smooth press 2 mm past the touching point in 1 s, then 5 Hz cycles
+  // between there and 40 mm deeper, starting at rest: the device stays in
+  // contact, near the touching point at the top of each cycle, so that the
+  // coupling's store returns to almost nothing every cycle.
+  kCycles,
+  // From 5 mm above the face down to 20 mm past the touching point in
+  // 0.3 s, then held: the impact rings the contact.
+  kPressAndHold,
+};
+
+void write_scenario(const fs::path& folder, Intent intent, double duration_s) {
+  std::ofstream trace(folder / "press.csv");
+  trace << "t_ns,px,py,pz,qw,qx,qy,qz\n";
+  for (int n = 0; n <= static_cast<int>(std::lround(duration_s / kTickS)); ++n) {
+    const double t = n * kTickS;
+    double z = 0;
+    if (intent == Intent::kCycles) {
+      const double preload = 0.002, amplitude = 0.02;
+      z = t < 1 ? kRadius - preload * (1 - std::cos(M_PI * t)) / 2
+                : kRadius - preload - amplitude * (1 - std::cos(2 * M_PI * 5 * (t - 1)));
+    } else {
+      const double top = kRadius + 0.005, deep = kRadius - 0.02;
+      z = t < 0.3 ? top + (deep - top) * t / 0.3 : deep;
+    }
+    trace << n * 1'000'000LL << ",0,0," << std::setprecision(17) << z << ",1,0,0,0\n";
+  }
+  json scenario = json::parse(R"({
+    "name": "closed_loop_wall",
+    "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] },
+                 "pose": { "p": [0, 0, -0.01], "q": [1, 0, 0, 0] } } ],
+    "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 3 }, "density": 1000 },
+    "trace": { "file": "press.csv" },
+    "coupling": { "k_t": 2000, "b_t": 0, "k_r": 5, "b_r": 0.05 },
+    "algorithms": [ { "name": "god_object", "label": "god_object" } ] })");
+  scenario["closed_loop"] = {{"hand", {{"mass_kg", kHandMass}, {"k_t", kHandK}, {"b_t", kHandB}}},
+                             {"device",
+                              {{"mass_kg", kDeviceMass},
+                               {"b_t", kDeviceB},
+                               {"friction_n", 0},
+                               {"encoder_m", 0},
+                               {"velocity_filter_hz", 0}}}};
+  std::ofstream(folder / "wall.json") << scenario.dump(2);
+}
+
+struct Margin {
+  json search;
+  double stable = 0, unstable = 0;
+};
+
+Margin search_margin(const std::string& args, const fs::path& work) {
+  const hb::test::CommandResult result =
+      hb::test::run_hapticbench("stability wall.json --label god_object " + args, work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  Margin margin;
+  margin.search = json::parse(hb::test::read_text_file(work / "margin/stability.json"));
+  margin.stable = margin.search.at("largest_stable").get<double>();
+  REQUIRE_FALSE(margin.search.at("smallest_unstable").is_null());
+  margin.unstable = margin.search.at("smallest_unstable").get<double>();
+  return margin;
+}
+
+// e^{A h} of a small matrix by scaling and squaring of its Taylor series.
+template <int N>
+std::array<std::array<double, N>, N> exponential(std::array<std::array<double, N>, N> a, double h) {
+  using Matrix = std::array<std::array<double, N>, N>;
+  const auto multiply = [](const Matrix& x, const Matrix& y) {
+    Matrix z{};
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < N; ++j)
+        for (int k = 0; k < N; ++k) z[i][j] += x[i][k] * y[k][j];
+    return z;
+  };
+  constexpr int kSquarings = 10;
+  for (auto& row : a)
+    for (double& x : row) x *= h / (1 << kSquarings);
+  Matrix sum{}, term{};
+  for (int i = 0; i < N; ++i) sum[i][i] = term[i][i] = 1;
+  for (int k = 1; k <= 20; ++k) {
+    term = multiply(term, a);
+    for (auto& row : term)
+      for (double& x : row) x /= k;
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < N; ++j) sum[i][j] += term[i][j];
+  }
+  for (int s = 0; s < kSquarings; ++s) sum = multiply(sum, sum);
+  return sum;
+}
+
+// The sampled closed loop about the pressed equilibrium: the device (with
+// the hand's mass, spring and damper) over one tick with the force held,
+// (x, v)_{n+1} = Φ (x, v)_n + g F_n, and the wall F_n = −k x_n − B (x_n −
+// x_{n−1}) / T (the coupling's damper on the backward-difference velocity).
+// Its characteristic polynomial z³ + a2 z² + a1 z + a0 (state x, v, x_{n−1})
+// has every root inside the unit circle exactly when Jury's conditions for
+// a cubic hold: P(1) > 0, −P(−1) > 0, |a0| < 1 and |a0² − 1| > |a0 a2 − a1|.
+bool jury_stable(double k, double b) {
+  const double mass = kHandMass + kDeviceMass;
+  // Augmented (x, v, F): the last column of e^{Ah} is the held force's response.
+  std::array<std::array<double, 3>, 3> a{};
+  a[0][1] = 1;
+  a[1][0] = -kHandK / mass;
+  a[1][1] = -(kHandB + kDeviceB) / mass;
+  a[1][2] = 1 / mass;
+  const auto e = exponential<3>(a, kTickS);
+  // The closed-loop matrix on (x_n, v_n, x_{n−1}).
+  const double gain = k + b / kTickS, memory = b / kTickS;
+  const double m[3][3] = {{e[0][0] - e[0][2] * gain, e[0][1], e[0][2] * memory},
+                          {e[1][0] - e[1][2] * gain, e[1][1], e[1][2] * memory},
+                          {1, 0, 0}};
+  const double trace = m[0][0] + m[1][1] + m[2][2];
+  const double minors = m[0][0] * m[1][1] - m[0][1] * m[1][0] + m[0][0] * m[2][2] -
+                        m[0][2] * m[2][0] + m[1][1] * m[2][2] - m[1][2] * m[2][1];
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  const double a2 = -trace, a1 = minors, a0 = -det;
+  const auto p = [&](double z) { return ((z + a2) * z + a1) * z + a0; };
+  return p(1) > 0 && -p(-1) > 0 && std::abs(a0) < 1 &&
+         std::abs(a0 * a0 - 1) > std::abs(a0 * a2 - a1);
+}
+
+double jury_limit(double b) {
+  double stable = 1e3, unstable = 1e7;
+  REQUIRE(jury_stable(stable, b));
+  REQUIRE_FALSE(jury_stable(unstable, b));
+  while (unstable / stable > 1 + 1e-9) {
+    const double middle = std::sqrt(stable * unstable);
+    (jury_stable(middle, b) ? stable : unstable) = middle;
+  }
+  return stable;
+}
+
+TEST_CASE("closed loop: the display's energy changes sign at Colgate and Schenkel's b = k T / 2") {
+  // The hand moves the device in and out of the wall at 5 Hz without
+  // letting go of it; the wall is the coupling spring sampled every T, the
+  // device's viscous friction b_d the only damping inside the grip. The
+  // energy the hand puts into the device grows by ≈ (b_d − k T/2) ∫ v² dt
+  // at low frequency (Colgate & Schenkel 1997: passive while b > kT/2 + |B|,
+  // B = 0 here), so it turns negative above k = 2 b_d / T = 10,000 N/m; the
+  // loop itself stays stable well past it.
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_passivity");
+  const fs::path& work = work_dir.path();
+  write_scenario(work, Intent::kCycles, 6);
+  const Margin found = search_margin(
+      "--param /coupling/k_t --range 2000 13000 --tolerance 0.01 --criterion passivity --out "
+      "margin",
+      work);
+  const double limit = 2 * kDeviceB / kTickS;
+  CHECK(found.stable == Approx(limit).epsilon(0.02));
+  CHECK(found.unstable == Approx(limit).epsilon(0.02));
+  CHECK(found.search.at("criterion").get<std::string>().find("display_energy_min_j") !=
+        std::string::npos);
+  for (const json& run : found.search.at("runs")) {
+    CHECK_FALSE(run.at("display_energy_min_j").is_null());
+    CHECK_FALSE(run.at("limit_cycle").get<bool>());  // passivity is lost, not stability
+  }
+}
+
+TEST_CASE("closed loop: the device buzzes above the exact stability limit of the sampled loop") {
+  // The hand presses the device 20 mm (in intent) into the wall and holds:
+  // the contact rings at the wall's frequency and dies out below the limit
+  // Jury's test gives for the linear loop (hand, device and sampled spring),
+  // and grows into a bouncing limit cycle above it.
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_stability");
+  const fs::path& work = work_dir.path();
+  write_scenario(work, Intent::kPressAndHold, 8.3);
+  const double limit = jury_limit(0);
+  INFO("Jury's limit: " << limit << " N/m");
+  CHECK(limit > 2 * kDeviceB / kTickS);  // stable past the passivity limit
+  const Margin found = search_margin(
+      "--param /coupling/k_t --range 5000 50000 --tolerance 0.01 --criterion oscillation --out "
+      "margin",
+      work);
+  CHECK(found.stable == Approx(limit).epsilon(0.02));
+  CHECK(found.unstable == Approx(limit).epsilon(0.02));
+  bool buzzed = false;
+  for (const json& run : found.search.at("runs"))
+    if (!run.at("stable").get<bool>()) {
+      buzzed = buzzed || run.at("limit_cycle").get<bool>();
+      CHECK_FALSE(run.at("diverged").get<bool>());
+    }
+  CHECK(buzzed);
+}
+
+}  // namespace
+
+namespace {
+
+TEST_CASE("closed loop: the Z-width map follows Jury's limit as the coupling damping grows") {
+  // The same press and hold; for each coupling damping B the largest stable
+  // stiffness. The damper acts on the backward-difference velocity, so it
+  // both damps the contact and, sampled, feeds it: the limit rises with B
+  // as Jury's test on the cubic says.
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_zwidth");
+  const fs::path& work = work_dir.path();
+  write_scenario(work, Intent::kPressAndHold, 8.3);
+  const hb::test::CommandResult result = hb::test::run_hapticbench(
+      "zwidth wall.json --label god_object --x /coupling/b_t --x-values 0,5 --y /coupling/k_t "
+      "--y-range 5000 100000 --tolerance 0.02 --criterion oscillation --out map",
+      work);
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  const json map = json::parse(hb::test::read_text_file(work / "map/zwidth.json"));
+  CHECK(map.at("x_param") == "/coupling/b_t");
+  CHECK(map.at("y_param") == "/coupling/k_t");
+  const json& points = map.at("points");
+  REQUIRE(points.size() == 2);
+  for (const json& point : points) {
+    const double b = point.at("x").get<double>();
+    const double limit = jury_limit(b);
+    INFO("B = " << b << " N·s/m, Jury's limit " << limit << " N/m");
+    CHECK(point.at("largest_stable").get<double>() == Approx(limit).epsilon(0.03));
+    CHECK(point.at("smallest_unstable").get<double>() == Approx(limit).epsilon(0.03));
+  }
+  CHECK(points[1].at("largest_stable").get<double>() >
+        1.5 * points[0].at("largest_stable").get<double>());
+}
+
+TEST_CASE("zwidth rejects bad arguments with exit code 2 and writes nothing") {
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_zwidth_usage");
+  const fs::path& work = work_dir.path();
+  write_scenario(work, Intent::kPressAndHold, 0.5);
+  const std::string base = "zwidth wall.json --label god_object --x /coupling/b_t ";
+  for (const std::string& args :
+       {base + "--x-values 0,x --y /coupling/k_t --y-range 1000 2000",
+        base + "--x-values 0,1 --y /coupling/k_t --y-range 2000 1000",
+        base + "--x-values 0,1 --y /coupling/b_t --y-range 1000 2000",
+        base + "--x-values 0,1 --y-range 1000 2000",
+        base + "--x-values -1 --y /coupling/k_t --y-range 1000 2000",
+        base + "--x-values 1 --y /coupling/nothing/k --y-range 1000 2000"}) {
+    INFO(args);
+    const hb::test::CommandResult bad = hb::test::run_hapticbench(args + " --out bad", work);
+    CHECK(bad.exit_code == 2);
+    CHECK_FALSE(fs::exists(work / "bad"));
+  }
+}
+
+}  // namespace
