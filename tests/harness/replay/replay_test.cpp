@@ -2,12 +2,14 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <map>
 #include <vector>
 
 #include "algorithms/core/input_error.h"
 #include "harness/replay/slow_loop_schedule.h"
+#include "harness/trace/device_trajectory.h"
 
 namespace hb {
 namespace {
@@ -238,6 +240,95 @@ TEST_CASE("an empty trace replays nothing") {
   replay(renderer, DeviceTrajectory{}, ReplaySettings{}, recorder);
   CHECK(recorder.records.empty());
   CHECK(renderer.resets_ == 0);
+}
+
+}  // namespace
+}  // namespace hb
+
+namespace hb {
+namespace {
+
+// Displays a constant force and keeps what step() was given.
+class ConstantForceRenderer : public Renderer {
+ public:
+  explicit ConstantForceRenderer(const Vec3& force) : force_(force) {}
+  void reset(const Pose& pose) override { reset_pose = pose; }
+  TickResult step(const DeviceSample& device) override {
+    seen.push_back(device);
+    TickResult r;
+    r.display.force = force_;
+    r.proxy = device.pose;
+    return r;
+  }
+  Pose reset_pose;
+  std::vector<DeviceSample> seen;
+
+ private:
+  Vec3 force_;
+};
+
+// Samples of a curved, turning motion with twists, over several blocks.
+std::vector<DeviceSample> curved_ticks(int64_t count) {
+  std::vector<DeviceSample> samples(static_cast<std::size_t>(count));
+  for (int64_t k = 0; k < count; ++k) {
+    const double t = 1e-3 * static_cast<double>(k);
+    DeviceSample& s = samples[static_cast<std::size_t>(k)];
+    s.tick = k;
+    s.t_ns = k * kTickNs;
+    s.pose.p = Vec3(0.01 * std::sin(t), 0.02 * t, -0.003 * t * t);
+    s.pose.q = Quat(Eigen::AngleAxisd(0.3 * t, Vec3(1, 2, 3).normalized()));
+    s.twist.v = Vec3(0.01 * std::cos(t), 0.02, -0.006 * t);
+  }
+  return samples;
+}
+
+TEST_CASE("open loop: step() is given the trajectory's samples bit for bit, across blocks") {
+  const std::vector<DeviceSample> samples = curved_ticks(3 * DeviceTrajectory::kBlockTicks + 7);
+  ConstantForceRenderer renderer(Vec3(1, 2, 3));
+  Recorder recorder;
+  replay(renderer, samples, ReplaySettings{}, recorder);
+  REQUIRE(renderer.seen.size() == samples.size());
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    INFO("tick " << k);
+    CHECK(renderer.seen[k].pose.p == samples[k].pose.p);
+    CHECK(renderer.seen[k].pose.q.coeffs() == samples[k].pose.q.coeffs());
+    CHECK(renderer.seen[k].twist.v == samples[k].twist.v);
+    CHECK(recorder.records[k].intent == nullptr);
+    CHECK(recorder.records[k].device_actual == nullptr);
+  }
+}
+
+TEST_CASE("closed loop: step() sees the device, which the held force and the hand move") {
+  // A hand-held device pushed by a constant 0.5 N along x while the intent
+  // stays put: it settles where the hand's spring balances the force,
+  // 0.5 N / k_hand from the intent, and step() is given that position.
+  ClosedLoopModel model;
+  model.device.friction_n = 0;
+  model.device.encoder_m = 0;
+  const std::vector<DeviceSample> still = [] {
+    std::vector<DeviceSample> samples(3000);
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      samples[k].tick = static_cast<int64_t>(k);
+      samples[k].t_ns = static_cast<int64_t>(k) * kTickNs;
+      samples[k].pose.p = Vec3(0.1, 0.2, 0.3);
+    }
+    return samples;
+  }();
+  ConstantForceRenderer renderer(Vec3(0.5, 0, 0));
+  Recorder recorder;
+  ReplaySettings settings;
+  settings.closed_loop = &model;
+  replay(renderer, still, settings, recorder);
+  REQUIRE(renderer.seen.size() == still.size());
+  CHECK(renderer.reset_pose.p == still[0].pose.p);  // the device starts at the intent
+  CHECK(renderer.seen[0].pose.p == still[0].pose.p);
+  const Vec3 settled = renderer.seen.back().pose.p - still.back().pose.p;
+  CHECK(settled.x() == Approx(0.5 / model.hand.k_t).epsilon(1e-6));
+  CHECK(settled.tail<2>().norm() < 1e-12);
+  for (std::size_t k = 0; k < still.size(); k += 500) {
+    REQUIRE(recorder.records[k].intent != nullptr);
+    CHECK(recorder.records[k].device->pose.p == renderer.seen[k].pose.p);
+  }
 }
 
 }  // namespace
