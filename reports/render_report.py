@@ -1242,6 +1242,87 @@ def stability_margins_html(results):
             % ("".join("<th>%s</th>" % esc(q) for q in quantities), "".join(rows)))
 
 
+def read_zwidth_result(path):
+    """A zwidth.json as `hapticbench zwidth` writes it."""
+    data = read_json_object(path)
+    for key in ("scenario", "label", "x_param", "y_param"):
+        if not isinstance(data.get(key), str):
+            raise ReportInputError(path, "/" + key, "expected a string")
+    points = data.get("points")
+    if not isinstance(points, list) or not points:
+        raise ReportInputError(path, "/points", "expected a non-empty array of points")
+    for i, point in enumerate(points):
+        if not isinstance(point, dict) or not finite_number(point.get("x")):
+            raise ReportInputError(path, "/points/%d/x" % i, "expected a number")
+        for key in ("largest_stable", "smallest_unstable"):
+            if point.get(key) is not None and not finite_number(point.get(key)):
+                raise ReportInputError(path, "/points/%d/%s" % (i, key),
+                                       "expected a number or null")
+    return data
+
+
+def zwidth_figure(scenario, results):
+    """One scenario's Z-width map: per algorithm label, the largest stable
+    value of the y field against the x field, the band up to the smallest
+    unstable value shaded; below the line is stable."""
+    fig = Figure(figsize=(8, 4.2))
+    ax = fig.subplots()
+    palette = matplotlib.colormaps["tab10"]
+    for i, (_, data) in enumerate(sorted(results, key=lambda r: r[1]["label"])):
+        colour = palette(i % 10)
+        points = sorted(data["points"], key=lambda p: p["x"])
+        xs = [p["x"] for p in points if p.get("largest_stable") is not None]
+        stable = [p["largest_stable"] for p in points if p.get("largest_stable") is not None]
+        ax.plot(xs, stable, color=colour, marker="o", ms=4, label=data["label"])
+        band = [(p["x"], p["largest_stable"], p["smallest_unstable"]) for p in points
+                if p.get("largest_stable") is not None and p.get("smallest_unstable") is not None]
+        if band:
+            ax.fill_between([b[0] for b in band], [b[1] for b in band], [b[2] for b in band],
+                            color=colour, alpha=0.25, lw=0)
+        top = [p["x"] for p in points if p.get("smallest_unstable") is None]
+        if top:
+            range_top = dig(data, "y_range")
+            if isinstance(range_top, list) and len(range_top) == 2 and finite_number(range_top[1]):
+                ax.plot(top, [range_top[1]] * len(top), ls="none", marker="^", color=colour)
+    first = results[0][1]
+    values = [p[key] for _, d in results for p in d["points"]
+              for key in ("largest_stable", "smallest_unstable") if p.get(key)]
+    if values and max(values) > 10 * min(values):  # a decade or more: log scale
+        ax.set_yscale("log")
+        sparse_minor_ticks(ax.yaxis)
+    ax.set_xlabel(first["x_param"])
+    ax.set_ylabel("largest stable " + first["y_param"])
+    ax.grid(True, alpha=0.3, which="both")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("Z-width: %s" % scenario, fontsize=11)
+    fig.subplots_adjust(left=0.11, right=0.75, top=0.90, bottom=0.13)
+    return png_data_uri(fig)
+
+
+def zwidth_html(results):
+    """One Z-width figure per scenario from the zwidth.json files given."""
+    if not results:
+        return ""
+    by_scenario = {}
+    for path, data in results:
+        by_scenario.setdefault(data["scenario"], []).append((path, data))
+    parts = ["<h3 id='zwidth'>Z-width</h3>",
+             note("The stable region over two parameters (Colgate & Brown 1994), found by "
+                  "<code>hapticbench zwidth</code>: for each value on the x axis, the largest "
+                  "stable value (the line; stable below it) and the smallest unstable one (the "
+                  "band's top). ▲: stable up to the range's top. Criterion: %s"
+                  % esc(" / ".join(sorted({str(d.get("criterion", "")) for _, d in results}))))]
+    for scenario, scenario_results in by_scenario.items():
+        uri = zwidth_figure(scenario, scenario_results)
+        parts.append(figure_html(
+            "fig-zwidth-" + re.sub(r"[^A-Za-z0-9_-]+", "-", scenario), uri,
+            "Z-width of %s" % scenario,
+            "%s: %s" % (esc(scenario), esc(", ".join(
+                "%s (%s)" % (d["label"], os.path.basename(os.path.dirname(p)) or p)
+                for p, d in scenario_results)))))
+    return "".join(parts)
+
+
 class Progress:
     """Where rendering is, for `hapticbench report`'s progress display: one
     line per step, "<done> <total> <unit> <phase>" (unit "-": none), on the
@@ -1259,7 +1340,8 @@ class Progress:
             self.out = None
 
 
-def render(folders, template, metric_table, stability_results=(), progress=Progress()):
+def render(folders, template, metric_table, stability_results=(), progress=Progress(),
+           zwidth_results=()):
     slugs = set()
     for folder in folders:
         slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
@@ -1323,6 +1405,7 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     body.append('</section><section id="stability"><h2>Stability</h2>')
     body.append(stress_matrix_html(folders))
     body.append(stability_margins_html(list(stability_results)))
+    body.append(zwidth_html(list(zwidth_results)))
     body.append(stability_html(folders, runs))
     body.append(friction_html(folders))
     body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
@@ -1343,6 +1426,9 @@ def main():
     parser.add_argument("--stability", action="append", default=[],
                         help="a stability.json of `hapticbench stability` (repeatable): a row "
                         "of the stability-margin table")
+    parser.add_argument("--zwidth", action="append", default=[],
+                        help="a zwidth.json of `hapticbench zwidth` (repeatable): drawn in the "
+                        "scenario's Z-width figure")
     parser.add_argument("--progress-fd", type=int, help="file descriptor for progress lines "
                         "(hapticbench report passes it; see Progress)")
     parser.add_argument("folders", nargs="*", help="run folders (each with a summary.json)")
@@ -1363,7 +1449,9 @@ def main():
         with open(args.template, encoding="utf-8") as f:
             template = f.read()
         stability_results = [(path, read_stability_result(path)) for path in args.stability]
-        page = render(folders, template, metric_table, stability_results, progress)
+        zwidth_results = [(path, read_zwidth_result(path)) for path in args.zwidth]
+        page = render(folders, template, metric_table, stability_results, progress,
+                      zwidth_results)
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2

@@ -41,7 +41,8 @@ namespace fs = std::filesystem;
 const std::string kReportUsage =
     "usage: hapticbench report RUN_DIR... [--out report.html] [--progress STYLE] [--quiet]\n"
     "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth;\n"
-    "           stability.json files beneath it (hapticbench stability) make the margin table\n"
+    "           stability.json files beneath it (hapticbench stability) make the margin table,\n"
+    "           zwidth.json files (hapticbench zwidth) the Z-width figures\n"
     "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
     "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
     "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n" +
@@ -200,12 +201,15 @@ int report_command(const std::vector<std::string>& args) {
   // Every run folder once, in the order given, each input's folders sorted;
   // each summary checked for what the renderer relies on. Results of
   // `hapticbench stability` (stability.json) beneath the inputs become the
-  // stability-margin table; an input may hold only those.
-  std::vector<fs::path> run_inputs, stability_files;
+  // stability-margin table, those of `hapticbench zwidth` (zwidth.json) the
+  // Z-width figures; an input may hold only those.
+  std::vector<fs::path> run_inputs, stability_files, zwidth_files;
   for (const fs::path& input : options.inputs) {
     const std::vector<fs::path> margins = find_files_named(input, "stability.json");
+    const std::vector<fs::path> maps = find_files_named(input, "zwidth.json");
     stability_files.insert(stability_files.end(), margins.begin(), margins.end());
-    if (margins.empty() || !find_files_named(input, "summary.json").empty())
+    zwidth_files.insert(zwidth_files.end(), maps.begin(), maps.end());
+    if ((margins.empty() && maps.empty()) || !find_files_named(input, "summary.json").empty())
       run_inputs.push_back(input);
   }
   const std::vector<fs::path> folders =
@@ -268,6 +272,10 @@ int report_command(const std::vector<std::string>& args) {
     command.push_back("--stability");
     command.push_back(file.string());
   }
+  for (const fs::path& file : zwidth_files) {
+    command.push_back("--zwidth");
+    command.push_back(file.string());
+  }
   for (const fs::path& folder : folders) command.push_back(folder.string());
   const fs::path renderer_stderr = scratch.path() / "renderer_stderr.txt";
   int status = 0;
@@ -302,6 +310,9 @@ int report_command(const std::vector<std::string>& args) {
   if (!stability_files.empty())
     std::cout << ", " << stability_files.size() << " stability margin"
               << (stability_files.size() == 1 ? "" : "s");
+  if (!zwidth_files.empty())
+    std::cout << ", " << zwidth_files.size() << " Z-width map"
+              << (zwidth_files.size() == 1 ? "" : "s");
   std::cout << ")\n";
   return kExitOk;
 }

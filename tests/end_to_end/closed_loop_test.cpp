@@ -246,6 +246,15 @@ TEST_CASE("closed loop: the Z-width map follows Jury's limit as the coupling dam
   }
   CHECK(points[1].at("largest_stable").get<double>() >
         1.5 * points[0].at("largest_stable").get<double>());
+
+  // The report draws the map as the scenario's Z-width figure.
+  const hb::test::CommandResult report =
+      hb::test::run_hapticbench("report map --out report.html", work);
+  INFO(report.stdout_text << report.stderr_text);
+  REQUIRE(report.exit_code == 0);
+  CHECK(report.stdout_text.find("1 Z-width map") != std::string::npos);
+  const std::string page = hb::test::read_text_file(work / "report.html");
+  CHECK(page.find("id=\"fig-zwidth-closed_loop_wall\"") != std::string::npos);
 }
 
 TEST_CASE("zwidth rejects bad arguments with exit code 2 and writes nothing") {

@@ -1,7 +1,9 @@
 """The report's accuracy-cost figure: one front per scenario, over runs that stayed stable,
 with cost = CPU time per tick of both loops. Run by CTest with Debian's python3."""
+import json
 import os
 import sys
+import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "reports"))
@@ -162,6 +164,43 @@ class StabilityMarginsTest(unittest.TestCase):
         self.assertIn("none ≥ 100<br><span class=\"small\">unstable at 100 (diverged)", page)
         self.assertEqual(page.count("<tr>"), 4)  # the header and three labels
         self.assertEqual(render_report.stability_margins_html([]), "")
+
+    def test_closed_loop_reasons_are_named(self):
+        page = render_report.stability_margins_html([
+            self.result("wall", "/coupling/k_t", 9991.4, 10064.7, display_energy_min_j=-2e-5),
+            self.result("hold", "/coupling/b_t", 14067.0, 14193.7, limit_cycle=True)])
+        self.assertIn("unstable at 1.006e+04 (display passivity -0.02 mJ)", page)
+        self.assertIn("unstable at 1.419e+04 (limit cycle)", page)
+
+
+class ZwidthTest(unittest.TestCase):
+    def result(self, scenario, label, points):
+        return ("/z/%s/zwidth.json" % label,
+                {"scenario": scenario, "label": label, "x_param": "/coupling/b_t",
+                 "y_param": "/coupling/k_t", "y_range": [1e3, 1e5], "criterion": "stable: ...",
+                 "points": [{"x": x, "largest_stable": lo, "smallest_unstable": hi}
+                            for x, lo, hi in points]})
+
+    def test_one_figure_per_scenario_with_every_label(self):
+        page = render_report.zwidth_html([
+            self.result("wall", "god_object", [(0, 14002, 14167), (5, 23160, 23432)]),
+            self.result("wall", "penalty", [(0, 9000, 9100), (5, 1e5, None)]),
+            self.result("slab", "god_object", [(0, 3000, 3100)])])
+        self.assertEqual(page.count("<figure>"), 2)
+        self.assertIn('id="fig-zwidth-wall"', page)
+        self.assertIn('id="fig-zwidth-slab"', page)
+        self.assertIn("god_object (god_object), penalty (penalty)", page)
+        self.assertEqual(render_report.zwidth_html([]), "")
+
+    def test_a_map_without_points_is_bad_input_naming_the_field(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "zwidth.json")
+            with open(path, "w") as f:
+                json.dump({"scenario": "s", "label": "l", "x_param": "/a", "y_param": "/b",
+                           "points": []}, f)
+            with self.assertRaises(render_report.ReportInputError) as raised:
+                render_report.read_zwidth_result(path)
+            self.assertIn("/points", str(raised.exception))
 
 
 class FrictionRun:
