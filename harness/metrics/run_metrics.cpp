@@ -93,8 +93,10 @@ void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
 void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& evaluation) {
   const TickResult& result = record.result;
   const DeviceSample& device = *record.device;
-  // Energy, separation and chatter are the physical device's: in closed
-  // loop its true pose, not the encoders' reading the renderer saw.
+  // Energy and separation are the physical device's: in closed loop its
+  // true pose, not the encoders' reading the renderer saw. Chatter compares
+  // the proxy with what the renderer saw (a proxy following a quantized
+  // reading steps with it).
   const Pose& device_at = device_pose(record);
 
   // Harness-side guard: a renderer must never display non-finite numbers,
@@ -183,11 +185,11 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
       }
       ChatterBlock& block = chatter_blocks_.back();
       block.proxy_sq += (result.proxy.p - 2 * last_proxy_p_[1] + last_proxy_p_[0]).squaredNorm();
-      block.device_sq += (device_at.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
+      block.device_sq += (device.pose.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
       ++block.ticks;
     }
     last_proxy_p_ = {last_proxy_p_[1], result.proxy.p};
-    last_device_p_ = {last_device_p_[1], device_at.p};
+    last_device_p_ = {last_device_p_[1], device.pose.p};
     ++positions_seen_;
   } else {
     positions_seen_ = 0;  // a reset proxy starts afresh

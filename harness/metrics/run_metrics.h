@@ -107,7 +107,9 @@ struct StabilityMetrics {
   /// contact too stiff for it) shows here; a settled or smoothly moving
   /// proxy is near zero.
   double proxy_chatter_m = 0;
-  double device_chatter_m = 0;  ///< m: the same for the device's tool origin
+  /// m: the same for the device's tool origin as the renderer saw it (in
+  /// closed loop the encoders' reading)
+  double device_chatter_m = 0;
   /// The proxy still oscillates at the end of the run and the oscillation
   /// is not dying out: proxy_chatter_m > max(kChatterFloorM,
   /// kChatterDeviceRatio × device_chatter_m), and at least

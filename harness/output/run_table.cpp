@@ -49,6 +49,17 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
         out << ", " << c.slow_update_total / c.slow_updates << " per slow update";
       out << "\n";
     }
+    if (m.closed_loop) {
+      const ClosedLoopMetrics& c = *m.closed_loop;
+      const LimitCycleMetrics& cycles = c.limit_cycles;
+      out << "    closed loop: device penetration " << fixed(c.device_penetration_max_m, 1e3, 3)
+          << " mm, displayed stiffness " << fixed(c.displayed_stiffness_n_per_m, 1, 0)
+          << " N/m, display energy min " << fixed(c.display_energy_min_j, 1e3, 3) << " mJ, "
+          << (cycles.limit_cycle ? "LIMIT CYCLE " + fixed(cycles.amplitude_m, 1e3, 3) + " mm at " +
+                                       fixed(cycles.frequency_hz, 1, 0) + " Hz"
+                                 : std::string("no limit cycle"))
+          << "\n";
+    }
     if (r.passes_agree && !*r.passes_agree)
       out << "    NOT DETERMINISTIC: the timing and evaluation replays computed different forces\n";
   }
