@@ -70,13 +70,14 @@ ClosedLoopDevice::ClosedLoopDevice(const ClosedLoopModel& model, double tick_s)
     : model_(model), tick_s_(tick_s) {
   const HandModel& hand = model.hand;
   const DeviceModel& device = model.device;
-  const bool friction = device.friction_n > 0 || device.friction_nm > 0;
-  substeps_ = friction ? kFrictionSubsteps : 1;
-  const double step_s = tick_s / substeps_;
-  translation_ =
-      AxisPropagator::make(hand.mass_kg + device.mass_kg, hand.k_t, hand.b_t, device.b_t, step_s);
+  // Translation and rotation are independent: each is cut into substeps
+  // only when it has Coulomb friction.
+  translation_substeps_ = device.friction_n > 0 ? kFrictionSubsteps : 1;
+  rotation_substeps_ = device.friction_nm > 0 ? kFrictionSubsteps : 1;
+  translation_ = AxisPropagator::make(hand.mass_kg + device.mass_kg, hand.k_t, hand.b_t, device.b_t,
+                                      tick_s / translation_substeps_);
   rotation_ = AxisPropagator::make(hand.inertia_kgm2 + device.inertia_kgm2, hand.k_r, hand.b_r,
-                                   device.b_r, step_s);
+                                   device.b_r, tick_s / rotation_substeps_);
   filter_keep_ = device.velocity_filter_hz > 0
                      ? std::exp(-2 * std::numbers::pi * device.velocity_filter_hz * tick_s)
                      : 0.0;
@@ -109,7 +110,6 @@ void ClosedLoopDevice::advance(const Wrench& wrench, const Pose& intent_now,
                                const Pose& intent_next) {
   const HandModel& hand = model_.hand;
   const DeviceModel& device = model_.device;
-  const double step_s = tick_s_ / substeps_;
   // Offsets from the intent, and the intent's velocities over the tick.
   Vec3 y = pose_.p - intent_now.p;
   const Vec3 w = (intent_next.p - intent_now.p) / tick_s_;
@@ -117,10 +117,12 @@ void ClosedLoopDevice::advance(const Wrench& wrench, const Pose& intent_now,
   const Vec3 w_r = rotation_vector(intent_next.q * intent_now.q.conjugate()) / tick_s_;
   const AxisGroup translation{translation_, hand.k_t, hand.b_t, device.b_t, device.friction_n};
   const AxisGroup rotation{rotation_, hand.k_r, hand.b_r, device.b_r, device.friction_nm};
-  for (int i = 0; i < substeps_; ++i) {
-    dissipated_j_ += advance_axes(translation, step_s, y, velocity_, w, wrench.force);
-    dissipated_j_ += advance_axes(rotation, step_s, y_r, angular_velocity_, w_r, wrench.torque);
-  }
+  for (int i = 0; i < translation_substeps_; ++i)
+    dissipated_j_ +=
+        advance_axes(translation, tick_s_ / translation_substeps_, y, velocity_, w, wrench.force);
+  for (int i = 0; i < rotation_substeps_; ++i)
+    dissipated_j_ += advance_axes(rotation, tick_s_ / rotation_substeps_, y_r, angular_velocity_,
+                                  w_r, wrench.torque);
   pose_.p = intent_next.p + y;
   pose_.q = (quat_from_rotation_vector(y_r) * intent_next.q).normalized();
   sense();

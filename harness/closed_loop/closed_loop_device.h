@@ -8,7 +8,8 @@
 // rotation is a linear mass–spring–damper driven by the intent's velocity
 // and the held force, advanced by its exact propagator (axis_propagator.h):
 // no integration error without Coulomb friction. With Coulomb friction the
-// tick is cut into kFrictionSubsteps substeps, each with the friction force
+// tick of that axis group (translation or rotation) is cut into
+// kFrictionSubsteps substeps, each with the friction force
 // held (stick when the velocity would reverse and the other forces stay
 // within the friction). Rotation is advanced in the rotation vector of the
 // device's offset from the intent, exact for rotations about a fixed axis
@@ -68,7 +69,7 @@ class ClosedLoopDevice {
   double tick_s_;
   double filter_keep_;  ///< share of the previous velocity estimate kept each tick
   AxisPropagator translation_, rotation_;  ///< over a tick, or a substep with friction
-  int substeps_ = 1;
+  int translation_substeps_ = 1, rotation_substeps_ = 1;
   Pose pose_;
   Vec3 velocity_ = Vec3::Zero(), angular_velocity_ = Vec3::Zero();
   // What the device reports: the last two encoder poses and the estimate.

@@ -257,6 +257,38 @@ TEST_CASE("closed loop: the Z-width map follows Jury's limit as the coupling dam
   CHECK(page.find("id=\"fig-zwidth-closed_loop_wall\"") != std::string::npos);
 }
 
+TEST_CASE("closed loop: the same scenario gives the same ticks twice, in both passes") {
+  // The slow loops' measured latencies feed back through the device, so the
+  // second run follows the first one's schedule (--schedule), as a
+  // reproduction of any multi-rate run does (docs/ci-gating.md).
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_determinism");
+  const fs::path& work = work_dir.path();
+  const std::string scenario =
+      (fs::path(HAPTICBENCH_SOURCE_DIR) / "scenarios/closed_loop/sphere_press_wall.json").string();
+  for (const std::string out : {"first", "second --schedule first"}) {
+    const hb::test::CommandResult result =
+        hb::test::run_hapticbench("run " + scenario + " --out " + out, work);
+    INFO(result.stderr_text);
+    REQUIRE(result.exit_code == 0);
+    CHECK(result.stdout_text.find("closed loop: device penetration") != std::string::npos);
+  }
+  const json first = json::parse(hb::test::read_text_file(work / "first/summary.json"));
+  const json second = json::parse(hb::test::read_text_file(work / "second/summary.json"));
+  REQUIRE(first.at("runs").size() == 4);
+  for (std::size_t i = 0; i < first.at("runs").size(); ++i) {
+    const json& a = first.at("runs")[i];
+    INFO(a.at("label"));
+    CHECK(a.at("determinism").at("passes_agree") == true);
+    CHECK(a.at("determinism").at("ticks_hash") ==
+          second.at("runs")[i].at("determinism").at("ticks_hash"));
+    // The device was in the loop: it stopped short of the intent's 5 mm.
+    const double penetration = a.at("closed_loop").at("device_penetration_max_m").get<double>();
+    CHECK(penetration > 1e-4);
+    CHECK(penetration < 2e-3);
+    CHECK_FALSE(a.at("closed_loop").at("limit_cycle").get<bool>());
+  }
+}
+
 TEST_CASE("zwidth rejects bad arguments with exit code 2 and writes nothing") {
   const hb::test::ScratchDir work_dir("e2e_closed_loop_zwidth_usage");
   const fs::path& work = work_dir.path();
