@@ -22,6 +22,7 @@
 #include "algorithms/core/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
@@ -40,42 +41,16 @@ const std::string kStabilityUsage =
     "                             [--progress STYLE] [--quiet]\n"
     "  finds the largest value of the scenario field at JSON_POINTER (e.g. /coupling/k_t,\n"
     "  /algorithms/2/params/contact_stiffness) in [LO, HI] at which algorithm LABEL is\n"
-    "  stable, by bracketing and bisection on a log scale; each probe is a full run.\n"
-    "  stable: not diverged, no non-finite wrench, and by --criterion (default all):\n"
-    "    passivity    the port energy minimum >= -EPSILON; in closed loop (docs/closed-loop.md)\n"
-    "                 the energy the hand put into the device, display_energy_min_j\n"
-    "    oscillation  no chatter at the end of the run (proxy_chatter_m, docs/metrics.md);\n"
-    "                 in closed loop no limit cycle of the device either\n"
-    "    all          both\n"
-    "  --tolerance REL  stop when smallest_unstable / largest_stable - 1 <= REL (default 0.02)\n"
-    "  --epsilon J      passivity allowance, J (default 1e-6)\n"
+    "  stable, by bracketing and bisection on a log scale; each probe is a full run.\n" +
+    std::string(kStabilitySearchUsage) +
     "  --out DIR        folder for stability.json (default out/stability/<scenario>__<label>)\n" +
     std::string(kProgressUsage);
 
 struct StabilityArguments {
-  std::string scenario;
-  std::string label;
+  StabilitySearchOptions search;
   std::string pointer;
   double low = 0, high = 0;
-  double tolerance = 0.02;
-  double epsilon_j = 1e-6;
-  StabilityCriterion criterion = StabilityCriterion::kAll;
-  std::optional<std::string> out;
-  std::optional<ProgressStyle> progress;
 };
-
-double positive_number(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(value) || !(value > 0))
-    throw UsageError{option + ": expected a finite number > 0, got \"" + text + "\""};
-  return value;
-}
 
 // Throws UsageError or HelpRequested.
 StabilityArguments parse_stability_arguments(const std::vector<std::string>& args) {
@@ -84,38 +59,17 @@ StabilityArguments parse_stability_arguments(const std::vector<std::string>& arg
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     check_help(a);
-    if (a == "--label") {
-      parsed.label = option_value(args, i);
-    } else if (a == "--param") {
+    if (a == "--param") {
       parsed.pointer = option_value(args, i);
     } else if (a == "--range") {
-      parsed.low = positive_number("--range LO", option_value(args, i));
-      parsed.high = positive_number("--range HI", option_value(args, i));
+      parsed.low = finite_number_option("--range LO", option_value(args, i), true);
+      parsed.high = finite_number_option("--range HI", option_value(args, i), true);
       have_range = true;
-    } else if (a == "--tolerance") {
-      parsed.tolerance = positive_number(a, option_value(args, i));
-    } else if (a == "--epsilon") {
-      parsed.epsilon_j = positive_number(a, option_value(args, i));
-    } else if (a == "--criterion") {
-      const std::string name = option_value(args, i);
-      const std::optional<StabilityCriterion> criterion = stability_criterion_named(name);
-      if (!criterion)
-        throw UsageError{"--criterion: expected all, passivity or oscillation, got \"" + name +
-                         "\""};
-      parsed.criterion = *criterion;
-    } else if (a == "--out") {
-      parsed.out = option_value(args, i);
-    } else if (parse_progress_option(args, i, parsed.progress)) {
-    } else if (a.rfind("--", 0) == 0) {
+    } else if (!parse_stability_search_option(args, i, parsed.search)) {
       throw UsageError{"unknown option " + a};
-    } else if (!parsed.scenario.empty()) {
-      throw UsageError{"one scenario at a time (got " + parsed.scenario + " and " + a + ")"};
-    } else {
-      parsed.scenario = a;
     }
   }
-  if (parsed.scenario.empty()) throw UsageError{"no scenario given"};
-  if (parsed.label.empty()) throw UsageError{"--label LABEL is required"};
+  require_stability_search_options(parsed.search);
   if (parsed.pointer.empty()) throw UsageError{"--param JSON_POINTER is required"};
   if (!json_pointer_tokens(parsed.pointer))
     throw UsageError{"--param: expected a JSON pointer such as /coupling/k_t, got \"" +
@@ -132,16 +86,17 @@ int stability_command(const std::vector<std::string>& args) {
   const auto parsed = parse_command_line([&] { return parse_stability_arguments(args); },
                                          kStabilityUsage, exit_code);
   if (!parsed) return exit_code;
-  ProgressDisplay progress = make_progress_display(parsed->progress, 1.0);
+  ProgressDisplay progress = make_progress_display(parsed->search.progress, 1.0);
   try {
-    ScenarioProber prober(parsed->scenario, parsed->label, parsed->criterion, parsed->epsilon_j,
-                          progress);
+    ScenarioProber prober(parsed->search.scenario, parsed->search.label, parsed->search.criterion,
+                          parsed->search.epsilon_j, progress);
     // The parameter must be settable, and the scenario valid with it, before
     // anything runs: loaded at the low end only.
     prober.check({{parsed->pointer, parsed->low}});
-    const fs::path out = parsed->out ? fs::path(*parsed->out)
-                                     : fs::path("out") / "stability" /
-                                           (prober.scenario_name() + "__" + parsed->label);
+    const fs::path out = parsed->search.out
+                             ? fs::path(*parsed->search.out)
+                             : fs::path("out") / "stability" /
+                                   (prober.scenario_name() + "__" + parsed->search.label);
     // Refuse an output we may not replace before the first (long) run.
     StagedRunFolder folder(out, OutputFolderKind::kRun);
 
@@ -149,7 +104,7 @@ int stability_command(const std::vector<std::string>& args) {
         [&](double value) {
           return prober.probe({{parsed->pointer, value}});
         },
-        parsed->low, parsed->high, parsed->tolerance);
+        parsed->low, parsed->high, parsed->search.tolerance);
     const std::optional<double>& largest_stable = bracket.largest_stable;
     const std::optional<double>& smallest_unstable = bracket.smallest_unstable;
 
@@ -157,15 +112,15 @@ int stability_command(const std::vector<std::string>& args) {
     for (const StabilityProbe& p : bracket.probes) runs.push_back(probe_json(p));
     const Json result = {
         {"scenario", prober.scenario_name()},
-        {"scenario_file", parsed->scenario},
-        {"label", parsed->label},
+        {"scenario_file", parsed->search.scenario},
+        {"label", parsed->search.label},
         {"algorithm", prober.algorithm()},
         {"integrator", prober.integrator().empty() ? Json(nullptr) : Json(prober.integrator())},
         {"param", parsed->pointer},
         {"range", {parsed->low, parsed->high}},
-        {"tolerance", parsed->tolerance},
-        {"criterion", stability_criterion_text(parsed->criterion, parsed->epsilon_j)},
-        {"epsilon_j", parsed->epsilon_j},
+        {"tolerance", parsed->search.tolerance},
+        {"criterion", stability_criterion_text(parsed->search.criterion, parsed->search.epsilon_j)},
+        {"epsilon_j", parsed->search.epsilon_j},
         {"largest_stable", largest_stable ? Json(*largest_stable) : Json(nullptr)},
         {"smallest_unstable", smallest_unstable ? Json(*smallest_unstable) : Json(nullptr)},
         {"runs", runs}};
@@ -173,7 +128,7 @@ int stability_command(const std::vector<std::string>& args) {
     folder.commit();
     progress.close();
 
-    std::cout << prober.scenario_name() << " / " << parsed->label << ", " << parsed->pointer
+    std::cout << prober.scenario_name() << " / " << parsed->search.label << ", " << parsed->pointer
               << ": largest stable "
               << (largest_stable ? std::to_string(*largest_stable) : std::string("none in range"))
               << ", smallest unstable "

@@ -16,6 +16,7 @@
 #include "algorithms/core/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
@@ -36,34 +37,17 @@ const std::string kZwidthUsage =
     "  Colgate & Brown 1994): for each value of the field at --x, the largest stable\n"
     "  value of the field at --y in [LO, HI], searched as `hapticbench stability` does\n"
     "  (the same criterion and options); each probe is a full run.\n"
-    "  e.g. --x /coupling/b_t --x-values 0,2,5,10 --y /coupling/k_t --y-range 1000 100000\n"
+    "  e.g. --x /coupling/b_t --x-values 0,2,5,10 --y /coupling/k_t --y-range 1000 100000\n" +
+    std::string(kStabilitySearchUsage) +
     "  --out DIR        folder for zwidth.json (default out/zwidth/<scenario>__<label>)\n" +
     std::string(kProgressUsage);
 
 struct ZwidthArguments {
-  std::string scenario, label, x_pointer, y_pointer;
+  StabilitySearchOptions search;
+  std::string x_pointer, y_pointer;
   std::vector<double> x_values;
   double y_low = 0, y_high = 0;
-  double tolerance = 0.02;
-  double epsilon_j = 1e-6;
-  StabilityCriterion criterion = StabilityCriterion::kAll;
-  std::optional<std::string> out;
-  std::optional<ProgressStyle> progress;
 };
-
-double number_option(const std::string& option, const std::string& text, bool positive) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(value) || !(positive ? value > 0 : value >= 0))
-    throw UsageError{option + ": expected a finite number " + (positive ? "> 0" : ">= 0") +
-                     ", got \"" + text + "\""};
-  return value;
-}
 
 void check_pointer(const std::string& option, const std::string& pointer) {
   if (pointer.empty()) throw UsageError{option + " JSON_POINTER is required"};
@@ -79,49 +63,27 @@ ZwidthArguments parse_zwidth_arguments(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     check_help(a);
-    if (a == "--label") {
-      parsed.label = option_value(args, i);
-    } else if (a == "--x") {
+    if (a == "--x") {
       parsed.x_pointer = option_value(args, i);
     } else if (a == "--y") {
       parsed.y_pointer = option_value(args, i);
     } else if (a == "--x-values") {
       const std::string list = option_value(args, i);
-      std::size_t start = 0;
-      while (start <= list.size()) {
+      for (std::size_t start = 0; start <= list.size();) {
         const std::size_t comma = std::min(list.find(',', start), list.size());
         parsed.x_values.push_back(
-            number_option("--x-values", list.substr(start, comma - start), false));
+            finite_number_option("--x-values", list.substr(start, comma - start), false));
         start = comma + 1;
       }
     } else if (a == "--y-range") {
-      parsed.y_low = number_option("--y-range LO", option_value(args, i), true);
-      parsed.y_high = number_option("--y-range HI", option_value(args, i), true);
+      parsed.y_low = finite_number_option("--y-range LO", option_value(args, i), true);
+      parsed.y_high = finite_number_option("--y-range HI", option_value(args, i), true);
       have_range = true;
-    } else if (a == "--tolerance") {
-      parsed.tolerance = number_option(a, option_value(args, i), true);
-    } else if (a == "--epsilon") {
-      parsed.epsilon_j = number_option(a, option_value(args, i), true);
-    } else if (a == "--criterion") {
-      const std::string name = option_value(args, i);
-      const std::optional<StabilityCriterion> criterion = stability_criterion_named(name);
-      if (!criterion)
-        throw UsageError{"--criterion: expected all, passivity or oscillation, got \"" + name +
-                         "\""};
-      parsed.criterion = *criterion;
-    } else if (a == "--out") {
-      parsed.out = option_value(args, i);
-    } else if (parse_progress_option(args, i, parsed.progress)) {
-    } else if (a.rfind("--", 0) == 0) {
+    } else if (!parse_stability_search_option(args, i, parsed.search)) {
       throw UsageError{"unknown option " + a};
-    } else if (!parsed.scenario.empty()) {
-      throw UsageError{"one scenario at a time (got " + parsed.scenario + " and " + a + ")"};
-    } else {
-      parsed.scenario = a;
     }
   }
-  if (parsed.scenario.empty()) throw UsageError{"no scenario given"};
-  if (parsed.label.empty()) throw UsageError{"--label LABEL is required"};
+  require_stability_search_options(parsed.search);
   check_pointer("--x", parsed.x_pointer);
   check_pointer("--y", parsed.y_pointer);
   if (parsed.x_pointer == parsed.y_pointer) throw UsageError{"--x and --y name the same field"};
@@ -140,17 +102,18 @@ int zwidth_command(const std::vector<std::string>& args) {
   const auto parsed =
       parse_command_line([&] { return parse_zwidth_arguments(args); }, kZwidthUsage, exit_code);
   if (!parsed) return exit_code;
-  ProgressDisplay progress = make_progress_display(parsed->progress, 1.0);
+  ProgressDisplay progress = make_progress_display(parsed->search.progress, 1.0);
   try {
-    ScenarioProber prober(parsed->scenario, parsed->label, parsed->criterion, parsed->epsilon_j,
-                          progress);
+    ScenarioProber prober(parsed->search.scenario, parsed->search.label, parsed->search.criterion,
+                          parsed->search.epsilon_j, progress);
     // Every x value must be settable, and the scenario valid with it, before
     // anything runs.
     for (double x : parsed->x_values)
       prober.check({{parsed->x_pointer, x}, {parsed->y_pointer, parsed->y_low}});
     const fs::path out =
-        parsed->out ? fs::path(*parsed->out)
-                    : fs::path("out") / "zwidth" / (prober.scenario_name() + "__" + parsed->label);
+        parsed->search.out
+            ? fs::path(*parsed->search.out)
+            : fs::path("out") / "zwidth" / (prober.scenario_name() + "__" + parsed->search.label);
     StagedRunFolder folder(out, OutputFolderKind::kRun);
 
     Json points = Json::array(), runs = Json::array();
@@ -159,30 +122,31 @@ int zwidth_command(const std::vector<std::string>& args) {
           [&](double y) {
             return prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
           },
-          parsed->y_low, parsed->y_high, parsed->tolerance);
+          parsed->y_low, parsed->y_high, parsed->search.tolerance);
       points.push_back({{"x", x},
                         {"largest_stable", or_null(bracket.largest_stable)},
                         {"smallest_unstable", or_null(bracket.smallest_unstable)},
                         {"runs", bracket.probes.size()}});
       for (const StabilityProbe& p : bracket.probes) runs.push_back(probe_json(p));
-      std::cout << prober.scenario_name() << " / " << parsed->label << ", " << parsed->x_pointer
-                << " = " << x << ": largest stable " << parsed->y_pointer << " "
+      std::cout << prober.scenario_name() << " / " << parsed->search.label << ", "
+                << parsed->x_pointer << " = " << x << ": largest stable " << parsed->y_pointer
+                << " "
                 << (bracket.largest_stable ? std::to_string(*bracket.largest_stable)
                                            : std::string("none in range"))
                 << "\n";
     }
     const Json result = {
         {"scenario", prober.scenario_name()},
-        {"scenario_file", parsed->scenario},
-        {"label", parsed->label},
+        {"scenario_file", parsed->search.scenario},
+        {"label", parsed->search.label},
         {"algorithm", prober.algorithm()},
         {"x_param", parsed->x_pointer},
         {"y_param", parsed->y_pointer},
         {"x_values", parsed->x_values},
         {"y_range", {parsed->y_low, parsed->y_high}},
-        {"tolerance", parsed->tolerance},
-        {"criterion", stability_criterion_text(parsed->criterion, parsed->epsilon_j)},
-        {"epsilon_j", parsed->epsilon_j},
+        {"tolerance", parsed->search.tolerance},
+        {"criterion", stability_criterion_text(parsed->search.criterion, parsed->search.epsilon_j)},
+        {"epsilon_j", parsed->search.epsilon_j},
         {"points", points},
         {"runs", runs}};
     folder.write_file("zwidth.json", result.dump(2) + "\n");

@@ -1,0 +1,66 @@
+#include "harness/cli/stability_options.h"
+
+#include <cmath>
+
+#include "harness/cli/command_line.h"
+
+namespace hb {
+
+const char* const kStabilitySearchUsage =
+    "  stable: not diverged, no non-finite wrench, and by --criterion (default all):\n"
+    "    passivity    the port energy minimum >= -EPSILON; in closed loop (docs/closed-loop.md)\n"
+    "                 the energy the hand put into the device, display_energy_min_j\n"
+    "    oscillation  no chatter at the end of the run (proxy_chatter_m, docs/metrics.md);\n"
+    "                 in closed loop no limit cycle of the device either\n"
+    "    all          both\n"
+    "  --tolerance REL  stop when smallest_unstable / largest_stable - 1 <= REL (default 0.02)\n"
+    "  --epsilon J      passivity allowance, J (default 1e-6)\n";
+
+double finite_number_option(const std::string& option, const std::string& text, bool positive) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value) || !(positive ? value > 0 : value >= 0))
+    throw UsageError{option + ": expected a finite number " + (positive ? "> 0" : ">= 0") +
+                     ", got \"" + text + "\""};
+  return value;
+}
+
+bool parse_stability_search_option(const std::vector<std::string>& args, std::size_t& i,
+                                   StabilitySearchOptions& options) {
+  const std::string& a = args[i];
+  if (a == "--label") {
+    options.label = option_value(args, i);
+  } else if (a == "--tolerance") {
+    options.tolerance = finite_number_option(a, option_value(args, i), true);
+  } else if (a == "--epsilon") {
+    options.epsilon_j = finite_number_option(a, option_value(args, i), true);
+  } else if (a == "--criterion") {
+    const std::string name = option_value(args, i);
+    const std::optional<StabilityCriterion> criterion = stability_criterion_named(name);
+    if (!criterion)
+      throw UsageError{"--criterion: expected all, passivity or oscillation, got \"" + name + "\""};
+    options.criterion = *criterion;
+  } else if (a == "--out") {
+    options.out = option_value(args, i);
+  } else if (parse_progress_option(args, i, options.progress)) {
+  } else if (a.rfind("--", 0) == 0) {
+    return false;
+  } else if (!options.scenario.empty()) {
+    throw UsageError{"one scenario at a time (got " + options.scenario + " and " + a + ")"};
+  } else {
+    options.scenario = a;
+  }
+  return true;
+}
+
+void require_stability_search_options(const StabilitySearchOptions& options) {
+  if (options.scenario.empty()) throw UsageError{"no scenario given"};
+  if (options.label.empty()) throw UsageError{"--label LABEL is required"};
+}
+
+}  // namespace hb
