@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace hb {
@@ -48,6 +49,27 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
   return false;
 }
 
+double HapticProxy::least_listed_distance() const {
+  const Pose com_pose = certifier_.frames().com_frame(pose_);
+  double least = std::numeric_limits<double>::infinity();
+  for (const ContactFeatures& pair : certificate_.pairs)
+    least = std::min(least, certifier_.evaluate(pair, com_pose).distance);
+  return least;
+}
+
+double HapticProxy::worst_margin(const Pose& com_pose) {
+  double worst = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
+    const PairContact contact = certifier_.evaluate(certificate_.pairs[k], com_pose);
+    // The side each pair started the tick on: a pair whose direction
+    // between closest points turned over has crossed.
+    const double side = contact.normal.dot(constraints_[k].normal) >= 0 ? 1.0 : -1.0;
+    end_distances_[k] = side * contact.distance;
+    worst = std::min(worst, end_distances_[k] - floors_[k]);
+  }
+  return worst;
+}
+
 HapticSolveStats HapticProxy::step(const Pose& target) {
   HapticSolveStats stats;
   const ProxyFrames& frames = certifier_.frames();
@@ -55,40 +77,70 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   const Pose start = frames.com_frame(pose_);
   const Vec6 unconstrained = displacement(start, frames.com_frame(target));
 
-  // The listed pairs at the current pose: one constraint each.
+  // The listed pairs at the current pose: one constraint each, asking for
+  // the standoff (a pair found closer is pushed back out: the gap a
+  // rotation's second-order motion took is recovered).
   constraints_.clear();
   constraint_friction_.clear();
   contacts_.clear();
   distances_.clear();
+  floors_.clear();
   for (const ContactFeatures& pair : certificate_.pairs) {
     const PairContact contact = certifier_.evaluate(pair, start);
     ++stats.pairs_evaluated;
-    constraints_.push_back(
-        GaussConstraint{contact.normal, contact.tool_point - start.p,
-                        -std::max(0.0, contact.distance - settings_.standoff_m)});
+    constraints_.push_back(GaussConstraint{contact.normal, contact.tool_point - start.p,
+                                           settings_.standoff_m - contact.distance});
     constraint_friction_.push_back(
         pair.scene_object < static_cast<int>(friction_.size()) ? friction_[pair.scene_object] : 0);
     distances_.push_back(contact.distance);
+    floors_.push_back(std::min(settings_.standoff_m - kStandoffSlackM, contact.distance));
   }
+  end_distances_.assign(constraints_.size(), 0);
 
-  const ConstrainedStep& solved = solver_.solve(
-      coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained, constraints_,
-      constraint_friction_, warm_active_,
-      warm_impulses_.size() == constraints_.size() ? std::span<const Vec3>(warm_impulses_)
-                                                   : std::span<const Vec3>());
-  // The same pairs, in the same order, until the next certificate.
-  warm_impulses_ = solved.impulses;
-  stats.qp_iterations = solved.iterations;
-  const Vec6 step = solved.converged ? solved.step : Vec6::Zero();  // else the proxy stays
-
-  // Stay within the certificate's reach: the largest fraction of the step
-  // that does (the reach bound is continuous in the fraction, and the
-  // start lies within it).
-  const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius,
-                                                certifier_.reach(certificate_));
-  stats.bounded = fraction < 1;
-  const Vec6 moved = fraction * step;
-  if (fraction > 0) pose_ = frames.tool_frame(displaced(start, moved));
+  // Solve, move, and check every listed pair's exact distance at the end
+  // pose; a pair that fell short of its floor (the linearised constraint
+  // missed a rotation's second-order motion, or an edge pair's sliding
+  // closest points) is asked for its shortfall more in a new solve. What
+  // still falls short after kCorrections solves is cut to the largest
+  // fraction of the step that keeps every pair above its floor.
+  Vec6 moved = Vec6::Zero();
+  for (int pass = 0;; ++pass) {
+    const ConstrainedStep& solved = solver_.solve(
+        coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
+        constraints_, constraint_friction_, warm_active_,
+        warm_impulses_.size() == constraints_.size() ? std::span<const Vec3>(warm_impulses_)
+                                                     : std::span<const Vec3>());
+    // The same pairs, in the same order, until the next certificate.
+    warm_impulses_ = solved.impulses;
+    stats.qp_iterations += solved.iterations;
+    const Vec6 step = solved.converged ? solved.step : Vec6::Zero();  // else the proxy stays
+    // Stay within the certificate's reach: the largest fraction of the step
+    // that does (the reach bound is continuous in the fraction, and the
+    // start lies within it).
+    const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius,
+                                                  certifier_.reach(certificate_));
+    stats.bounded = fraction < 1;
+    moved = fraction * step;
+    stats.pairs_evaluated += static_cast<int64_t>(constraints_.size());
+    if (worst_margin(displaced(start, moved)) >= 0) break;
+    if (pass == kCorrections) {
+      // The start keeps every pair above its floor: bisect the fraction.
+      double safe = 0, unsafe = 1;
+      for (int i = 0; i < kCutBisections; ++i) {
+        const double middle = 0.5 * (safe + unsafe);
+        stats.pairs_evaluated += static_cast<int64_t>(constraints_.size());
+        (worst_margin(displaced(start, middle * moved)) >= 0 ? safe : unsafe) = middle;
+      }
+      moved *= safe;
+      stats.cut = true;
+      break;
+    }
+    for (std::size_t k = 0; k < constraints_.size(); ++k)
+      if (end_distances_[k] < floors_[k])
+        constraints_[k].rhs += settings_.standoff_m - end_distances_[k];
+    ++stats.corrections;
+  }
+  if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(displaced(start, moved));
 
   // Contacts at the new pose: the pairs that may now be within the contact
   // distance (no pair came closer than the motion's reach).

@@ -13,10 +13,21 @@
 // (bounded by |Δc| + |φ| r, r the tool's radius about its centre of mass),
 // so every pair not listed stays at least `standoff` apart, along the
 // straight path between any two poses too. The listed pairs are the
-// constraints of the solve: n·(δc + φ × r_k) ≥ −(d_k − standoff), n the
-// direction between the pair's closest points and d_k their distance. For
-// translations this is a sufficient condition (a feature pair's distance is
-// convex in the translation); rotations add at most |φ|² r / 2 per tick.
+// constraints of the solve: n·(δc + φ × r_k) ≥ standoff − d_k, n the
+// direction between the pair's closest points and d_k their distance: a pair
+// closer than the standoff is pushed back out to it. The linearised
+// constraint is exact for a vertex–face pair under translation; a rotation
+// moves a contact point by a further ½ φ × (φ × r), toward the surface when
+// the point lies beyond the centre of mass along the normal (a hook), and an
+// edge–edge pair's closest points slide along nearly parallel edges by far
+// more. So after the solve every listed pair's exact distance at the end
+// pose is measured, signed by the side the pair started on (a pair whose
+// direction between closest points turned over has crossed); a pair short
+// of its floor, min(standoff − kStandoffSlackM, d_k) (never below where it
+// started the tick, so no floor creeps down tick by tick), is asked for its
+// shortfall more in a new solve (at most kCorrections times), and what
+// still falls short is cut to the largest fraction of the step that keeps
+// every pair above its floor. The floor holds at every tick.
 #pragma once
 
 #include <cstdint>
@@ -38,10 +49,19 @@ struct HapticSolveStats {
   int64_t pairs_evaluated = 0;  ///< feature pairs re-evaluated at the proxy's pose
   int64_t qp_iterations = 0;
   bool bounded = false;  ///< the motion was shortened to stay within the certificate's reach
+  int corrections = 0;   ///< solves repeated for pairs that fell short of their floor
+  bool cut = false;      ///< the step was cut to keep every pair above its floor
 };
 
 class HapticProxy {
  public:
+  /// How far below the standoff a listed pair may end a tick (m).
+  static constexpr double kStandoffSlackM = 1e-7;
+  /// Solves repeated with corrected right-hand sides before a cut.
+  static constexpr int kCorrections = 2;
+  /// Halvings of the fraction when a step is cut.
+  static constexpr int kCutBisections = 20;
+
   /// `ccd` must outlive the proxy. Settings as for the slow loop's solver.
   /// friction: Coulomb μ per scene object (MeshCcd's indices); empty: none.
   HapticProxy(const MeshCcd& ccd, const CouplingGains& gains, const GodObjectSettings& settings,
@@ -78,9 +98,16 @@ class HapticProxy {
   /// Listed pairs within the contact distance at the current pose.
   const std::vector<Contact>& contacts() const { return contacts_; }
   const ProximityCertificate& certificate() const { return certificate_; }
+  /// The least distance (m) between the features of a listed pair at the
+  /// current pose; infinity without listed pairs.
+  double least_listed_distance() const;
 
  private:
   double coupling_energy(const Pose& tool_pose, const Pose& target) const;
+  /// The least margin over the listed pairs at the centre-of-mass pose
+  /// `com_pose`: signed distance (by the side the pair started the tick on)
+  /// minus its floor; fills end_distances_.
+  double worst_margin(const Pose& com_pose);
 
   ProximityCertifier certifier_;
   CouplingGains gains_;
@@ -95,7 +122,9 @@ class HapticProxy {
   ProximityCertificate certificate_;
   Pose pose_;
   std::vector<Contact> contacts_;
-  std::vector<double> distances_;  ///< per listed pair at the start of the tick (m)
+  std::vector<double> distances_;      ///< per listed pair at the start of the tick (m)
+  std::vector<double> floors_;         ///< per listed pair: the least distance it may end at (m)
+  std::vector<double> end_distances_;  ///< per listed pair at the end pose tried, signed (m)
 };
 
 }  // namespace hb

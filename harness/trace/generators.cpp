@@ -341,6 +341,30 @@ GeneratedTrace generate_twist(const GeneratorRequest& request) {
   });
 }
 
+// Press to depth over the first press_fraction of the duration, then turn at
+// a constant rate about turn_axis through the tool frame's origin, held
+// pressed, to the end: a sustained rotation in contact.
+GeneratedTrace generate_turn(const GeneratorRequest& request) {
+  const ParamSet& params = request.params;
+  const PressGeometry g = press_geometry(params, "start", 0.002);
+  const Vec3 turn_axis = direction_param(params, "turn_axis", Vec3(0, 1, 0));
+  const double rate = params.number("rate_rad_s", 4.0, 0.0, 100.0);
+  const double press = params.number("press_fraction", 0.25, 0.01, 0.97);
+  params.reject_unknown();
+  const double duration = sampled_duration_s(request);
+  const double turn_begin = press * duration;
+  const std::vector<Keyframe> press_in = {{0.0, {g.start, g.q}}, {turn_begin, {g.deepest(), g.q}}};
+  return sample_motion("turn", request, [=](double t) {
+    if (t <= turn_begin) return keyframe_state(press_in, t);
+    MotionState state;
+    state.pose.p = g.deepest();
+    state.pose.q =
+        (quat_from_rotation_vector(rate * (t - turn_begin) * turn_axis) * g.q).normalized();
+    state.twist.w = rate * turn_axis;
+    return state;
+  });
+}
+
 GeneratedTrace generate_peg_in_hole(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const Vec3 hole = point_param(params, "hole", Vec3(0, 0, 0));
@@ -610,6 +634,10 @@ constexpr GeneratorEntry kGenerators[] = {
     {"rub", "press to depth and rub in circles of radius for turns, lift", generate_rub},
     {"twist", "press to depth and oscillate by angle about the press axis, release",
      generate_twist},
+    {"turn",
+     "press to depth, then turn at rate_rad_s about turn_axis through the tool frame's "
+     "origin, held pressed, to the end",
+     generate_turn},
     {"peg_in_hole",
      "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z, twist "
      "by twist_rad",

@@ -5,9 +5,12 @@
 #include "algorithms/god_object/haptic_proxy.h"
 
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <random>
 
+#include "algorithms/core/mass_properties.h"
 #include "algorithms/core/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
@@ -106,6 +109,146 @@ TEST_CASE("random device motions at the haptic rate never carry a cube vertex be
     if (!rig.proxy.contacts().empty()) ++contact_ticks;
   }
   CHECK(contact_ticks > 500);  // the walk did press on the face
+}
+
+// An L-shaped hook (a 1 × 2 × 11 cm stem, a 7 cm arm at its top) whose tool
+// frame is the middle of the arm tip's lower edge, over a 40 × 40 × 4 cm
+// slab whose top face is z = 0, the stem hanging 2 cm beside it.
+struct HookOnSlab {
+  RenderContext context;
+  GodObjectSettings settings;
+  GodObjectSolver solver;
+  HapticProxy proxy;
+
+  HookOnSlab()
+      : context(make_context()),
+        solver(context, settings),
+        proxy(solver.ccd(), context.coupling, settings, context.tool.mass.centre_of_mass) {}
+
+  static RenderContext make_context() {
+    RenderContext context;
+    SceneObject slab =
+        test::box_object(Vec3(0.4, 0.4, 0.04), Pose{Vec3(0, 0, -0.02), Quat::Identity()});
+    slab.mesh = shape_mesh(*slab.shape);
+    context.scene.push_back(slab);
+    // The L in the x–z plane, counter-clockwise, extruded 2 cm along y.
+    const double outline[6][2] = {{-0.08, -0.1}, {-0.07, -0.1}, {-0.07, 0},
+                                  {0, 0},        {0, 0.01},     {-0.08, 0.01}};
+    TriangleMesh& mesh = context.tool.mesh;
+    for (double y : {-0.01, 0.01})
+      for (const auto& xz : outline) mesh.vertices.push_back(Vec3(xz[0], y, xz[1]));
+    const std::array<int, 3> cap[4] = {{0, 1, 2}, {0, 2, 5}, {2, 3, 4}, {2, 4, 5}};
+    for (const auto& t : cap) {
+      mesh.triangles.push_back({t[0], t[2], t[1]});  // y = −1 cm, facing −y
+      mesh.triangles.push_back({6 + t[0], 6 + t[1], 6 + t[2]});
+    }
+    for (int i = 0; i < 6; ++i) {
+      const int j = (i + 1) % 6;
+      mesh.triangles.push_back({i, 6 + i, 6 + j});
+      mesh.triangles.push_back({i, 6 + j, j});
+    }
+    context.tool.mass = mass_properties_from_density(mesh, 1000);
+    context.coupling = test::example_gains();
+    return context;
+  }
+
+  // The lowest tool vertex over the slab (|x|, |y| ≤ 0.2), m above its top.
+  double lowest_vertex_over_slab() const {
+    double lowest = 1e300;
+    for (const Vec3& vertex : context.tool.mesh.vertices) {
+      const Vec3 p = proxy.pose().transform_point(vertex);
+      if (std::abs(p.x()) <= 0.2 && std::abs(p.y()) <= 0.2) lowest = std::min(lowest, p.z());
+    }
+    return lowest;
+  }
+};
+
+TEST_CASE("a hook turned about its tip never sinks below the standoff, at 2, 4 and 8 rad/s") {
+  // The tip presses on the top face 5 cm in from the edge; the device then
+  // turns about the horizontal axis through the tip, lifting the arm: the
+  // proxy pivots on the tip, which lies above the centre of mass (r·n > 0),
+  // so each rotating tick's second-order motion carries the tip toward the
+  // face. Before the haptic proxy measured the pairs after its step, the tip
+  // sank through the face at 4 rad/s.
+  for (double rate : {2.0, 4.0, 8.0}) {
+    HookOnSlab rig;
+    REQUIRE(rig.context.tool.mass.centre_of_mass.z() < -0.01);  // the contact lies above it
+    const Vec3 tip(-0.15, 0, 0);
+    rig.proxy.reset(at(tip + Vec3(0, 0, 0.005)));
+    double least_pair = 1e300, least_vertex = 1e300;
+    int turning_contact_ticks = 0;
+    for (int tick = 0; tick < 1500; ++tick) {
+      // Down to 2 mm past the face in 0.2 s, then turning for 1.3 s.
+      const double t = 1e-3 * tick;
+      Pose target = at(tip + Vec3(0, 0, std::max(-0.002, 0.005 - 0.035 * t)));
+      if (t > 0.2) target.q = quat_from_rotation_vector(Vec3(0, rate * (t - 0.2), 0));
+      if (tick % 10 == 0)  // a slow loop at 100 Hz
+        rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                        rig.proxy.pose(), target);
+      rig.proxy.step(target);
+      least_pair = std::min(least_pair, rig.proxy.least_listed_distance());
+      least_vertex = std::min(least_vertex, rig.lowest_vertex_over_slab());
+      if (t > 0.2 && !rig.proxy.contacts().empty()) ++turning_contact_ticks;
+    }
+    INFO(rate << " rad/s: least listed pair " << least_pair << " m, least vertex height "
+              << least_vertex << " m");
+    CHECK(turning_contact_ticks > 200);  // it did pivot on the face
+    CHECK(least_pair >= rig.settings.standoff_m - 1e-6);
+    CHECK(least_vertex >= rig.settings.standoff_m - 1e-6);
+  }
+}
+
+// Signed distance (m) from `p` to the axis-aligned box of half-extents
+// `half` centred at `centre`: negative inside.
+double box_signed_distance(const Vec3& p, const Vec3& centre, const Vec3& half) {
+  const Vec3 q = (p - centre).cwiseAbs() - half;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+TEST_CASE(
+    "a cube's edge swept over the slab's edge keeps the standoff as the edges turn parallel") {
+  // A 4 cm cube turned 45° about y, so that its lowest edge is a ridge along
+  // y, pressed 1 mm (in intent) onto the slab right over the slab's edge
+  // x = 0.2 m, then yawed about the vertical through its centre: the ridge
+  // sweeps across the slab's edge and lies parallel to it at yaw 0, where
+  // an edge pair's closest points slide along the edges by far more than
+  // the rotation moves any point. Every point of every cube edge (sampled
+  // every 0.1 mm) stays outside the slab by the standoff, at every tick.
+  for (double rate : {0.5, 2.0}) {
+    CubeOnSlab rig;
+    const Vec3 slab_centre(0, 0, -0.01), slab_half(0.2, 0.2, 0.01);
+    const double ridge_below_centre = kCube / std::sqrt(2.0);
+    const Quat roll = quat_from_rotation_vector(Vec3(0, M_PI / 4, 0));
+    const Vec3 centre(0.2, 0, ridge_below_centre);
+    auto pose_at = [&](double yaw, double depth) {
+      return at(centre - Vec3(0, 0, depth), quat_from_rotation_vector(Vec3(0, 0, yaw)) * roll);
+    };
+    rig.proxy.reset(pose_at(0.3, -0.003));
+    double least = 1e300;
+    for (int tick = 0; tick < 1200; ++tick) {
+      const double t = 1e-3 * tick;
+      const double depth = std::min(0.001, -0.003 + 0.04 * t);
+      const double yaw = t < 0.2 ? 0.3 : 0.3 - rate * (t - 0.2);
+      const Pose target = pose_at(yaw, depth);
+      if (tick % 10 == 0)
+        rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                        rig.proxy.pose(), target);
+      rig.proxy.step(target);
+      const auto& v = rig.context.tool.mesh.vertices;
+      for (const auto& triangle : rig.context.tool.mesh.triangles)
+        for (int e = 0; e < 3; ++e) {
+          const Vec3 a = rig.proxy.pose().transform_point(v[triangle[e]]);
+          const Vec3 b = rig.proxy.pose().transform_point(v[triangle[(e + 1) % 3]]);
+          const int samples = static_cast<int>((b - a).norm() / 1e-4) + 1;
+          for (int i = 0; i <= samples; ++i)
+            least = std::min(least, box_signed_distance(a + (b - a) * (double(i) / samples),
+                                                        slab_centre, slab_half));
+        }
+    }
+    INFO(rate << " rad/s: least distance of a cube edge to the slab " << least << " m");
+    CHECK(least >= rig.settings.standoff_m - 1e-6);
+    CHECK(least < 1e-4);  // it did press on the slab
+  }
 }
 
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
