@@ -61,6 +61,7 @@ double HapticProxy::worst_margin(const Pose& com_pose) {
   double worst = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
     const PairContact contact = certifier_.evaluate(certificate_.pairs[k], com_pose);
+    end_contacts_[k] = contact;
     // The side each pair started the tick on: a pair whose direction
     // between closest points turned over has crossed.
     const double side = contact.normal.dot(constraints_[k].normal) >= 0 ? 1.0 : -1.0;
@@ -83,7 +84,6 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   constraints_.clear();
   constraint_friction_.clear();
   contacts_.clear();
-  distances_.clear();
   floors_.clear();
   for (const ContactFeatures& pair : certificate_.pairs) {
     const PairContact contact = certifier_.evaluate(pair, start);
@@ -92,10 +92,10 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
                                            settings_.standoff_m - contact.distance});
     constraint_friction_.push_back(
         pair.scene_object < static_cast<int>(friction_.size()) ? friction_[pair.scene_object] : 0);
-    distances_.push_back(contact.distance);
     floors_.push_back(std::min(settings_.standoff_m - kStandoffSlackM, contact.distance));
   }
   end_distances_.assign(constraints_.size(), 0);
+  end_contacts_.resize(constraints_.size());
 
   // Solve, move, and check every listed pair's exact distance at the end
   // pose; a pair that fell short of its floor (the linearised constraint
@@ -132,6 +132,7 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
         (worst_margin(displaced(start, middle * moved)) >= 0 ? safe : unsafe) = middle;
       }
       moved *= safe;
+      worst_margin(displaced(start, moved));  // the pairs at the pose kept
       stats.cut = true;
       break;
     }
@@ -142,13 +143,9 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   }
   if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(displaced(start, moved));
 
-  // Contacts at the new pose: the pairs that may now be within the contact
-  // distance (no pair came closer than the motion's reach).
-  const double moved_reach = point_reach(moved, radius);
-  const Pose end = frames.com_frame(pose_);
-  for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
-    if (distances_[k] > settings_.contact_distance_m + moved_reach) continue;
-    const PairContact contact = certifier_.evaluate(certificate_.pairs[k], end);
+  // Contacts at the new pose: the pairs within the contact distance, as
+  // measured there by the last check.
+  for (const PairContact& contact : end_contacts_) {
     if (contact.distance > settings_.contact_distance_m) continue;
     contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
   }

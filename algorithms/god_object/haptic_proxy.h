@@ -106,7 +106,7 @@ class HapticProxy {
   double coupling_energy(const Pose& tool_pose, const Pose& target) const;
   /// The least margin over the listed pairs at the centre-of-mass pose
   /// `com_pose`: signed distance (by the side the pair started the tick on)
-  /// minus its floor; fills end_distances_.
+  /// minus its floor; fills end_distances_ and end_contacts_.
   double worst_margin(const Pose& com_pose);
 
   ProximityCertifier certifier_;
@@ -122,9 +122,9 @@ class HapticProxy {
   ProximityCertificate certificate_;
   Pose pose_;
   std::vector<Contact> contacts_;
-  std::vector<double> distances_;      ///< per listed pair at the start of the tick (m)
   std::vector<double> floors_;         ///< per listed pair: the least distance it may end at (m)
   std::vector<double> end_distances_;  ///< per listed pair at the end pose tried, signed (m)
+  std::vector<PairContact> end_contacts_;  ///< per listed pair at the end pose tried
 };
 
 }  // namespace hb

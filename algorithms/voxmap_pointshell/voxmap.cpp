@@ -387,6 +387,35 @@ SceneVoxmap build_scene_voxmap(const std::vector<SceneObject>& scene,
   return result;
 }
 
+namespace {
+
+// Whether the voxel at `c` is a surface voxel: its centre within half a
+// voxel of the surface (|φ| < h/2: about one point per h² of surface), or,
+// of a pair of 6-neighbours on opposite sides of the surface (φ ≤ 0 inside,
+// φ > 0 outside), the one nearer it (the inside one on a tie). The second
+// rule makes every place where the surface passes between two voxel centres
+// give a point, whatever the alignment: a face lying exactly halfway between
+// two layers of centres (φ = ±h/2 on both, within float rounding) gives one
+// layer, where |φ| < h/2 alone could keep neither (a 3 cm cube at 2 mm had
+// an empty pointshell).
+bool is_surface_voxel(const openvdb::FloatGrid::ConstAccessor& at, const openvdb::Coord& c,
+                      double spacing_m) {
+  const float here = at.getValue(c);
+  if (std::abs(here) < 0.5 * spacing_m) return true;
+  for (int a = 0; a < 3; ++a)
+    for (int sign : {-1, 1}) {
+      openvdb::Coord step(0, 0, 0);
+      step[a] = sign;
+      const float there = at.getValue(c + step);
+      if ((here <= 0) == (there <= 0)) continue;
+      const float near = std::abs(here), far = std::abs(there);
+      if (near < far || (near == far && here <= 0)) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
 PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_m,
                                   const CacheSettings& cache) {
   initialise_openvdb();
@@ -422,8 +451,8 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
     openvdb::Int32Grid::ConstAccessor closest_at = closest.getConstAccessor();
     openvdb::Vec3SGrid::Accessor out = normals->getAccessor();
     for (auto v = phi->cbeginValueOn(); v; ++v) {
-      if (std::abs(*v) > 0.5 * spacing_m) continue;
       const openvdb::Coord c = v.getCoord();
+      if (!is_surface_voxel(at, c, spacing_m)) continue;
       Vec3 gradient;
       for (int a = 0; a < 3; ++a) {
         openvdb::Coord step(0, 0, 0);
@@ -442,7 +471,9 @@ PointShellPoints build_pointshell(const TriangleMesh& tool_mesh, double spacing_
       out.setValue(c, openvdb::Vec3s(static_cast<float>(inward.x()), static_cast<float>(inward.y()),
                                      static_cast<float>(inward.z())));
     }
-    if (cache.enabled) {
+    // An empty pointshell (a tool within one voxel) is refused by the
+    // renderer: never cached.
+    if (cache.enabled && normals->activeVoxelCount() > 0) {
       write_cache(disk, key, openvdb::GridCPtrVec{normals}, result.stats.cache_problem);
     }
   }

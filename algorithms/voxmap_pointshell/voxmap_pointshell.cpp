@@ -149,6 +149,13 @@ class VoxmapPointShellRenderer : public Renderer {
     check_pointshell_size(context.tool.mesh, settings.pointshell_spacing_m, params);
     const PointShellPoints points =
         build_pointshell(context.tool.mesh, settings.pointshell_spacing_m, cache);
+    if (points.points.empty())
+      throw InputError(
+          "", params.field(params.has("pointshell_spacing") ? "pointshell_spacing" : "voxel_size"),
+          "the tool (" + std::to_string(context.tool.mesh.triangles.size()) +
+              " triangles) has no surface voxel at a pointshell spacing of " +
+              std::to_string(settings.pointshell_spacing_m) +
+              " m: it fits within one voxel; use a smaller spacing");
     shell_ = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass);
     shell_stats_ = points.stats;
     scene_ = build_scene_voxmap(context.scene, region, settings.voxmap, cache);

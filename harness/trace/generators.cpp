@@ -341,9 +341,13 @@ GeneratedTrace generate_twist(const GeneratorRequest& request) {
   });
 }
 
-// Press to depth over the first press_fraction of the duration, then turn at
-// a constant rate about turn_axis through the tool frame's origin, held
-// pressed, to the end: a sustained rotation in contact.
+// Press to depth over the first press_fraction of the duration, then turn
+// about turn_axis through the tool frame's origin, held pressed, to the end:
+// a sustained rotation in contact. The rate rises to rate_rad_s along a
+// minimum-jerk profile over the first kTurnRampS (or a tenth of the turn,
+// if shorter), so that the motion starts from rest.
+constexpr double kTurnRampS = 0.05;
+
 GeneratedTrace generate_turn(const GeneratorRequest& request) {
   const ParamSet& params = request.params;
   const PressGeometry g = press_geometry(params, "start", 0.002);
@@ -353,14 +357,17 @@ GeneratedTrace generate_turn(const GeneratorRequest& request) {
   params.reject_unknown();
   const double duration = sampled_duration_s(request);
   const double turn_begin = press * duration;
+  const double ramp = std::min(kTurnRampS, 0.1 * (duration - turn_begin));
   const std::vector<Keyframe> press_in = {{0.0, {g.start, g.q}}, {turn_begin, {g.deepest(), g.q}}};
   return sample_motion("turn", request, [=](double t) {
     if (t <= turn_begin) return keyframe_state(press_in, t);
+    const double since = t - turn_begin;
+    const double angle = since < ramp ? rate * ramp * min_jerk_integral(since / ramp)
+                                      : rate * (0.5 * ramp + since - ramp);
     MotionState state;
     state.pose.p = g.deepest();
-    state.pose.q =
-        (quat_from_rotation_vector(rate * (t - turn_begin) * turn_axis) * g.q).normalized();
-    state.twist.w = rate * turn_axis;
+    state.pose.q = (quat_from_rotation_vector(angle * turn_axis) * g.q).normalized();
+    state.twist.w = rate * (since < ramp ? min_jerk(since / ramp) : 1.0) * turn_axis;
     return state;
   });
 }
@@ -635,8 +642,8 @@ constexpr GeneratorEntry kGenerators[] = {
     {"twist", "press to depth and oscillate by angle about the press axis, release",
      generate_twist},
     {"turn",
-     "press to depth, then turn at rate_rad_s about turn_axis through the tool frame's "
-     "origin, held pressed, to the end",
+     "press to depth, then turn at rate_rad_s (reached in 0.05 s) about turn_axis through the "
+     "tool frame's origin, held pressed, to the end",
      generate_turn},
     {"peg_in_hole",
      "approach a hole misaligned by offset and tilt_rad, insert insert_depth along -z, twist "

@@ -338,6 +338,52 @@ TEST_CASE("a free-space tick looks up no points", "[voxmap_pointshell]") {
   }
 }
 
+TEST_CASE("a 3 cm cube at 2 mm voxels renders its press, in both variants", "[voxmap_pointshell]") {
+  // Its faces lie halfway between two layers of voxel centres (7.5 voxels
+  // from its centre): the pointshell was empty and the run showed the
+  // coupling alone.
+  RenderContext context = sphere_over_slab();
+  context.tool = test::box_tool(Vec3::Constant(0.03));
+  context.tool.mesh = shape_mesh(*context.tool.shape);
+  context.tool.content_hash = "cube 3 cm";
+  for (const char* variant : {"voxmap", "signed_distance"}) {
+    INFO(variant);
+    const std::unique_ptr<Renderer> renderer = create_voxmap_pointshell(
+        context, params_of({{"voxel_size", 0.002}, {"variant", std::string(variant)}}));
+    // The cube's centre from 4 mm above contact (z = 1.5 cm) to 3 mm deep.
+    std::vector<DeviceSample> trace;
+    for (int k = 0; k < 1200; ++k) {
+      DeviceSample s;
+      s.tick = k;
+      s.t_ns = k * 1'000'000LL;
+      s.pose.p = Vec3(0, 0, std::max(0.012, 0.019 - 1e-5 * k));
+      trace.push_back(s);
+    }
+    const TickResult last = run(*renderer, trace);
+    CHECK_FALSE(last.contacts.empty());
+    CHECK(last.display.force.z() > 2.0);  // about k_t × 3 mm against the face
+  }
+}
+
+TEST_CASE("a tool within one voxel is refused, naming the spacing", "[voxmap_pointshell]") {
+  // A 1.2 mm sphere centred between voxel centres (1 mm from each axis
+  // plane at 2 mm voxels): no voxel centre inside, no surface voxel.
+  RenderContext context = sphere_over_slab();
+  context.tool = test::sphere_tool(0.0006);
+  context.tool.shape->subdivisions = 2;
+  context.tool.mesh = shape_mesh(*context.tool.shape);
+  for (Vec3& vertex : context.tool.mesh.vertices) vertex += Vec3::Constant(0.001);
+  context.tool.mass.centre_of_mass = Vec3::Constant(0.001);
+  context.tool.content_hash = "sphere 0.6 mm between voxel centres";
+  try {
+    create_voxmap_pointshell(context, params_of({{"voxel_size", 0.002}}));
+    FAIL("a 1.2 mm sphere at 2 mm voxels was accepted");
+  } catch (const InputError& error) {
+    CHECK(error.location() == "/algorithms/0/params/voxel_size");
+    CHECK(std::string(error.what()).find("no surface voxel") != std::string::npos);
+  }
+}
+
 TEST_CASE("bad parameters are named by field", "[voxmap_pointshell]") {
   const auto location_of = [](const ParamSet& params,
                               const RenderContext& in = sphere_over_slab()) -> std::string {

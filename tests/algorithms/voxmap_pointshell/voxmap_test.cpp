@@ -364,6 +364,64 @@ TEST_CASE("pointshell points are surface voxel centres with inward normals",
   }
 }
 
+TEST_CASE("the pointshell covers a closed tool at the spacing whatever its alignment with the grid",
+          "[voxmap_pointshell]") {
+  // Cubes whose faces lie on a plane of voxel centres (half-size k·h) and
+  // halfway between two (half-size (k + ½)·h, where φ = ±h/2 on both sides
+  // and the earlier rule |φ| ≤ h/2 could keep no point at all: a 3 cm cube
+  // at 2 mm had an empty pointshell), and a sphere. One layer of points per
+  // face: about 6 (L/h)² for a cube of edge L, every point within a voxel's
+  // half-diagonal of the surface, every surface sample within one of a point
+  // (a small cube shares its edges: n³ − (n − 2)³ points, 0.74 × 6 n² at n = 7).
+  const double h = 0.002;
+  std::vector<std::pair<std::string, TriangleMesh>> tools;
+  for (double half_in_voxels : {3.0, 3.5, 5.0, 7.5, 8.0, 10.5}) {
+    Shape cube;
+    cube.type = ShapeType::kBox;
+    cube.size = Vec3::Constant(2 * half_in_voxels * h);
+    tools.emplace_back("cube of half-size " + std::to_string(half_in_voxels) + " h",
+                       shape_mesh(cube));
+  }
+  Shape sphere;
+  sphere.type = ShapeType::kSphere;
+  sphere.radius = 0.0075;
+  sphere.subdivisions = 4;
+  tools.emplace_back("sphere of radius 7.5 mm", shape_mesh(sphere));
+  for (const auto& [name, mesh] : tools) {
+    INFO(name);
+    const PointShellPoints shell = build_pointshell(mesh, h, no_cache());
+    double area = 0;
+    for (const auto& t : mesh.triangles)
+      area += 0.5 * (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                        .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]])
+                        .norm();
+    const double expected = area / (h * h);
+    CHECK(shell.points.size() >= 0.7 * expected);  // n³ − (n − 2)³ of 6 n² on small cubes
+    CHECK(shell.points.size() <= 1.6 * expected);
+    // Distances to the surface, brute force over the triangles' samples.
+    std::vector<Vec3> surface;
+    for (const auto& t : mesh.triangles) {
+      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      const int n = static_cast<int>(std::max((b - a).norm(), (c - a).norm()) / (0.25 * h)) + 1;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+          surface.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+    }
+    const auto nearest = [](const Vec3& p, const std::vector<Vec3>& set) {
+      double best = 1e300;
+      for (const Vec3& q : set) best = std::min(best, (p - q).squaredNorm());
+      return std::sqrt(best);
+    };
+    double farthest_point = 0, worst_cover = 0;
+    for (const Vec3& p : shell.points)
+      farthest_point = std::max(farthest_point, nearest(p, surface));
+    for (std::size_t i = 0; i < surface.size(); i += 7)
+      worst_cover = std::max(worst_cover, nearest(surface[i], shell.points));
+    CHECK(farthest_point <= 0.5 * std::sqrt(3.0) * h + 0.25 * h);
+    CHECK(worst_cover <= h);
+  }
+}
+
 TEST_CASE("a second build loads the cache, a corrupt cache file is rebuilt",
           "[voxmap_pointshell]") {
   test::ScratchDir dir("voxmap_cache");

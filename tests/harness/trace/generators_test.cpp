@@ -131,9 +131,9 @@ double energy_fraction_from(const std::vector<double>& x, std::size_t first_bin,
   return above / total;
 }
 
-const std::vector<std::string> kAllGenerators = {"press",       "slide", "rub",        "twist",
-                                                 "peg_in_hole", "path",  "human_like", "impact",
-                                                 "jump",        "rest"};
+const std::vector<std::string> kAllGenerators = {"press",  "slide",       "rub",  "twist",
+                                                 "turn",   "peg_in_hole", "path", "human_like",
+                                                 "impact", "jump",        "rest"};
 
 }  // namespace
 
@@ -293,6 +293,25 @@ TEST_CASE("twist: oscillates by the amplitude about the press axis at depth") {
   CHECK(std::abs(2 * std::atan2(q_end.z(), q_end.w())) == Approx(0.5).epsilon(1e-12));
   CHECK(quarter.samples.back().pose.q.isApprox(hb::Quat::Identity(), 1e-15));
   check_twists_match_poses(quarter);
+}
+
+TEST_CASE("turn: pressed, then a constant turn about the axis through the tool frame's origin") {
+  hb::ParamSet params("/trace/params");
+  params.set("rate_rad_s", 3.0);
+  const hb::Trace trace = generate("turn", 2.0, 1, params);
+  // Defaults: start [0, 0, 0.03], 0.01 + 0.002 down -z, turn about +y from
+  // 0.5 s, reaching the rate in 0.05 s (half that time's worth of angle).
+  for (const auto& sample : trace.samples) {
+    const double t = seconds(sample);
+    if (t < 0.55) continue;
+    CHECK(sample.pose.p.z() == Approx(0.018).epsilon(1e-14));
+    const hb::Vec3 turned = hb::rotation_vector(sample.pose.q);
+    CHECK(turned.y() == Approx(std::remainder(3.0 * (t - 0.525), 2 * M_PI)).margin(1e-9));
+    CHECK(std::abs(turned.x()) + std::abs(turned.z()) < 1e-12);
+    REQUIRE(sample.twist);
+    CHECK(sample.twist->w.isApprox(hb::Vec3(0, 3.0, 0), 1e-15));
+  }
+  check_twists_match_poses(trace);
 }
 
 TEST_CASE("peg_in_hole: misalignment and tilt decay linearly with insertion depth") {
@@ -534,8 +553,9 @@ TEST_CASE("bad names, durations and parameters are InputErrors naming the field"
       CHECK(error.location() == "/trace/generator");
       const std::string message = error.what();
       CHECK(message.find("unknown generator \"wobble\"") != std::string::npos);
-      CHECK(message.find("press, slide, rub, twist, peg_in_hole, path, human_like, impact, jump, "
-                         "rest") != std::string::npos);
+      CHECK(message.find(
+                "press, slide, rub, twist, turn, peg_in_hole, path, human_like, impact, jump, "
+                "rest") != std::string::npos);
     }
   }
   SECTION("unknown parameter, for every generator") {
