@@ -469,12 +469,23 @@ bool BoxTunnellingDetector::update(const Vec3& origin_world) {
   const Vec3 h = scene_.box_half_extents;
   const Vec3 gap = p - p.cwiseMax(-h).cwiseMin(h);
   const double distance = gap.norm();
-  if (!(distance > 0)) return false;  // inside or on the surface: wait for it to come out
+  if (!(distance > 0)) {  // inside or on the surface: wait for it to come out
+    last_tick_outside_ = false;
+    return false;
+  }
   const Vec3 side = gap / distance;
-  const bool passed =
-      last_point_ && last_side_.dot(side) < 0 && segment_meets_box(*last_point_, p, h);
+  bool passed = false;
+  if (last_point_) {
+    // Consecutive ticks outside: any straight path through the solid
+    // (deeper than kTunnellingDepthM) counts, a corner cut included.
+    // After ticks inside: only a crossing to the other side.
+    const Vec3 shrunk = (h.array() - kTunnellingDepthM).cwiseMax(0.0).matrix();
+    passed = (last_tick_outside_ && segment_meets_box(*last_point_, p, shrunk)) ||
+             (last_side_.dot(side) < 0 && segment_meets_box(*last_point_, p, h));
+  }
   last_point_ = p;
   last_side_ = side;
+  last_tick_outside_ = true;
   return passed;
 }
 

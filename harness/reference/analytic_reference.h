@@ -155,6 +155,7 @@ class BoxTunnellingDetector final : public TunnellingDetector {
   const AnalyticScene& scene_;
   std::optional<Vec3> last_point_;  ///< box frame, m: the last position outside
   Vec3 last_side_ = Vec3::Zero();   ///< unit, box frame: its side then
+  bool last_tick_outside_ = false;  ///< the previous tick's position was outside
 };
 
 }  // namespace hb

@@ -29,6 +29,28 @@ bool path_meets_surface(const Oracle& oracle, const Vec3& a, const Vec3& b, doub
   return true;
 }
 
+bool path_enters_solid(const Oracle& oracle, const Vec3& a, const Vec3& b, double depth_m) {
+  constexpr int kMaxSteps = 100000;
+  const double length = (b - a).norm();
+  if (!(length > 0)) return false;
+  const Vec3 direction = (b - a) / length;
+  PointQueryRequest request;
+  request.want_closest = true;
+  request.want_inside = true;
+  PointQueryResult result;
+  double travelled = 0;
+  for (int step = 0; step < kMaxSteps && travelled < length; ++step) {
+    const std::array<Vec3, 1> point = {a + std::min(travelled + depth_m, length) * direction};
+    request.points = point;
+    oracle.query_points(request, result);
+    if (result.inside[0]) return true;  // depth_m past a point on the path: inside
+    const double distance = result.distance[0];
+    // No surface within `distance` of the probe: the path up to there is clear.
+    travelled += std::max(distance, depth_m);
+  }
+  return false;
+}
+
 bool OracleTunnellingDetector::update(const Vec3& origin_world) {
   if (!origin_world.allFinite()) return false;
   const std::array<Vec3, 1> point = {origin_world};
@@ -37,14 +59,24 @@ bool OracleTunnellingDetector::update(const Vec3& origin_world) {
   request.want_inside = true;
   request.want_closest = true;
   oracle_.query_points(request, query_);
-  if (query_.inside[0]) return false;  // wait for it to come out
   const double distance = query_.distance[0];
-  if (!(distance > 0)) return false;  // on the surface, or no surface at all
+  if (query_.inside[0] || !(distance > 0)) {  // wait for it to come out
+    last_tick_outside_ = false;
+    return false;
+  }
   const Vec3 side = (origin_world - query_.closest[0]) / distance;
-  const bool passed = last_point_ && last_side_.dot(side) < 0 &&
-                      path_meets_surface(oracle_, *last_point_, origin_world);
+  bool passed = false;
+  if (last_point_) {
+    // Consecutive ticks outside: any path through the solid counts; and, as
+    // after ticks inside, a crossing to the other side (an open sheet has
+    // no inside to go through).
+    passed = (last_tick_outside_ &&
+              path_enters_solid(oracle_, *last_point_, origin_world, kTunnellingDepthM)) ||
+             (last_side_.dot(side) < 0 && path_meets_surface(oracle_, *last_point_, origin_world));
+  }
   last_point_ = origin_world;
   last_side_ = side;
+  last_tick_outside_ = true;
   return passed;
 }
 

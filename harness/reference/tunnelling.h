@@ -1,15 +1,17 @@
 // Tunnelling: the proxy passing through a scene object between ticks, the
 // failure of discrete contact detection at speed. Both detectors follow the
 // proxy's tool origin (its reference point, world frame, m) tick by tick and
-// use one definition: the origin has passed through the scene when, between
-// two ticks on which it is outside the scene, the side of the surface it is
-// on turns by more than 90° (the directions from the nearest surface point
-// to it point away from each other) and the straight path between the two
-// positions meets the surface. Going round an edge or a corner turns the
-// side a little each tick and is not counted; leaving by the face it
-// entered is not counted. Ticks with the origin inside are skipped: the
-// proxy sinking in and coming back out the way it came is penetration, not
-// tunnelling.
+// use one definition. Between two consecutive ticks with the origin outside
+// the scene, the origin has passed through the scene when the straight path
+// between its positions goes deeper than kTunnellingDepthM into the solid
+// (a cut across a corner counts: the tick skipped the surface). After ticks
+// with the origin inside, it has passed through when it comes out on the
+// other side: the side of the surface it is on turned by more than 90° (the
+// directions from the nearest surface point to it point away from each
+// other) and the straight path between the last position outside and this
+// one meets the surface; sinking in and coming back out the way it came is
+// penetration, not tunnelling. The tool's other points are not followed:
+// the origin's path is the measure.
 #pragma once
 
 #include <optional>
@@ -18,6 +20,10 @@
 #include "harness/reference/oracle.h"
 
 namespace hb {
+
+/// How deep (m) a straight path between two ticks outside must go into the
+/// solid to count as passing through it.
+inline constexpr double kTunnellingDepthM = 1e-6;
 
 class TunnellingDetector {
  public:
@@ -39,8 +45,16 @@ class OracleTunnellingDetector final : public TunnellingDetector {
   const Oracle& oracle_;
   std::optional<Vec3> last_point_;  ///< m, world: the last position outside
   Vec3 last_side_ = Vec3::Zero();   ///< unit, world: its side then
+  bool last_tick_outside_ = false;  ///< the previous tick's position was outside
   PointQueryResult query_;          ///< scratch
 };
+
+/// Whether the straight path from a to b (m, world) goes deeper than
+/// `depth_m` into the oracle's solid: sphere tracing to each point where it
+/// meets the surface, then an inside test `depth_m` further along (a path
+/// that only grazes the surface does not count). Open (distance_only)
+/// objects have no inside: meeting their sheet counts.
+bool path_enters_solid(const Oracle& oracle, const Vec3& a, const Vec3& b, double depth_m);
 
 /// Whether the straight path from a to b (m, world) meets the oracle's scene
 /// surface: sphere tracing with the oracle's unsigned distance, which never

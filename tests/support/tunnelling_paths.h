@@ -42,6 +42,13 @@ inline std::vector<TunnellingPath> plate_tunnelling_paths() {
        {{0.10005, 0, 0.002}, {0.10005, 0, -0.002}},
        0},
       {"a non-finite position is skipped", {{0, 0, 0.01}, {std::nan(""), 0, 0}, {0, 0, 0.01}}, 0},
+      // From above the top face to beside the side face in one tick, the
+      // straight path cutting the edge 0.36 mm deep: the sides turn by only
+      // 90°, but the tick skipped the solid.
+      {"across the edge's corner in one tick", {{0.098, 0, 0.0015}, {0.1015, 0, -0.0005}}, 1},
+      {"sliding along the top face 10 µm above it",
+       {{-0.02, 0, 0.00101}, {-0.01, 0, 0.00101}, {0, 0, 0.00101}, {0.01, 0, 0.00101}},
+       0},
   };
 }
 
