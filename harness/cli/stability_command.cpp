@@ -123,6 +123,7 @@ int stability_command(const std::vector<std::string>& args) {
         {"epsilon_j", parsed->search.epsilon_j},
         {"largest_stable", largest_stable ? Json(*largest_stable) : Json(nullptr)},
         {"smallest_unstable", smallest_unstable ? Json(*smallest_unstable) : Json(nullptr)},
+        {"note", bracket_note(bracket, parsed->low, parsed->high)},
         {"runs", runs}};
     folder.write_file("stability.json", result.dump(2) + "\n");
     folder.commit();
@@ -136,6 +137,8 @@ int stability_command(const std::vector<std::string>& args) {
                                     : std::string("none in range"))
               << " (" << bracket.probes.size() << " runs) -> " << (out / "stability.json").string()
               << "\n";
+    const std::string note = bracket_note(bracket, parsed->low, parsed->high);
+    if (!note.empty()) std::cout << "  " << note << "\n";
     return kExitOk;
   } catch (const InputError& error) {
     progress.close();

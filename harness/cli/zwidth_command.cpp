@@ -126,7 +126,8 @@ int zwidth_command(const std::vector<std::string>& args) {
       points.push_back({{"x", x},
                         {"largest_stable", or_null(bracket.largest_stable)},
                         {"smallest_unstable", or_null(bracket.smallest_unstable)},
-                        {"runs", bracket.probes.size()}});
+                        {"runs", bracket.probes.size()},
+                        {"note", bracket_note(bracket, parsed->y_low, parsed->y_high)}});
       for (const StabilityProbe& p : bracket.probes) runs.push_back(probe_json(p));
       std::cout << prober.scenario_name() << " / " << parsed->search.label << ", "
                 << parsed->x_pointer << " = " << x << ": largest stable " << parsed->y_pointer

@@ -166,6 +166,17 @@ StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, do
   return p;
 }
 
+std::string bracket_note(const StabilityBracket& bracket, double low, double high) {
+  std::ostringstream note;
+  if (!bracket.largest_stable)
+    note << "unstable already at the range's bottom (" << low
+         << "): the search assumes stability is lost as the value grows and does not look "
+            "below it; give a lower bottom";
+  else if (!bracket.smallest_unstable)
+    note << "stable up to the range's top (" << high << "); give a higher top to find the limit";
+  return note.str();
+}
+
 StabilityBracket search_largest_stable(const std::function<StabilityProbe(double)>& probe,
                                        double low, double high, double tolerance) {
   StabilityBracket bracket;

@@ -94,6 +94,12 @@ struct StabilityBracket {
   std::vector<StabilityProbe> probes;       ///< in the order run
 };
 
+/// What a bracket without both ends means, for people: "" when it has both;
+/// else that the range's bottom was already unstable (the search assumes
+/// stability is lost as the value grows, so it cannot look below LO) or that
+/// its top was still stable.
+std::string bracket_note(const StabilityBracket& bracket, double low, double high);
+
 /// Probes `low` (unstable: done), then `high` (stable: done), then bisects
 /// the log of the interval until smallest_unstable / largest_stable − 1 <=
 /// tolerance (at most 64 probes).

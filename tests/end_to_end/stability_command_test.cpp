@@ -79,6 +79,17 @@ TEST_CASE("the stability search finds explicit Euler's coupling limit k_t < b_t 
   const json all = json::parse(hb::test::read_text_file(work / "implicit/stability.json"));
   CHECK(all.at("largest_stable").get<double>() == 100000);
   CHECK(all.at("smallest_unstable").is_null());
+  CHECK(implicit.stdout_text.find("stable up to the range's top (100000)") != std::string::npos);
+  CHECK(all.at("note").get<std::string>().find("range's top") != std::string::npos);
+
+  // Unstable at the bottom of the range: said, not just "none in range".
+  const hb::test::CommandResult too_high = hb::test::run_hapticbench(
+      "stability jump.json --label explicit_euler --param /coupling/k_t --range 20000 100000 "
+      "--out too_high",
+      work);
+  REQUIRE(too_high.exit_code == 0);
+  CHECK(too_high.stdout_text.find("unstable already at the range's bottom (20000)") !=
+        std::string::npos);
 }
 
 TEST_CASE("the stability search finds explicit Euler's contact limit (k_t + k_c) dt < b_t + b_c") {
