@@ -166,8 +166,11 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
     } else {
       result.work.add(PrimitiveWork::kPlanesEvaluated, static_cast<int64_t>(planes_.size()));
     }
-    PlaneForces contacts(planes_, gains_);
-    const Wrench raw = dynamic_proxy_->advance(device, &contacts, result.flags);
+    // The planes' penalty forces, clamped over the implicit step.
+    plane_scratch_.clear();
+    for (const PrimitiveContact& contact : planes_) plane_scratch_.push_back(contact.plane);
+    contact_forces_.use(plane_scratch_, gains_);
+    const Wrench raw = dynamic_proxy_->advance(device, &contact_forces_, result.flags);
     report_active(planes_);
     return raw;
   }
@@ -212,7 +215,9 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
   /// The planes the haptic step evaluates: installed by the slow loop, or
   /// found by the haptic step itself (then also its scratch storage).
   std::vector<PrimitiveContact> planes_;
-  std::vector<Contact> contacts_;  ///< reported by the last step
+  std::vector<ContactPlane> plane_scratch_;  ///< planes_' planes, for the dynamic proxy's step
+  PenaltyPlaneForces contact_forces_;        ///< the dynamic proxy's contacts, reused
+  std::vector<Contact> contacts_;            ///< reported by the last step
   SlowLoopMailbox<PlaneSet> mailbox_;
 };
 

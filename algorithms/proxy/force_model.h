@@ -34,6 +34,18 @@ class ForceModel {
   /// Wrench about the centre of mass at `state`. The Jacobians are filled
   /// only when `with_jacobians` is true (explicit integration skips them).
   virtual ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) = 0;
+
+  /// For unilateral forces (penalty contacts only push): the linearised
+  /// implicit step (integrator.h) applies each force as linearised at the
+  /// step's end; after a solve it hands over the step from `state` (δx, δθ:
+  /// m, rad, world; δv, δω: m/s, rad/s). A model whose contact would pull
+  /// there leaves that contact out of its later evaluations in this step
+  /// and returns true, and the integrator solves again. Models without
+  /// unilateral forces keep the default.
+  virtual bool release_pulling(const RigidBodyState& /*state*/, const Vec6& /*displacement*/,
+                               const Vec6& /*velocity_change*/) {
+    return false;
+  }
 };
 
 }  // namespace hb

@@ -46,16 +46,23 @@ ImplicitStepSystem implicit_step_system(const RigidBody& body, const RigidBodySt
 
 RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& state,
                                    ForceModel& forces, double dt_s) {
-  const ImplicitStepSystem system =
-      implicit_step_system(body, state, forces.evaluate(state, true), dt_s);
-  // The system is not symmetric in general (contact levers, rotation), so use LU.
-  const Vec6 delta = system.matrix.partialPivLu().solve(system.rhs);
-
   RigidBodyState next;
-  next.v = state.v + delta.head<3>();
-  next.w = state.w + delta.tail<3>();
-  next.x = state.x + dt_s * next.v;
-  next.q = rotated(state.q, dt_s * next.w);
+  // A unilateral force that the linearisation would turn into a pull by the
+  // step's end is released and the step solved again (force_model.h); each
+  // pass releases at least one, so the passes are bounded.
+  for (int pass = 0; pass < kMaxReleasePasses; ++pass) {
+    const ImplicitStepSystem system =
+        implicit_step_system(body, state, forces.evaluate(state, true), dt_s);
+    // The system is not symmetric in general (contact levers, rotation), so use LU.
+    const Vec6 delta = system.matrix.partialPivLu().solve(system.rhs);
+    next.v = state.v + delta.head<3>();
+    next.w = state.w + delta.tail<3>();
+    next.x = state.x + dt_s * next.v;
+    next.q = rotated(state.q, dt_s * next.w);
+    Vec6 displacement;
+    displacement << dt_s * next.v, dt_s * next.w;
+    if (!forces.release_pulling(state, displacement, delta)) break;
+  }
   return next;
 }
 

@@ -43,6 +43,10 @@ struct ImplicitStepSystem {
 ImplicitStepSystem implicit_step_system(const RigidBody& body, const RigidBodyState& state,
                                         const ForceEvaluation& f, double dt_s);
 
+/// Solves of one implicit step at most: a step whose contacts would pull
+/// is solved again without them (ForceModel::release_pulling).
+inline constexpr int kMaxReleasePasses = 8;
+
 /// One linearised implicit Euler step of length dt_s (s).
 RigidBodyState implicit_euler_step(const RigidBody& body, const RigidBodyState& state,
                                    ForceModel& forces, double dt_s);

@@ -50,4 +50,47 @@ ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const Penalt
   return result;
 }
 
+double linearised_normal_force(const ContactPlane& plane, const PenaltyGains& gains,
+                               const RigidBodyState& state, const Vec6& displacement,
+                               const Vec6& velocity_change) {
+  const Vec3 lever = state.q * plane.tool_point;  // s = R r
+  const Vec3& n = plane.normal;
+  const Vec3 dx = displacement.head<3>(), dtheta = displacement.tail<3>();
+  const Vec3 dv = velocity_change.head<3>(), dw = velocity_change.tail<3>();
+  // d' = d − n·(δx + δθ × s);  v_r' = v_r + δv + δω × s + ω × (δθ × s).
+  const double depth =
+      n.dot(plane.plane_point - (state.x + lever)) - n.dot(dx + dtheta.cross(lever));
+  const Vec3 point_velocity =
+      state.v + state.w.cross(lever) + dv + dw.cross(lever) + state.w.cross(dtheta.cross(lever));
+  return gains.stiffness * depth - gains.damping * n.dot(point_velocity);
+}
+
+ForceEvaluation PenaltyPlaneForces::evaluate(const RigidBodyState& state, bool with_jacobians) {
+  ForceEvaluation total;
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    acting_[k] = 0;
+    if (released_[k]) continue;
+    const ForceEvaluation contact =
+        evaluate_penalty_contact(planes_[k], gains_, state, with_jacobians);
+    if (contact.wrench.force.squaredNorm() == 0) continue;
+    acting_[k] = 1;
+    total += contact;
+  }
+  return total;
+}
+
+bool PenaltyPlaneForces::release_pulling(const RigidBodyState& state, const Vec6& displacement,
+                                         const Vec6& velocity_change) {
+  bool released = false;
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    // Only contacts that acted in the solve's evaluation are in its linearisation.
+    if (!acting_[k]) continue;
+    if (linearised_normal_force(planes_[k], gains_, state, displacement, velocity_change) < 0) {
+      released_[k] = 1;
+      released = true;
+    }
+  }
+  return released;
+}
+
 }  // namespace hb

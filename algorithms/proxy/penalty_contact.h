@@ -10,6 +10,9 @@
 // law made contacts sticky on fast release).
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "algorithms/core/pose.h"
 #include "algorithms/proxy/force_model.h"
 #include "algorithms/proxy/rigid_body.h"
@@ -40,5 +43,41 @@ Vec3 contact_tool_point_world(const ContactPlane& plane, const RigidBodyState& s
 /// normal force k d − b n·v_r would pull (≤ 0).
 ForceEvaluation evaluate_penalty_contact(const ContactPlane& plane, const PenaltyGains& gains,
                                          const RigidBodyState& state, bool with_jacobians);
+
+/// k d − b n·v_r of the contact as the linearised implicit step applies it
+/// at the step's end, from `state` moved by `displacement` (δx, δθ: m, rad,
+/// world) with velocities changed by `velocity_change` (δv, δω). Negative:
+/// the unclamped, linearised law pulls over that step.
+double linearised_normal_force(const ContactPlane& plane, const PenaltyGains& gains,
+                               const RigidBodyState& state, const Vec6& displacement,
+                               const Vec6& velocity_change);
+
+/// The penalty contacts of a set of planes as a force model for the
+/// proxy's integrator, with the clamp kept over implicit steps: a contact
+/// whose linearised force would pull at the step's end is released for the
+/// rest of the step (release_pulling), the contacts that acted in the last
+/// evaluation being the ones its linearisation holds. Given its planes by
+/// use() before each step (kept by a renderer, so that its storage is
+/// reused from tick to tick).
+class PenaltyPlaneForces : public ForceModel {
+ public:
+  /// The planes (kept by the caller until the step is done) and gains of the
+  /// next step; nothing released.
+  void use(std::span<const ContactPlane> planes, const PenaltyGains& gains) {
+    planes_ = planes;
+    gains_ = gains;
+    released_.assign(planes.size(), 0);
+    acting_.assign(planes.size(), 0);
+  }
+  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override;
+  bool release_pulling(const RigidBodyState& state, const Vec6& displacement,
+                       const Vec6& velocity_change) override;
+
+ private:
+  std::span<const ContactPlane> planes_;
+  PenaltyGains gains_;
+  std::vector<char> released_;  ///< per plane: left out for the rest of the step
+  std::vector<char> acting_;    ///< per plane: acted in the last evaluation
+};
 
 }  // namespace hb

@@ -63,6 +63,10 @@ class CouplingWithContacts : public ForceModel {
     if (contacts_) total += contacts_->evaluate(state, with_jacobians);
     return total;
   }
+  bool release_pulling(const RigidBodyState& state, const Vec6& displacement,
+                       const Vec6& velocity_change) override {
+    return contacts_ && contacts_->release_pulling(state, displacement, velocity_change);
+  }
 
  private:
   CouplingForce coupling_;

@@ -48,23 +48,6 @@ struct ClusterPlanes {
   int raw_contacts = 0;
 };
 
-// The installed planes' penalty forces at whatever state the integrator asks.
-class ClusterForces : public ForceModel {
- public:
-  ClusterForces(const std::vector<ContactPlane>& planes, const PenaltyGains& gains)
-      : planes_(planes), gains_(gains) {}
-  ForceEvaluation evaluate(const RigidBodyState& state, bool with_jacobians) override {
-    ForceEvaluation total;
-    for (const ContactPlane& plane : planes_)
-      total += evaluate_penalty_contact(plane, gains_, state, with_jacobians);
-    return total;
-  }
-
- private:
-  const std::vector<ContactPlane>& planes_;
-  PenaltyGains gains_;
-};
-
 class SensationPreservingRenderer : public Renderer, public SlowLoop {
  public:
   SensationPreservingRenderer(const RenderContext& context,
@@ -123,8 +106,9 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
       result.work.counts = {installed->stats.node_pairs_tested, installed->stats.piece_tests,
                             installed->stats.gjk_calls, 0, 0};
     }
-    ClusterForces forces(planes_, settings_.gains);
-    const Wrench raw = proxy_.advance(device, &forces, result.flags);
+    // The installed planes' penalty forces, clamped over the implicit step.
+    contact_forces_.use(planes_, settings_.gains);
+    const Wrench raw = proxy_.advance(device, &contact_forces_, result.flags);
     result.display = device_output(raw, limits_, result.flags);
     result.proxy = proxy_.tool_pose();
     contacts_.clear();
@@ -185,8 +169,9 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
   std::vector<ConvexHierarchy> scene_;
   std::vector<Pose> scene_poses_;
   BuildReport report_;
-  std::vector<PieceContact> raw_;     ///< the slow loop's scratch
-  std::vector<ContactPlane> planes_;  ///< installed, evaluated by every haptic step
+  std::vector<PieceContact> raw_;      ///< the slow loop's scratch
+  std::vector<ContactPlane> planes_;   ///< installed, evaluated by every haptic step
+  PenaltyPlaneForces contact_forces_;  ///< planes_' forces over a step, reused
   std::vector<Contact> contacts_;
   SlowLoopMailbox<ClusterPlanes> mailbox_;
 };
