@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "algorithms/core/mass_properties.h"
 #include "algorithms/core/shapes.h"
@@ -19,27 +20,40 @@ namespace {
 
 constexpr double kCube = 0.04;  // cube tool edge (m)
 
-struct CubeOnSlab {
+// A 0.4 × 0.4 m slab `thickness` thick whose top face is the plane z = 0,
+// with the example coupling; the tool is the caller's.
+RenderContext slab_context(double thickness) {
+  RenderContext context;
+  SceneObject slab = test::box_object(Vec3(0.4, 0.4, thickness),
+                                      Pose{Vec3(0, 0, -thickness / 2), Quat::Identity()});
+  slab.mesh = shape_mesh(*slab.shape);
+  context.scene.push_back(slab);
+  context.coupling = test::example_gains();
+  return context;
+}
+
+// A haptic proxy over a scene, with the solver that owns the CCD structures
+// it uses.
+struct ProxyRig {
   RenderContext context;
   GodObjectSettings settings;
-  GodObjectSolver solver;  // owns the CCD structures the haptic proxy uses
+  GodObjectSolver solver;
   HapticProxy proxy;
 
-  CubeOnSlab()
-      : context(make_context()),
+  explicit ProxyRig(RenderContext scene)
+      : context(std::move(scene)),
         solver(context, settings),
         proxy(solver.ccd(), context.coupling, settings, context.tool.mass.centre_of_mass) {}
+};
 
-  // A 0.4 × 0.4 × 0.02 m slab whose top face is the plane z = 0.
+struct CubeOnSlab : ProxyRig {
+  CubeOnSlab() : ProxyRig(make_context()) {}
+
+  // A 4 cm cube over a 2 cm slab.
   static RenderContext make_context() {
-    RenderContext context;
-    SceneObject slab =
-        test::box_object(Vec3(0.4, 0.4, 0.02), Pose{Vec3(0, 0, -0.01), Quat::Identity()});
-    slab.mesh = shape_mesh(*slab.shape);
-    context.scene.push_back(slab);
+    RenderContext context = slab_context(0.02);
     context.tool = test::box_tool(Vec3::Constant(kCube));
     context.tool.mesh = shape_mesh(*context.tool.shape);
-    context.coupling = test::example_gains();
     return context;
   }
 
@@ -114,23 +128,11 @@ TEST_CASE("random device motions at the haptic rate never carry a cube vertex be
 // An L-shaped hook (a 1 × 2 × 11 cm stem, a 7 cm arm at its top) whose tool
 // frame is the middle of the arm tip's lower edge, over a 40 × 40 × 4 cm
 // slab whose top face is z = 0, the stem hanging 2 cm beside it.
-struct HookOnSlab {
-  RenderContext context;
-  GodObjectSettings settings;
-  GodObjectSolver solver;
-  HapticProxy proxy;
-
-  HookOnSlab()
-      : context(make_context()),
-        solver(context, settings),
-        proxy(solver.ccd(), context.coupling, settings, context.tool.mass.centre_of_mass) {}
+struct HookOnSlab : ProxyRig {
+  HookOnSlab() : ProxyRig(make_context()) {}
 
   static RenderContext make_context() {
-    RenderContext context;
-    SceneObject slab =
-        test::box_object(Vec3(0.4, 0.4, 0.04), Pose{Vec3(0, 0, -0.02), Quat::Identity()});
-    slab.mesh = shape_mesh(*slab.shape);
-    context.scene.push_back(slab);
+    RenderContext context = slab_context(0.04);
     // The L in the x–z plane, counter-clockwise, extruded 2 cm along y.
     const double outline[6][2] = {{-0.08, -0.1}, {-0.07, -0.1}, {-0.07, 0},
                                   {0, 0},        {0, 0.01},     {-0.08, 0.01}};
@@ -148,7 +150,6 @@ struct HookOnSlab {
       mesh.triangles.push_back({i, 6 + j, j});
     }
     context.tool.mass = mass_properties_from_density(mesh, 1000);
-    context.coupling = test::example_gains();
     return context;
   }
 
