@@ -71,6 +71,7 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   r.impulses.assign(constraints.size(), Vec3::Zero());
   r.iterations = 0;
   r.converged = true;
+  r.feasible = true;
   r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
   if (constraints.empty()) return r;
 
@@ -80,6 +81,7 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
     const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
     r.iterations = solution.iterations;
     r.converged = solution.converged;
+    r.feasible = solution.converged;
     warm_active = solution.converged ? solution.active : std::vector<int>{};
     r.step = solution.acceleration;
     for (std::size_t k = 0; k < constraints.size(); ++k)
@@ -143,6 +145,7 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
       gauss_.solve(metric, unconstrained + response * friction_wrench, constraints, warm_active);
   r.iterations += projected.iterations;
   r.converged = solution.converged && projected.converged;
+  r.feasible = projected.converged;
   warm_active = projected.converged ? projected.active : std::vector<int>{};
   r.step = projected.acceleration;
   return r;

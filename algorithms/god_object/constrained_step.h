@@ -45,6 +45,10 @@ struct ConstrainedStep {
   std::vector<Vec3> impulses;
   int iterations = 0;  ///< active-set steps, plus Gauss–Seidel sweeps with friction
   bool converged = false;
+  /// The step satisfies every constraint (the last QP converged): usable
+  /// even when the friction sweeps stopped at their limit (converged false),
+  /// with friction as far as they got, never a reason to freeze the proxy.
+  bool feasible = false;
   bool with_friction = false;  ///< some contact had μ > 0
 };
 

@@ -113,7 +113,10 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
     // The same pairs, in the same order, until the next certificate.
     warm_impulses_ = solved.impulses;
     stats.qp_iterations += solved.iterations;
-    const Vec6 step = solved.converged ? solved.step : Vec6::Zero();  // else the proxy stays
+    // A step the friction sweeps did not finish is still feasible: taken
+    // (the proxy only stays when the last QP failed, which it does not for
+    // a consistent set of constraints).
+    const Vec6 step = solved.feasible ? solved.step : Vec6::Zero();
     // Stay within the certificate's reach: the largest fraction of the step
     // that does (the reach bound is continuous in the fraction, and the
     // start lies within it).
