@@ -52,7 +52,8 @@ inline CommandResult run_hapticbench(const std::string& args, const std::filesys
 /// (ulimit -v): an input that makes the process grab more than that ends
 /// in a crash or bad_alloc instead of passing.
 inline CommandResult run_hapticbench_limited(const std::string& args,
-                                             const std::filesystem::path& work, long memory_kib) {
+                                             const std::filesystem::path& work,
+                                             [[maybe_unused]] long memory_kib) {
 #if HB_TOOL_ASAN
   // AddressSanitizer reserves terabytes of address space up front: no limit
   // can be set; the checks on exit code and message still run.

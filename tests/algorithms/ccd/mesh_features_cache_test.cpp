@@ -139,10 +139,10 @@ TEST_CASE("a crafted mesh-features file that passes its checksum is rebuilt, not
     CacheFile file = read_cache_file(cache.dir.path());
     SphereTreeNode root;
     const std::size_t at = first_node_offset(file.payload);
-    std::memcpy(&root, file.payload.data() + at, sizeof root);
+    std::memcpy(static_cast<void*>(&root), file.payload.data() + at, sizeof root);
     REQUIRE(root.count == 0);  // an inner node
     root.first = root_child;
-    std::memcpy(file.payload.data() + at, &root, sizeof root);
+    std::memcpy(file.payload.data() + at, static_cast<const void*>(&root), sizeof root);
     REQUIRE(DiskCache(cache.dir.path(), "mesh_features").write(file.key, file.payload).empty());
     const MeshFeatures rebuilt = cached_mesh_features(mesh.vertices, mesh.triangles, "tool", &hit);
     CHECK_FALSE(hit);
