@@ -28,6 +28,8 @@ constexpr double kHandMass = 0.1, kHandK = 300, kHandB = 2;
 constexpr double kDeviceMass = 0.045, kDeviceB = 5;
 
 // The intent (z of the tool frame; the sphere touches the face at z = 2 cm).
+// The god-object's slow loop is installed a fixed tick after it starts: a
+// latency measured on a loaded machine would feed back through the device.
 enum class Intent {
   // A smooth press 2 mm past the touching point in 1 s, then 5 Hz cycles
   // between there and 40 mm deeper, starting at rest: the device stays in
@@ -62,7 +64,8 @@ void write_scenario(const fs::path& folder, Intent intent, double duration_s) {
     "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 3 }, "density": 1000 },
     "trace": { "file": "press.csv" },
     "coupling": { "k_t": 2000, "b_t": 0, "k_r": 5, "b_r": 0.05 },
-    "algorithms": [ { "name": "god_object", "label": "god_object" } ] })");
+    "algorithms": [ { "name": "god_object", "label": "god_object",
+                      "params": { "slow_loop_latency": 1 } } ] })");
   scenario["closed_loop"] = {{"hand", {{"mass_kg", kHandMass}, {"k_t", kHandK}, {"b_t", kHandB}}},
                              {"device",
                               {{"mass_kg", kDeviceMass},
