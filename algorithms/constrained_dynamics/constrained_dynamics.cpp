@@ -70,13 +70,15 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     const Mat6 effective_mass = free_step(device);
     const double reach_limit = build_rows(start, result.work);
     const std::span<const Vec3> warm(impulses_.data(), rows_.size());
-    const ConstrainedStep& solved = solver_.solve(
+    const ConstrainedStep& solved = solver_.solve_system(
         effective_mass, free_velocity_, rows_, friction_, warm_active_,
         std::all_of(warm.begin(), warm.end(), [](const Vec3& i) { return i.isZero(); })
             ? std::span<const Vec3>()
             : warm);
     result.work.add(kSolverIterations, solved.iterations);
     result.work.add(kUnconverged, solved.converged ? 0 : 1);
+    result.work.add(kCoulombViolations, solved.coulomb_residual > kCoulombResidualTolerance);
+    result.work.add(kSkewResolves, solved.skew_passes - 1);
     std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
     for (std::size_t k = 0; k < rows_.size(); ++k) {
       impulses_[k] = solved.impulses[k];
@@ -144,11 +146,13 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     kCertificatesKept,
     kStartEscapes,
     kStartEscapeUm,
+    kCoulombViolations,
+    kSkewResolves,
   };
   static constexpr WorkCounters::Names kWorkNames = {
-      "pairs_evaluated",   "solver_iterations", "solver_unconverged",
-      "active_contacts",   "reach_bounded",     "certificates_taken",
-      "certificates_kept", "start_escapes",     "start_escape_um"};
+      "pairs_evaluated", "solver_iterations",  "solver_unconverged", "active_contacts",
+      "reach_bounded",   "certificates_taken", "certificates_kept",  "start_escapes",
+      "start_escape_um", "coulomb_violations", "skew_resolves"};
 
   // Takes the new certificate when the proxy lies within its reach, and
   // carries each pair's impulse over to it for the warm start.
@@ -202,8 +206,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   }
 
   // The linearised implicit Euler step without contacts: sets free_velocity_
-  // and returns the metric of the contact solve, the effective mass's
-  // symmetric part.
+  // and returns the step's effective mass, which the contact solve uses
+  // whole (not symmetric: gyroscopic and rotational-coupling terms).
   Mat6 free_step(const DeviceSample& device) {
     const ImplicitStepSystem system = implicit_step_system(
         body_, state_,
@@ -211,8 +215,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     Vec6 velocity;
     velocity << state_.v, state_.w;
     free_velocity_ = velocity + system.matrix.partialPivLu().solve(system.rhs);
-    const Mat6& effective = system.matrix;
-    return 0.5 * (effective + effective.transpose());
+    return system.matrix;
   }
 
   // Moves the proxy by Δt u, within `reach_limit` of the certificate's anchor.

@@ -11,8 +11,10 @@
 //     the lever and the distance d; proximity_certifier.h);
 //  2. the step's free velocity u_free solves the linearised implicit Euler
 //     step (M − Δt D − Δt² K) Δu = Δt (f + Δt K u) of the coupling, gravity
-//     and the gyroscopic torque (integrator.h), and the contact response is
-//     the inverse of that effective mass's symmetric part;
+//     and the gyroscopic torque (integrator.h); the contacts act through
+//     that whole effective mass A, which is not symmetric (solve_system in
+//     constrained_step.h: the symmetric part as the metric, the skew part
+//     carried as a force to a fixed point);
 //  3. each pair is a contact with bound b = −(d − s)/Δt on its normal
 //     velocity while d ≥ s (s the standoff: a speculative contact, which
 //     lets it close the gap this tick but not pass it) and b = β (s − d)/Δt,

@@ -8,12 +8,54 @@ namespace hb {
 ConstrainedStepSolver::ConstrainedStepSolver(const FrictionalContactOptions& options)
     : frictional_(options), tolerance_(options.tolerance) {}
 
+namespace {
+
+// Bounded passes of the staggered QP that cut friction back into the cone.
+constexpr int kConePasses = 4;
+
+// z-component of (b − a) × (c − a): > 0 when a, b, c turn left.
+double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+}  // namespace
+
+void ConstrainedStepSolver::keep_hull_vertices(const Vec3& normal) {
+  // Andrew's monotone chain on the members' levers in the contact plane;
+  // points on a hull edge are convex combinations of its ends and dropped.
+  const Vec3 t1 = perpendicular_unit(normal);
+  const Vec3 t2 = normal.cross(t1);
+  plane_points_.clear();
+  for (int m : members_)
+    plane_points_.emplace_back(Eigen::Vector2d(rows_[m].lever.dot(t1), rows_[m].lever.dot(t2)), m);
+  std::sort(plane_points_.begin(), plane_points_.end(), [](const auto& a, const auto& b) {
+    return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
+  });
+  const std::size_t n = plane_points_.size();
+  hull_.assign(2 * n, 0);
+  std::size_t size = 0;
+  for (std::size_t i = 0; i < n; ++i) {  // lower chain
+    while (size >= 2 && turn(plane_points_[hull_[size - 2]].first,
+                             plane_points_[hull_[size - 1]].first, plane_points_[i].first) <= 0)
+      --size;
+    hull_[size++] = static_cast<int>(i);
+  }
+  for (std::size_t i = n - 1, lower = size + 1; i-- > 0;) {  // upper chain
+    while (size >= lower && turn(plane_points_[hull_[size - 2]].first,
+                                 plane_points_[hull_[size - 1]].first, plane_points_[i].first) <= 0)
+      --size;
+    hull_[size++] = static_cast<int>(i);
+  }
+  for (int m : members_) keep_[m] = 0;
+  for (std::size_t i = 0; i < size; ++i) keep_[plane_points_[hull_[i]].second] = 1;
+}
+
 void ConstrainedStepSolver::reduce_coplanar_rows() {
   // Rows with one normal, one μ and about the same bound (a face resting on
   // a face) are one planar contact; beyond kKept of them the sweeps only
-  // trade load between them. The extreme points along four directions of
-  // the plane carry its normal load, friction and torque; the others are
-  // left to the final QP, which holds every constraint.
+  // trade load between them. The vertices of their convex hull in the
+  // plane carry every wrench the others can; the others are left to the
+  // final QP, which holds every constraint.
   constexpr std::size_t kKept = 8;
   constexpr double kSameNormalCos = 1 - 1e-6;
   const double bound_tolerance = 1000 * tolerance_;
@@ -36,18 +78,7 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
     members_.clear();
     for (std::size_t row = 0; row < rows_.size(); ++row)
       if (group_of_[row] == static_cast<int>(g)) members_.push_back(static_cast<int>(row));
-    if (members_.size() <= kKept) continue;
-    const Vec3 normal = rows_[group_first_[g]].normal;
-    const Vec3 t1 = perpendicular_unit(normal);
-    const Vec3 t2 = normal.cross(t1);
-    for (int m : members_) keep_[m] = 0;
-    for (const Vec3& direction : {t1, t2, Vec3(t1 + t2), Vec3(t1 - t2)})
-      for (double sign : {1.0, -1.0}) {
-        const auto extreme = std::max_element(members_.begin(), members_.end(), [&](int a, int b) {
-          return sign * rows_[a].lever.dot(direction) < sign * rows_[b].lever.dot(direction);
-        });
-        keep_[*extreme] = 1;
-      }
+    if (members_.size() > kKept) keep_hull_vertices(rows_[group_first_[g]].normal);
   }
   // Compact the rows and re-point the constraints (−1: left to the QP).
   new_index_.assign(rows_.size(), -1);
@@ -73,6 +104,9 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   r.converged = true;
   r.feasible = true;
   r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
+  r.coulomb_residual = 0;
+  r.skew_passes = 0;
+  r.skew_change = 0;
   if (constraints.empty()) return r;
 
   const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
@@ -130,25 +164,155 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
     r.impulses[k] = solution.impulses[row_of_[k]];
   }
 
+  normal_forces_.assign(constraints.size(), 0.0);
+  friction_forces_.resize(rows_.size());
+  for (std::size_t row = 0; row < rows_.size(); ++row)
+    friction_forces_[row] = solution.impulses[row].tail<2>();
+
   // Non-penetration exactly: the frictionless QP again with the friction
-  // impulses held as given forces (one step of staggered projections).
-  Vec6 friction_wrench = Vec6::Zero();
-  for (std::size_t row = 0; row < rows_.size(); ++row) {
-    const Vec3 t1 = solution.tangent1[row];
-    const Vec3 t2 = rows_[row].normal.cross(t1);
-    const Vec3 force = solution.impulses[row].y() * t1 + solution.impulses[row].z() * t2;
-    friction_wrench.head<3>() += force;
-    friction_wrench.tail<3>() += rows_[row].lever.cross(force);
+  // impulses held as given forces (one step of staggered projections). Its
+  // normal forces are exact for that friction, shared within each planar
+  // contact as the sweeps shared them (share_planar_loads: the QP's own
+  // sharing of a planar contact's load is one of many). When the sweeps
+  // stopped at their limit, their friction is scaled into the QP's cone and
+  // the QP solved again, at most kConePasses times.
+  for (int pass = 0; pass < kConePasses; ++pass) {
+    Vec6 friction_wrench = Vec6::Zero();
+    for (std::size_t row = 0; row < rows_.size(); ++row) {
+      const Vec3 t1 = solution.tangent1[row];
+      const Vec3 t2 = rows_[row].normal.cross(t1);
+      const Vec3 force = friction_forces_[row].x() * t1 + friction_forces_[row].y() * t2;
+      friction_wrench.head<3>() += force;
+      friction_wrench.tail<3>() += rows_[row].lever.cross(force);
+    }
+    std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
+    const GaussSolution& projected =
+        gauss_.solve(metric, unconstrained + response * friction_wrench, constraints, warm_active);
+    r.iterations += projected.iterations;
+    r.converged = solution.converged && projected.converged;
+    r.feasible = projected.converged;
+    warm_active = projected.converged ? projected.active : std::vector<int>{};
+    r.step = projected.acceleration;
+    if (!projected.converged) return r;
+    row_normal_.assign(rows_.size(), 0.0);
+    for (std::size_t k = 0; k < constraints.size(); ++k) {
+      normal_forces_[k] = projected.multipliers[k];
+      if (row_of_[k] >= 0) row_normal_[row_of_[k]] += projected.multipliers[k];
+    }
+    share_planar_loads(solution);
+    // A converged solve's friction stands (the residual tells how well the
+    // normal forces support it). An unconverged one's is scaled down, all
+    // rows alike, until it is at most μ times the QP's normal force in all
+    // (a per-row cut would follow the QP's sharing of load between nearly
+    // coplanar contacts, which is arbitrary, and drop friction wholesale).
+    double friction_total = 0, cone_total = 0;
+    for (std::size_t row = 0; row < rows_.size(); ++row) {
+      friction_total += friction_forces_[row].norm();
+      cone_total += rows_[row].friction * row_normal_[row];
+    }
+    if (solution.converged || friction_total <= cone_total * (1 + 1e-9) || pass + 1 == kConePasses)
+      break;
+    for (Eigen::Vector2d& force : friction_forces_) force *= cone_total / friction_total;
+    r.converged = false;  // friction had to be cut: not the sweeps' answer any more
   }
-  std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
-  const GaussSolution& projected =
-      gauss_.solve(metric, unconstrained + response * friction_wrench, constraints, warm_active);
-  r.iterations += projected.iterations;
-  r.converged = solution.converged && projected.converged;
-  r.feasible = projected.converged;
-  warm_active = projected.converged ? projected.active : std::vector<int>{};
-  r.step = projected.acceleration;
+  // The residual of the forces the step was solved with: each row's normal
+  // force and friction on its first constraint.
+  spread_row_normals(constraints.size());
+  r.coulomb_residual = coulomb_residual(response, r.step, constraints, friction, normal_forces_);
   return r;
+}
+
+void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {
+  // Rows with one normal and one μ share their group's total normal force
+  // (the QP's) in the sweeps' proportions.
+  constexpr double kSameNormalCos = 1 - 1e-6;
+  shared_normal_.resize(rows_.size());
+  for (std::size_t row = 0; row < rows_.size(); ++row) {
+    double qp_total = 0, sweeps_total = 0;
+    for (std::size_t other = 0; other < rows_.size(); ++other) {
+      if (rows_[other].friction != rows_[row].friction ||
+          rows_[other].normal.dot(rows_[row].normal) < kSameNormalCos)
+        continue;
+      qp_total += row_normal_[other];
+      sweeps_total += solution.impulses[other].x();
+    }
+    shared_normal_[row] = sweeps_total > 0 ? solution.impulses[row].x() * (qp_total / sweeps_total)
+                                           : row_normal_[row];
+  }
+  row_normal_.swap(shared_normal_);
+}
+
+const ConstrainedStep& ConstrainedStepSolver::solve_system(
+    const Mat6& system, const Vec6& unconstrained, std::span<const GaussConstraint> constraints,
+    std::span<const double> friction, std::vector<int>& warm_active,
+    std::span<const Vec3> warm_impulses) {
+  const Mat6 symmetric = 0.5 * (system + system.transpose());
+  const Mat6 skew = 0.5 * (system - system.transpose());
+  Eigen::LDLT<Mat6> symmetric_inverse;  // factored when a skew force first appears
+  Vec6 shifted = unconstrained;
+  pass_impulses_.assign(warm_impulses.begin(), warm_impulses.end());
+  for (int pass = 1;; ++pass) {
+    const ConstrainedStep& r =
+        solve(symmetric, shifted, constraints, friction, warm_active, pass_impulses_);
+    result_.skew_passes = pass;
+    result_.skew_change = 0;
+    const Vec6 deflection = r.step - unconstrained;
+    const Vec6 skew_force = skew * deflection;
+    if (skew_force.isZero(0)) return r;  // free, or a symmetric system
+    if (pass == 1) symmetric_inverse.compute(symmetric);
+    const Vec6 next = unconstrained - symmetric_inverse.solve(skew_force);
+    result_.skew_change = (next - shifted).lpNorm<Eigen::Infinity>();
+    if (result_.skew_change <= std::max(tolerance_, 1e-6 * deflection.lpNorm<Eigen::Infinity>()) ||
+        pass == kSkewPasses)
+      return r;
+    shifted = next;
+    if (r.with_friction) pass_impulses_.assign(r.impulses.begin(), r.impulses.end());
+  }
+}
+
+void ConstrainedStepSolver::spread_row_normals(std::size_t constraint_count) {
+  std::fill(taken_.begin(), taken_.end(), 0);
+  for (std::size_t k = 0; k < constraint_count; ++k) {
+    const int row = row_of_[k];
+    if (row < 0) continue;
+    normal_forces_[k] = taken_[row] ? 0.0 : row_normal_[row];
+    taken_[row] = 1;
+  }
+}
+
+double ConstrainedStepSolver::coulomb_residual(const Mat6& response, const Vec6& step,
+                                               std::span<const GaussConstraint> constraints,
+                                               std::span<const double> friction,
+                                               std::span<const double> normal_forces) {
+  // Friction per constraint: its row's (the first constraint of a row
+  // carries it, as the normal force passed in); a constraint left out of
+  // the sweeps carries none.
+  double worst = 0, total_normal = 0;
+  std::fill(taken_.begin(), taken_.end(), 0);
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const GaussConstraint& c = constraints[k];
+    const int row = row_of_[k];
+    Eigen::Vector2d force = Eigen::Vector2d::Zero();
+    Vec3 t1 = perpendicular_unit(c.normal);
+    if (row >= 0) {
+      if (taken_[row]) continue;  // a coincident pair: its row is counted once
+      taken_[row] = 1;
+      force = friction_forces_[row];
+    }
+    const Vec3 t2 = c.normal.cross(t1);
+    Eigen::Matrix<double, 2, 6> tangential;
+    tangential.row(0) << t1.transpose(), c.lever.cross(t1).transpose();
+    tangential.row(1) << t2.transpose(), c.lever.cross(t2).transpose();
+    const Eigen::Vector2d slip = tangential * step;
+    const double mean_response = 0.5 * (tangential * response * tangential.transpose()).trace();
+    const Eigen::Vector2d trial = force - slip / mean_response;
+    const double radius = friction[k] * std::max(0.0, normal_forces[k]);
+    const Eigen::Vector2d projected =
+        trial.norm() > radius ? Eigen::Vector2d(trial * (radius / trial.norm())) : trial;
+    worst = std::max(worst, (force - projected).norm());
+    total_normal += std::max(0.0, normal_forces[k]);
+  }
+  return total_normal > 0 ? worst / total_normal : 0.0;
 }
 
 }  // namespace hb

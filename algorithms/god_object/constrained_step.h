@@ -18,11 +18,24 @@
 // circular cone) runs, warm-started from the given impulses or, without
 // them, from the frictionless QP's normal multipliers (contacts at one point
 // with one normal are solved once, and a planar contact of more than eight
-// keeps its extreme points, reduce_coplanar_rows), and the QP then runs
-// once more with its friction impulses held as given forces, so that
-// non-penetration holds exactly however far the Gauss–Seidel sweeps got
-// (one step of staggered projections: friction to the sweeps' accuracy,
-// the normal constraints exact).
+// keeps the vertices of its convex hull, reduce_coplanar_rows: the wrenches
+// a point inside the hull can carry, normal and tangential, are convex
+// combinations of those its vertices can carry). The QP then runs once
+// more with the sweeps' friction held as given forces, so that
+// non-penetration holds exactly however far the sweeps got (one step of
+// staggered projections). Its normal forces are exact for that friction;
+// shared within a planar contact in the sweeps' proportions, they are the
+// normal forces the residual below measures the friction against. When the
+// sweeps stopped at their limit, their friction is scaled down, all rows
+// alike, until it is at most μ times the QP's normal force in total, and
+// the QP solved again, at most kConePasses times: such a step is feasible,
+// never a freeze, and its residual says how far it is from Coulomb's law.
+// `coulomb_residual` reports how far the returned step is from Coulomb's
+// law: the largest |λ_t − Π_{|λ|≤μλ_n}(λ_t − ρ u_t)| over the contacts
+// (λ_t the friction force, u_t the contact point's slip, ρ the inverse of
+// the contact's mean tangential response), as a fraction of the total
+// normal force; it is 0 exactly when every contact sticks inside its cone
+// or slides with μ λ_n against its slip.
 #pragma once
 
 #include <span>
@@ -50,7 +63,19 @@ struct ConstrainedStep {
   /// with friction as far as they got, never a reason to freeze the proxy.
   bool feasible = false;
   bool with_friction = false;  ///< some contact had μ > 0
+  /// Distance of the returned step from Coulomb's law, a fraction of the
+  /// total normal force (see above); 0 without friction.
+  double coulomb_residual = 0;
+  /// solve_system only: passes of the symmetric solve, and the last pass's
+  /// change of the skew force's shift, in a's units (0 for a symmetric
+  /// system or a step that left a_u unchanged).
+  int skew_passes = 0;
+  double skew_change = 0;
 };
+
+/// A frictional step whose Coulomb residual exceeds this fraction of the
+/// normal force is counted as off the cone by the renderers that use it.
+constexpr double kCoulombResidualTolerance = 1e-4;
 
 class ConstrainedStepSolver {
  public:
@@ -66,18 +91,50 @@ class ConstrainedStepSolver {
                                std::span<const double> friction, std::vector<int>& warm_active,
                                std::span<const Vec3> warm_impulses = {});
 
+  /// The same for a system matrix A that need not be symmetric (an
+  /// implicit step's gyroscopic and rotational-coupling terms): the step a
+  /// with A (a − a_u) = Σ Jᵀλ, the constraints and Coulomb's law. Solved as
+  /// a fixed point of `solve` with the metric S = (A + Aᵀ)/2 and the skew
+  /// part K = (A − Aᵀ)/2 carried as a given force, a_u shifted to
+  /// ã_u = a_u − S⁻¹K (a − a_u) with the previous pass's a; at the fixed
+  /// point S (a − ã_u) = S (a − a_u) + K (a − a_u) = A (a − a_u). The
+  /// shift contracts by ‖S^-½ K S^-½‖ per pass (the QP's projection is
+  /// non-expansive in the S-norm); the passes stop when it changes by less
+  /// than the tolerance (or 10⁻⁶ of |a − a_u|), at most kSkewPasses.
+  const ConstrainedStep& solve_system(const Mat6& system, const Vec6& unconstrained,
+                                      std::span<const GaussConstraint> constraints,
+                                      std::span<const double> friction,
+                                      std::vector<int>& warm_active,
+                                      std::span<const Vec3> warm_impulses = {});
+
+  static constexpr int kSkewPasses = 6;
+
  private:
   GaussLeastConstraintSolver gauss_;
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
   void reduce_coplanar_rows();
+  void keep_hull_vertices(const Vec3& normal);
+  void share_planar_loads(const FrictionalContactSolution& solution);
+  /// normal_forces_ of the constraints in rows: the row's on its first, 0 on the others.
+  void spread_row_normals(std::size_t constraint_count);
+  double coulomb_residual(const Mat6& response, const Vec6& step,
+                          std::span<const GaussConstraint> constraints,
+                          std::span<const double> friction, std::span<const double> normal_forces);
 
   double tolerance_;
   std::vector<int> row_of_;  ///< per constraint, its row of the frictional solve (−1: none)
   std::vector<int> group_of_, group_first_, members_, new_index_;
   std::vector<char> keep_;
   std::vector<char> taken_;
+  std::vector<std::pair<Eigen::Vector2d, int>> plane_points_;
+  std::vector<int> hull_;
+  std::vector<Eigen::Vector2d> friction_forces_;  ///< per row, in its (t1, t2) basis
+  std::vector<double> row_normal_;                ///< per row, the normal force of the last QP
+  std::vector<double> shared_normal_;
+  std::vector<double> normal_forces_;  ///< per constraint
+  std::vector<Vec3> pass_impulses_;    ///< solve_system: the previous pass's
   ConstrainedStep result_;
 };
 

@@ -72,6 +72,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     result.work.names = &kWorkNames;
     result.work.counts[4] += haptic.pairs_evaluated;
     result.work.counts[2] += haptic.qp_iterations;
+    result.work.counts[10] += haptic.coulomb_violations;
     if (!escape_reported_ && escape_.escaped) {
       result.work.counts[8] = 1;
       result.work.counts[9] = std::llround(escape_.distance_m * 1e6);
@@ -123,7 +124,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   static constexpr WorkCounters::Names kWorkNames = {
       "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
       "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
-      "start_escapes",   "start_escape_um"};
+      "start_escapes",   "start_escape_um",       "coulomb_violations"};
 
   // Hands the update's certificate (and, when the haptic proxy has fallen
   // behind it, its pose) to the haptic proxy; counts the update's work.
@@ -137,7 +138,10 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
                           0,
                           update.stats.budget_hits,
                           update.stats.certified_moves,
-                          update.stats.certificates};
+                          update.stats.certificates,
+                          0,
+                          0,
+                          update.stats.coulomb_violations};
   }
 
   bool point_tool_;

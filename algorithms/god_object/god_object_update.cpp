@@ -124,6 +124,7 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
         solver_.solve(coupling_metric(gains_, frames_.centre_of_mass, proxy_.q, ccd_.tool_radius()),
                       unconstrained, constraints_, constraint_friction_, warm_active_);
     stats.qp_iterations += solved.iterations;
+    stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
     if (!solved.feasible) {
       stats.solver_failed = true;
       break;

@@ -94,6 +94,7 @@ struct GodObjectUpdateStats {
   int64_t bv_tests = 0;
   int64_t primitive_queries = 0;
   int64_t qp_iterations = 0;
+  int coulomb_violations = 0;   ///< frictional solves off Coulomb's law (constrained_step.h)
   bool reached_device = false;  ///< the proxy ended on the device's pose
   bool solver_failed = false;   ///< the least-constraint solve did not converge (the proxy stayed)
 };

@@ -113,6 +113,7 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
     // The same pairs, in the same order, until the next certificate.
     warm_impulses_ = solved.impulses;
     stats.qp_iterations += solved.iterations;
+    stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
     // A step the friction sweeps did not finish is still feasible: taken
     // (the proxy only stays when the last QP failed, which it does not for
     // a consistent set of constraints).

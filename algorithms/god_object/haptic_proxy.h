@@ -51,6 +51,8 @@ struct HapticSolveStats {
   bool bounded = false;  ///< the motion was shortened to stay within the certificate's reach
   int corrections = 0;   ///< solves repeated for pairs that fell short of their floor
   bool cut = false;      ///< the step was cut to keep every pair above its floor
+  /// frictional solves off Coulomb's law by more than kCoulombResidualTolerance
+  int coulomb_violations = 0;
 };
 
 class HapticProxy {
