@@ -63,6 +63,14 @@ inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
     return with_slack ? std::max(voxmap.clearance(point) - kRoundingMargin, 0.0) : 0.0;
   if (voxel_state == VoxelState::kProximity) {
     hits.braking.push_back(i);
+    // The signed-distance force acts wherever φ < 0, whatever the voxel's
+    // state (from φ at its centre): a point that crossed the surface inside
+    // a proximity voxel would otherwise feel nothing until the next voxel,
+    // and its force would switch on there at once.
+    if (!gains.signed_distance || !voxmap.has_distances()) return -1;
+    Vec3 gradient;
+    const double phi = voxmap.interpolated_distance(point, gradient);
+    if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
     return -1;
   }
   if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
@@ -144,6 +152,10 @@ Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3&
 
 double averaging_divisor(std::size_t n) {
   return n >= kAveragingThreshold ? static_cast<double>(n) / kAveragingThreshold : 1.0;
+}
+
+double signed_distance_divisor(std::size_t shell_points) {
+  return std::max(1.0, static_cast<double>(shell_points) / kSignedDistanceShellShare);
 }
 
 void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
@@ -293,7 +305,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     m_a.noalias() += m * a.transpose();
     m_c.noalias() += m * c.transpose();
   }
-  const double contact_scale = k / averaging_divisor(hits.contacts.size());
+  const double contact_scale =
+      k / (gains.signed_distance ? signed_distance_divisor(shell.points.size())
+                                 : averaging_divisor(hits.contacts.size()));
   result.wrench.force = contact_scale * force;
   result.wrench.torque = contact_scale * torque;
   if (with_jacobians && !hits.contacts.empty()) {

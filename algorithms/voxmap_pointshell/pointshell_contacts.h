@@ -12,13 +12,17 @@
 //   voxmap exerts nothing, so a proxy pushed through the layer stayed
 //   trapped), acts as in the signed-distance variant below.
 //   Signed-distance variant: d = −φ(P), φ interpolated trilinearly from the
-//   voxel-centre signed distances, for points in surface or interior voxels;
-//   F = K_ff d ∇φ when d > 0: minus the gradient of the potential
-//   ½ K_ff Σ φ(P_i)², so the contact force is conservative (the point's
-//   own normal as direction is not: it gave energy away).
+//   voxel-centre signed distances, for points in surface, interior or
+//   proximity voxels (wherever φ can be negative); F = (K_ff / D) d ∇φ when
+//   d > 0 with D = max(1, shell points / 200) one constant per tool: minus
+//   the gradient of the potential (K_ff / 2D) Σ min(φ(P_i), 0)², which is
+//   continuous in the pose, so the contact force is conservative (the
+//   point's own normal as direction is not: it gave energy away; neither
+//   is a state read at the voxel's centre, nor McNeely's averaging, whose
+//   divisor jumps as points cross the surface).
 //   Torque about the centre of mass: s × F.
-//   Averaging: with N points in contact, the net wrench is the sum when
-//   N < 10 and the sum / (N/10) when N ≥ 10.
+//   Averaging (voxmap variant): with N points in contact, the net wrench
+//   is the sum when N < 10 and the sum / (N/10) when N ≥ 10.
 //   Braking viscosity: a point in a proximity voxel moving with u = v + ω × s
 //   gets F = −b u (−n·u) when n·u < 0 (moving towards the scene) and nothing
 //   otherwise. The averaging rule applies to the M braking points apart from
@@ -139,6 +143,18 @@ double braking_speed(const Vec3& normal, const Vec3& lever, const RigidBodyState
 
 /// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
 double averaging_divisor(std::size_t n);
+
+/// Shell points per unit of the signed-distance variant's divisor: a 2 cm
+/// sphere at 2 mm (about 1,250 points) gets 6.3 where a 2.5 mm press
+/// touches about 40 points (McNeely's rule: 4); a 4 cm cube's face flat in
+/// contact is about three times as stiff as under McNeely's rule.
+inline constexpr double kSignedDistanceShellShare = 200;
+
+/// The signed-distance variant's divisor, one constant per tool:
+/// max(1, shell points / 200). A divisor that followed the number of points
+/// in contact (McNeely's rule) would make the potential jump whenever a
+/// point crosses the surface.
+double signed_distance_divisor(std::size_t shell_points);
 
 /// The Voxmap PointShell's work counters (WorkCounters slots and names).
 struct PointShellWork {

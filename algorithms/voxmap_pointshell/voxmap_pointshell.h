@@ -19,8 +19,9 @@ namespace hb {
 ///   voxel_size          m, scene voxel edge h (default 0.002)
 ///   pointshell_spacing  m, tool voxel edge (default voxel_size)
 ///   point_stiffness     N/m, K_ff per point (default 10000)
-///   variant             "voxmap" (tangent plane through the voxel centre) or
-///                       "signed_distance" (depth −φ interpolated), default "voxmap"
+///   variant             "voxmap" (tangent plane through the voxel centre, McNeely's
+///                       averaging) or "signed_distance" (depth −φ interpolated, the
+///                       gradient of one potential), default "voxmap"
 ///   interior_layers     voxels of exact φ inside the surface, signed_distance
 ///                       only (default 3; deeper points read the band's depth)
 ///   proximity_layers    voxels of proximity state outside the surface (default 2)
