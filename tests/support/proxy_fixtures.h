@@ -3,6 +3,7 @@
 // mesh integrator in algorithms/core.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -51,6 +52,54 @@ inline Tool box_tool(const Vec3& size, double density_kg_m3 = 1000) {
   tool.mass.inertia_about_com =
       (mass / 12.0 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
   return tool;
+}
+
+/// An L-shaped hook (a 1 × 2 × 11 cm stem, a 7 cm arm at its top) in the
+/// x–z plane, extruded 2 cm along y; the tool frame is the middle of the
+/// arm tip's lower edge (the arm reaches from x = −8 cm to 0 at z = 0 to
+/// 1 cm, the stem hangs from x = −8 to −7 cm down to z = −10 cm).
+inline TriangleMesh hook_mesh() {
+  const double outline[6][2] = {{-0.08, -0.1}, {-0.07, -0.1}, {-0.07, 0},
+                                {0, 0},        {0, 0.01},     {-0.08, 0.01}};
+  TriangleMesh mesh;
+  for (double y : {-0.01, 0.01})
+    for (const auto& xz : outline) mesh.vertices.push_back(Vec3(xz[0], y, xz[1]));
+  const int cap[4][3] = {{0, 1, 2}, {0, 2, 5}, {2, 3, 4}, {2, 4, 5}};
+  for (const auto& t : cap) {
+    mesh.triangles.push_back({t[0], t[2], t[1]});  // y = −1 cm, facing −y
+    mesh.triangles.push_back({6 + t[0], 6 + t[1], 6 + t[2]});
+  }
+  for (int i = 0; i < 6; ++i) {
+    const int j = (i + 1) % 6;
+    mesh.triangles.push_back({i, 6 + i, 6 + j});
+    mesh.triangles.push_back({i, 6 + j, j});
+  }
+  return mesh;
+}
+
+/// Signed distance (m) from `p` to the axis-aligned box of half-extents
+/// `half` centred at `centre`: negative inside.
+inline double box_signed_distance(const Vec3& p, const Vec3& centre, const Vec3& half) {
+  const Vec3 q = (p - centre).cwiseAbs() - half;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+/// The least signed distance (m) to that box of any point of any edge of
+/// `mesh` posed at `pose`, edges sampled every `spacing` m.
+inline double least_edge_distance_to_box(const TriangleMesh& mesh, const Pose& pose,
+                                         const Vec3& centre, const Vec3& half,
+                                         double spacing = 1e-4) {
+  double least = 1e300;
+  for (const auto& triangle : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const Vec3 a = pose.transform_point(mesh.vertices[triangle[e]]);
+      const Vec3 b = pose.transform_point(mesh.vertices[triangle[(e + 1) % 3]]);
+      const int samples = static_cast<int>((b - a).norm() / spacing) + 1;
+      for (int i = 0; i <= samples; ++i)
+        least =
+            std::min(least, box_signed_distance(a + (b - a) * (double(i) / samples), centre, half));
+    }
+  return least;
 }
 
 /// A static box scene object of full extents `size` at `pose`.

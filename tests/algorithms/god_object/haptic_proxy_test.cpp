@@ -133,23 +133,8 @@ struct HookOnSlab : ProxyRig {
 
   static RenderContext make_context() {
     RenderContext context = slab_context(0.04);
-    // The L in the x–z plane, counter-clockwise, extruded 2 cm along y.
-    const double outline[6][2] = {{-0.08, -0.1}, {-0.07, -0.1}, {-0.07, 0},
-                                  {0, 0},        {0, 0.01},     {-0.08, 0.01}};
-    TriangleMesh& mesh = context.tool.mesh;
-    for (double y : {-0.01, 0.01})
-      for (const auto& xz : outline) mesh.vertices.push_back(Vec3(xz[0], y, xz[1]));
-    const std::array<int, 3> cap[4] = {{0, 1, 2}, {0, 2, 5}, {2, 3, 4}, {2, 4, 5}};
-    for (const auto& t : cap) {
-      mesh.triangles.push_back({t[0], t[2], t[1]});  // y = −1 cm, facing −y
-      mesh.triangles.push_back({6 + t[0], 6 + t[1], 6 + t[2]});
-    }
-    for (int i = 0; i < 6; ++i) {
-      const int j = (i + 1) % 6;
-      mesh.triangles.push_back({i, 6 + i, 6 + j});
-      mesh.triangles.push_back({i, 6 + j, j});
-    }
-    context.tool.mass = mass_properties_from_density(mesh, 1000);
+    context.tool.mesh = test::hook_mesh();
+    context.tool.mass = mass_properties_from_density(context.tool.mesh, 1000);
     return context;
   }
 
@@ -199,13 +184,6 @@ TEST_CASE("a hook turned about its tip never sinks below the standoff, at 2, 4 a
   }
 }
 
-// Signed distance (m) from `p` to the axis-aligned box of half-extents
-// `half` centred at `centre`: negative inside.
-double box_signed_distance(const Vec3& p, const Vec3& centre, const Vec3& half) {
-  const Vec3 q = (p - centre).cwiseAbs() - half;
-  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
-}
-
 TEST_CASE(
     "a cube's edge swept over the slab's edge keeps the standoff as the edges turn parallel") {
   // A 4 cm cube turned 45° about y, so that its lowest edge is a ridge along
@@ -235,16 +213,8 @@ TEST_CASE(
         rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
                         rig.proxy.pose(), target);
       rig.proxy.step(target);
-      const auto& v = rig.context.tool.mesh.vertices;
-      for (const auto& triangle : rig.context.tool.mesh.triangles)
-        for (int e = 0; e < 3; ++e) {
-          const Vec3 a = rig.proxy.pose().transform_point(v[triangle[e]]);
-          const Vec3 b = rig.proxy.pose().transform_point(v[triangle[(e + 1) % 3]]);
-          const int samples = static_cast<int>((b - a).norm() / 1e-4) + 1;
-          for (int i = 0; i <= samples; ++i)
-            least = std::min(least, box_signed_distance(a + (b - a) * (double(i) / samples),
-                                                        slab_centre, slab_half));
-        }
+      least = std::min(least, test::least_edge_distance_to_box(
+                                  rig.context.tool.mesh, rig.proxy.pose(), slab_centre, slab_half));
     }
     INFO(rate << " rad/s: least distance of a cube edge to the slab " << least << " m");
     CHECK(least >= rig.settings.standoff_m - 1e-6);
