@@ -121,7 +121,9 @@ constexpr MetricDefinition kMetrics[] = {
        if (!m.stability.tunnelled) return std::nullopt;
        return static_cast<double>(*m.stability.tunnelled);
      },
-     "times the proxy's tool origin passed through a scene object (tunnelling)", true},
+     "ticks at which the proxy's tool (its origin or an extreme vertex) passed through a scene "
+     "object (tunnelling)",
+     true},
     {"energy_drift_j_per_s", "/stability/energy_drift_j_per_s", "J/s", Better::kHigher, false, 1,
      CompareRule::kTolerance, kEnergyAbsTolJ, true,
      [](const RunMetrics& m) { return m.stability.energy_drift_j_per_s; },

@@ -98,8 +98,8 @@ struct StabilityMetrics {
   /// run; negative when the rendering gives energy away steadily (drift),
   /// null for runs shorter than two ticks.
   std::optional<double> energy_drift_j_per_s;
-  /// Times the proxy's tool origin passed through a scene object
-  /// (tunnelling.h); null where it is not measured (no ground truth).
+  /// Ticks at which the proxy's tool (its origin or an extreme vertex) passed through a scene
+  /// object (tunnelling.h); null where it is not measured (no ground truth).
   std::optional<int64_t> tunnelled;
   /// m: RMS over the last quarter of the run of the proxy tool origin's
   /// second difference |p(k+1) − 2 p(k) + p(k−1)|. A proxy that keeps

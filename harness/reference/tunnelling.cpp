@@ -1,8 +1,39 @@
 #include "harness/reference/tunnelling.h"
 
+#include <algorithm>
 #include <array>
 
 namespace hb {
+
+std::vector<Vec3> tunnelling_points(const TriangleMesh& tool_mesh) {
+  std::vector<Vec3> points = {Vec3::Zero()};
+  if (tool_mesh.vertices.empty()) return points;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        const Vec3 direction(x, y, z);
+        const Vec3* extreme = &tool_mesh.vertices.front();
+        for (const Vec3& vertex : tool_mesh.vertices)
+          if (vertex.dot(direction) > extreme->dot(direction)) extreme = &vertex;
+        if (std::find(points.begin(), points.end(), *extreme) == points.end())
+          points.push_back(*extreme);
+      }
+  return points;
+}
+
+ToolTunnelling::ToolTunnelling(std::vector<Vec3> points_tool,
+                               const std::function<std::unique_ptr<TunnellingDetector>()>& make)
+    : points_(std::move(points_tool)) {
+  for (std::size_t i = 0; i < points_.size(); ++i) detectors_.push_back(make());
+}
+
+bool ToolTunnelling::update(const Pose& tool_pose) {
+  bool passed = false;
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    passed |= detectors_[i]->update(tool_pose.transform_point(points_[i]));
+  return passed;
+}
 
 bool path_meets_surface(const Oracle& oracle, const Vec3& a, const Vec3& b, double touch_m) {
   // Each step goes as far as the distance to the surface, so no surface can

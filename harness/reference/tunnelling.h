@@ -10,13 +10,19 @@
 // directions from the nearest surface point to it point away from each
 // other) and the straight path between the last position outside and this
 // one meets the surface; sinking in and coming back out the way it came is
-// penetration, not tunnelling. The tool's other points are not followed:
-// the origin's path is the measure.
+// penetration, not tunnelling. The run follows more than the origin
+// (ToolTunnelling): the tool's extreme vertices along 26 directions too,
+// each with its own detector, so a tool whose far end passes through a
+// wall while its origin goes round it is counted.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <optional>
+#include <vector>
 
 #include "algorithms/core/pose.h"
+#include "algorithms/core/triangle_mesh.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {
@@ -31,6 +37,26 @@ class TunnellingDetector {
   /// Feeds the tool origin's world position at the next tick (m); true when
   /// it has just passed through the scene. Non-finite positions are skipped.
   virtual bool update(const Vec3& origin_world) = 0;
+};
+
+/// The tool points tunnelling follows (tool frame, m): the origin and the
+/// mesh's extreme vertices along 26 directions (towards the faces, edges
+/// and corners of a cube), each once.
+std::vector<Vec3> tunnelling_points(const TriangleMesh& tool_mesh);
+
+/// Follows several tool points, each with its own detector (from `make`):
+/// a tick counts once however many of them passed through at it.
+class ToolTunnelling {
+ public:
+  ToolTunnelling(std::vector<Vec3> points_tool,
+                 const std::function<std::unique_ptr<TunnellingDetector>()>& make);
+  /// The tool's pose at the next tick; true when some followed point has
+  /// just passed through the scene.
+  bool update(const Pose& tool_pose);
+
+ private:
+  std::vector<Vec3> points_;  ///< m, tool frame
+  std::vector<std::unique_ptr<TunnellingDetector>> detectors_;
 };
 
 /// Against an oracle's scene (meshes): the inside test and the nearest

@@ -82,16 +82,23 @@ class TimingObserver : public TickObserver {
 // timing pass, the tick records take their wall-clock times from it.
 class EvaluatingObserver : public TickObserver {
  public:
-  EvaluatingObserver(GroundTruth& truth, MetricsSettings settings, const TimingObserver* timing,
-                     std::ostream& ticks_out, ProgressDisplay* progress)
+  EvaluatingObserver(GroundTruth& truth, const TriangleMesh& tool_mesh, MetricsSettings settings,
+                     const TimingObserver* timing, std::ostream& ticks_out,
+                     ProgressDisplay* progress)
       : truth_(truth), metrics_(settings), ticks_(ticks_out), progress_(progress) {
     if (timing) timing_.emplace(timing->times);
-    // Tunnelling by the exact box where there is one, else by the oracle.
+    // Tunnelling by the exact box where there is one, else by the oracle,
+    // for the tool's origin and extreme vertices.
     if (truth_.analytic) {
-      tunnelling_ = std::make_unique<BoxTunnellingDetector>(*truth_.analytic);
+      const AnalyticScene& scene = *truth_.analytic;
+      tunnelling_.emplace(tunnelling_points(tool_mesh),
+                          [&] { return std::make_unique<BoxTunnellingDetector>(scene); });
       ideal_.emplace(*truth_.analytic);
-    } else if (truth_.oracle && truth_.oracle->primary_oracle())
-      tunnelling_ = std::make_unique<OracleTunnellingDetector>(*truth_.oracle->primary_oracle());
+    } else if (truth_.oracle && truth_.oracle->primary_oracle()) {
+      const Oracle& oracle = *truth_.oracle->primary_oracle();
+      tunnelling_.emplace(tunnelling_points(tool_mesh),
+                          [&] { return std::make_unique<OracleTunnellingDetector>(oracle); });
+    }
   }
 
   void on_tick(const TickRecord& measured) override {
@@ -117,7 +124,7 @@ class EvaluatingObserver : public TickObserver {
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
     }
-    if (tunnelling_) evaluation.tunnelled = tunnelling_->update(record.result.proxy.p);
+    if (tunnelling_) evaluation.tunnelled = tunnelling_->update(record.result.proxy);
     if (record.device_actual) {
       if (truth_.analytic)
         evaluation.device_penetration_m =
@@ -149,7 +156,7 @@ class EvaluatingObserver : public TickObserver {
 
  private:
   GroundTruth& truth_;
-  std::unique_ptr<TunnellingDetector> tunnelling_;   ///< null without ground truth
+  std::optional<ToolTunnelling> tunnelling_;         ///< none without ground truth
   std::optional<FrictionalContactReference> ideal_;  ///< with the analytic scene
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
@@ -245,7 +252,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     std::ofstream ticks_out(ticks_path, std::ios::binary | std::ios::trunc);
     if (progress)
       progress->phase(truth.oracle ? "evaluation pass + oracle" : "evaluation pass", ticks);
-    EvaluatingObserver observer(truth, metrics_settings, &timing, ticks_out, progress);
+    EvaluatingObserver observer(truth, tool.mesh, metrics_settings, &timing, ticks_out, progress);
     replay(*algorithm.renderer, scenario.trajectory, evaluation_settings, observer);
     errno = 0;
     if (!observer.ticks().finish())

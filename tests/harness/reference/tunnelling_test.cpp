@@ -61,6 +61,39 @@ TEST_CASE("the oracle's tunnelling detector counts passes through a plate, not r
   }
 }
 
+TEST_CASE("a rod whose far end passes through the plate while its origin goes round it counts") {
+  // A 5 cm rod (0.2 × 0.2 mm section) whose tool frame is at one end, moved
+  // down past the plate's edge in 4 mm steps: the origin passes 2 cm
+  // beyond the edge, the far end 3 cm inside it, through the plate. The
+  // origin's detector alone sees nothing; the tool's points see one tick.
+  Pose frame;
+  frame.p = Vec3(0.3, -0.2, 0.1);
+  frame.q = Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
+  const std::vector<SceneObject> scene = {plate(frame)};
+  Shape rod;
+  rod.type = ShapeType::kBox;
+  rod.size = Vec3(0.05, 0.0002, 0.0002);
+  TriangleMesh rod_mesh = shape_mesh(rod);
+  for (Vec3& vertex : rod_mesh.vertices) vertex.x() -= 0.025;  // from x = −5 cm to the origin
+  const std::vector<Vec3> followed = tunnelling_points(rod_mesh);
+  CHECK(followed.size() == 9);  // the origin and the rod's eight corners
+  for (const auto make : {make_embree_oracle, make_cgal_oracle}) {
+    const std::unique_ptr<Oracle> oracle = make(scene);
+    INFO(std::string(oracle->name()));
+    ToolTunnelling tool(followed,
+                        [&] { return std::make_unique<OracleTunnellingDetector>(*oracle); });
+    OracleTunnellingDetector origin_only(*oracle);
+    int tool_ticks = 0, origin_passes = 0;
+    for (double z = 0.0103; z > -0.011; z -= 0.004) {
+      const Pose pose{frame.transform_point(Vec3(0.12, 0, z)), frame.q};
+      tool_ticks += tool.update(pose);
+      origin_passes += origin_only.update(pose.p);
+    }
+    CHECK(origin_passes == 0);
+    CHECK(tool_ticks == 1);
+  }
+}
+
 TEST_CASE("crossing an open sheet counts as passing through it") {
   const std::vector<SceneObject> scene = {sheet()};
   const std::unique_ptr<Oracle> oracle = make_embree_oracle(scene);
