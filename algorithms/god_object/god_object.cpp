@@ -129,7 +129,15 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   // Hands the update's certificate (and, when the haptic proxy has fallen
   // behind it, its pose) to the haptic proxy; counts the update's work.
   void install_update(GodObjectUpdate& update, TickResult& result) {
+    const Pose before = haptic_.pose();
     haptic_.offer(std::move(update.certificate), update.proxy, target_);
+    if (!(haptic_.pose().p == before.p && haptic_.pose().q.coeffs() == before.q.coeffs())) {
+      // Took the slow loop's pose: the proxy's velocity (the coupling's
+      // damping) is this tick's motion from there, not the jump.
+      const RigidBodyState jumped = state_at_rest(body_, haptic_.pose());
+      proxy_.x = jumped.x;
+      proxy_.q = jumped.q;
+    }
     result.work.names = &kWorkNames;
     result.work.counts = {update.stats.bv_tests,
                           update.stats.primitive_queries,
