@@ -13,6 +13,23 @@
 namespace hb {
 namespace {
 
+// The god-object's quasi-static problem: metric K = diag(k_t I, k_r I).
+Mat6 coupling_metric(double k_t, double k_r) {
+  Mat6 metric = Mat6::Identity();
+  metric.block<3, 3>(0, 0) *= k_t;
+  metric.block<3, 3>(3, 3) *= k_r;
+  return metric;
+}
+
+// One frictional solve with at most `sweeps` Gauss–Seidel sweeps.
+ConstrainedStep solve_with_sweeps(int sweeps, const Mat6& metric, const Vec6& unconstrained,
+                                  const std::vector<GaussConstraint>& constraints,
+                                  const std::vector<double>& friction) {
+  ConstrainedStepSolver solver(FrictionalContactOptions{sweeps, 1e-12});
+  std::vector<int> active;
+  return solver.solve(metric, unconstrained, constraints, friction, active);
+}
+
 TEST_CASE("a frictional step stopped by its sweep limit is feasible and moves") {
   // A 4 cm face resting on the plane z = 0 at its four corners (centre of
   // mass 2 cm above), μ = 0.8, pulled sideways and down: the sweeps need
@@ -22,31 +39,19 @@ TEST_CASE("a frictional step stopped by its sweep limit is feasible and moves") 
     for (double y : {-0.02, 0.02})
       constraints.push_back(GaussConstraint{Vec3::UnitZ(), Vec3(x, y, -0.02), 0});
   const std::vector<double> friction(constraints.size(), 0.8);
-  Mat6 metric = Mat6::Identity();
-  metric.block<3, 3>(0, 0) *= 2000;  // k_t
-  metric.block<3, 3>(3, 3) *= 5;     // k_r
+  const Mat6 metric = coupling_metric(2000, 5);
   Vec6 unconstrained;
   unconstrained << 0.004, 0.001, -0.003, 0.02, -0.05, 0.01;
   for (int sweeps : {1, 300}) {
     INFO(sweeps << " sweeps");
-    ConstrainedStepSolver solver(FrictionalContactOptions{sweeps, 1e-12});
-    std::vector<int> active;
-    const ConstrainedStep& step =
-        solver.solve(metric, unconstrained, constraints, friction, active);
+    const ConstrainedStep step =
+        solve_with_sweeps(sweeps, metric, unconstrained, constraints, friction);
     CHECK(step.feasible);
     if (sweeps == 1) CHECK_FALSE(step.converged);
     for (const GaussConstraint& c : constraints)
       CHECK(constraint_row(c).dot(step.step) >= c.rhs - 1e-12);
     CHECK(step.step.head<2>().norm() > 1e-4);  // it slid: friction 0.8 cannot hold this pull
   }
-}
-
-// The god-object's quasi-static problem: metric K = diag(k_t I, k_r I).
-Mat6 coupling_metric(double k_t, double k_r) {
-  Mat6 metric = Mat6::Identity();
-  metric.block<3, 3>(0, 0) *= k_t;
-  metric.block<3, 3>(3, 3) *= k_r;
-  return metric;
 }
 
 TEST_CASE("a ring contact of twelve points slides with exactly mu times its normal force") {
@@ -66,9 +71,7 @@ TEST_CASE("a ring contact of twelve points slides with exactly mu times its norm
   const Mat6 metric = coupling_metric(1000, 2);
   Vec6 unconstrained;
   unconstrained << 0.01, 0, -0.006, 0, 0, 0;
-  ConstrainedStepSolver solver(FrictionalContactOptions{300, 1e-12});
-  std::vector<int> active;
-  const ConstrainedStep& step = solver.solve(metric, unconstrained, constraints, friction, active);
+  const ConstrainedStep step = solve_with_sweeps(300, metric, unconstrained, constraints, friction);
   REQUIRE(step.feasible);
   // The contact force is the coupling's: K (a − a^u), translational part.
   const Vec3 force = 1000 * (step.step.head<3>() - unconstrained.head<3>());
@@ -102,10 +105,8 @@ TEST_CASE("friction stays in the cone when the sweeps stop early or leave rows o
   unconstrained << 0.004, 0.002, -0.003, 0.03, -0.06, 0.02;
   for (int sweeps : {1, 3, 10, 1000}) {
     INFO(sweeps << " sweeps");
-    ConstrainedStepSolver solver(FrictionalContactOptions{sweeps, 1e-12});
-    std::vector<int> active;
-    const ConstrainedStep& step =
-        solver.solve(metric, unconstrained, constraints, friction, active);
+    const ConstrainedStep step =
+        solve_with_sweeps(sweeps, metric, unconstrained, constraints, friction);
     REQUIRE(step.feasible);
     for (const GaussConstraint& c : constraints)
       CHECK(constraint_row(c).dot(step.step) >= c.rhs - 1e-9);

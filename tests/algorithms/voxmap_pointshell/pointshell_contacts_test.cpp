@@ -24,16 +24,18 @@ PointShell repeated_point(std::size_t n, const Vec3& r, const Vec3& normal) {
   return make_pointshell(std::vector<Vec3>(n, r), std::vector<Vec3>(n, normal), Vec3::Zero());
 }
 
-// A 40 cm slab whose top face is the plane z = 0, on the voxel-centre plane
-// of the grid.
-SceneVoxmap slab_voxmap(double h, bool signed_distance) {
+// A 40 cm slab 2 cm thick whose top face passes through the origin with
+// normal tilt·z; untilted, the plane z = 0, on the voxel-centre plane of
+// the grid.
+SceneVoxmap slab_voxmap(double h, bool signed_distance, const Quat& tilt = Quat::Identity()) {
   SceneObject slab;
   Shape shape;
   shape.type = ShapeType::kBox;
   shape.size = Vec3(0.4, 0.4, 0.02);
   slab.shape = shape;
   slab.mesh = shape_mesh(shape);
-  slab.pose.p = Vec3(0, 0, -0.01);
+  slab.pose.q = tilt;
+  slab.pose.p = tilt * Vec3(0, 0, -0.01);
   VoxmapSettings settings;
   settings.voxel_size_m = h;
   settings.proximity_layers = 2;
@@ -168,22 +170,9 @@ TEST_CASE("the signed-distance force gives back on every closed loop what it too
   // in surface and interior voxels by up to 26 µJ; the voxmap variant
   // (McNeely's tangent plane and averaging, as published) fails it too.
   const double h = 0.002;
-  SceneObject slab;
-  Shape shape;
-  shape.type = ShapeType::kBox;
-  shape.size = Vec3(0.4, 0.4, 0.04);
-  slab.shape = shape;
-  slab.mesh = shape_mesh(shape);
-  const Vec3 up = Vec3(0, -std::sin(0.3), std::cos(0.3));  // the top face's normal
-  slab.pose.q = quat_from_rotation_vector(Vec3(0.3, 0, 0));
-  slab.pose.p = -0.02 * up;  // the top face through the origin
-  VoxmapSettings settings;
-  settings.voxel_size_m = h;
-  settings.proximity_layers = 2;
-  settings.signed_distance = true;
-  const SceneVoxmap voxmap = build_scene_voxmap(
-      {slab}, Eigen::AlignedBox3d(Vec3(-0.05, -0.05, -0.04), Vec3(0.05, 0.05, 0.05)), settings,
-      no_cache());
+  const Quat tilt = quat_from_rotation_vector(Vec3(0.3, 0, 0));
+  const Vec3 up = tilt * Vec3::UnitZ();  // the top face's normal
+  const SceneVoxmap voxmap = slab_voxmap(h, true, tilt);
   const PointShell shell = sphere_shell(0.01, h);
   PointShellGains gains;
   gains.stiffness = 10000;
