@@ -13,6 +13,9 @@ namespace {
 // Bounded passes of the staggered QP that cut friction back into the cone.
 constexpr int kConePasses = 4;
 
+// Two contact normals this close (cosine) are one normal: one plane.
+constexpr double kSameNormalCos = 1 - 1e-6;
+
 // z-component of (b − a) × (c − a): > 0 when a, b, c turn left.
 double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
@@ -57,7 +60,6 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
   // plane carry every wrench the others can; the others are left to the
   // final QP, which holds every constraint.
   constexpr std::size_t kKept = 8;
-  constexpr double kSameNormalCos = 1 - 1e-6;
   const double bound_tolerance = 1000 * tolerance_;
   group_of_.assign(rows_.size(), -1);
   group_first_.clear();
@@ -106,7 +108,6 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
   r.coulomb_residual = 0;
   r.skew_passes = 0;
-  r.skew_change = 0;
   if (constraints.empty()) return r;
 
   const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
@@ -225,7 +226,6 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
 void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {
   // Rows with one normal and one μ share their group's total normal force
   // (the QP's) in the sweeps' proportions.
-  constexpr double kSameNormalCos = 1 - 1e-6;
   shared_normal_.resize(rows_.size());
   for (std::size_t row = 0; row < rows_.size(); ++row) {
     double qp_total = 0, sweeps_total = 0;
@@ -255,14 +255,13 @@ const ConstrainedStep& ConstrainedStepSolver::solve_system(
     const ConstrainedStep& r =
         solve(symmetric, shifted, constraints, friction, warm_active, pass_impulses_);
     result_.skew_passes = pass;
-    result_.skew_change = 0;
     const Vec6 deflection = r.step - unconstrained;
     const Vec6 skew_force = skew * deflection;
     if (skew_force.isZero(0)) return r;  // free, or a symmetric system
     if (pass == 1) symmetric_inverse.compute(symmetric);
     const Vec6 next = unconstrained - symmetric_inverse.solve(skew_force);
-    result_.skew_change = (next - shifted).lpNorm<Eigen::Infinity>();
-    if (result_.skew_change <= std::max(tolerance_, 1e-6 * deflection.lpNorm<Eigen::Infinity>()) ||
+    const double change = (next - shifted).lpNorm<Eigen::Infinity>();
+    if (change <= std::max(tolerance_, 1e-6 * deflection.lpNorm<Eigen::Infinity>()) ||
         pass == kSkewPasses)
       return r;
     shifted = next;

@@ -66,11 +66,9 @@ struct ConstrainedStep {
   /// Distance of the returned step from Coulomb's law, a fraction of the
   /// total normal force (see above); 0 without friction.
   double coulomb_residual = 0;
-  /// solve_system only: passes of the symmetric solve, and the last pass's
-  /// change of the skew force's shift, in a's units (0 for a symmetric
+  /// solve_system only: passes of the symmetric solve (1 for a symmetric
   /// system or a step that left a_u unchanged).
   int skew_passes = 0;
-  double skew_change = 0;
 };
 
 /// A frictional step whose Coulomb residual exceeds this fraction of the
