@@ -67,18 +67,15 @@ inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
     // state (from φ at its centre): a point that crossed the surface inside
     // a proximity voxel would otherwise feel nothing until the next voxel,
     // and its force would switch on there at once.
-    if (!gains.signed_distance || !voxmap.has_distances()) return -1;
-    Vec3 gradient;
-    const double phi = voxmap.interpolated_distance(point, gradient);
-    if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
-    return -1;
-  }
-  if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
+    if (!gains.signed_distance) return -1;
+  } else if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
     const Vec3 normal = rotation * shell.normals[i];
     const Vec3 centre = voxmap.centre_of(voxel);
     const double depth = normal.dot(centre - point);
     if (depth > 0) hits.contacts.push_back({i, depth, centre, false});
-  } else if (voxmap.has_distances()) {
+    return -1;
+  }
+  if (voxmap.has_distances()) {
     Vec3 gradient;
     const double phi = voxmap.interpolated_distance(point, gradient);
     if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
