@@ -43,6 +43,12 @@ struct PenetrationResult {
   double rms_depth_m = 0;  ///< RMS over inside points (0 when none)
 };
 
+/// A scene triangle near a point: its closest point and the distance.
+struct NearTriangle {
+  Vec3 closest = Vec3::Zero();  ///< m, world frame: the triangle's point nearest the query
+  double distance = 0;          ///< m, from the query point to `closest`
+};
+
 class Oracle {
  public:
   virtual ~Oracle() = default;
@@ -58,6 +64,16 @@ class Oracle {
   virtual const std::vector<std::string>& distance_only_objects() const = 0;
   /// World-frame bounds of the scene.
   virtual Eigen::AlignedBox3d bounds() const = 0;
+
+  /// Every scene triangle within `radius_m` of `point` (each once, in no
+  /// particular order), appended to `out` after clearing it. False when the
+  /// backend does not answer this query (CGAL).
+  virtual bool triangles_within(const Vec3& point, double radius_m,
+                                std::vector<NearTriangle>& out) const {
+    (void)point, (void)radius_m;
+    out.clear();
+    return false;
+  }
 
   /// Penetration of the points: inside test for every point, then the
   /// distance to the surface of each point found inside.

@@ -153,6 +153,33 @@ bool visit_candidate(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+// State of a search for every triangle within a radius.
+struct RadiusSearch {
+  const std::vector<WorldObject>* objects = nullptr;
+  Vec3 point;         // m, query point (double)
+  double radius = 0;  // m, exact double radius
+  std::vector<NearTriangle>* found = nullptr;
+  std::vector<std::pair<unsigned, unsigned>> seen;  // (geomID, primID) already reported
+};
+
+// Point-query callback: keeps a candidate whose exact double distance is
+// within the radius; the query sphere (float, with slack) never shrinks.
+bool collect_candidate(RTCPointQueryFunctionArguments* args) {
+  auto* search = static_cast<RadiusSearch*>(args->userPtr);
+  const WorldObject& object = (*search->objects)[args->geomID];
+  const Vec3 closest =
+      closest_point_on_triangle(search->point, object.corner(args->primID, 0),
+                                object.corner(args->primID, 1), object.corner(args->primID, 2));
+  const double distance = (closest - search->point).norm();
+  if (!(distance <= search->radius)) return false;
+  // A triangle referenced from several BVH leaves may be visited twice.
+  const std::pair<unsigned, unsigned> key(args->geomID, args->primID);
+  if (std::find(search->seen.begin(), search->seen.end(), key) != search->seen.end()) return false;
+  search->seen.push_back(key);
+  search->found->push_back({closest, distance});
+  return false;
+}
+
 // Spreads the low 21 bits of x to every third bit (for a 63-bit Morton code).
 uint64_t spread_bits(uint64_t x) {
   x &= 0x1fffff;
@@ -308,6 +335,29 @@ class EmbreeOracle final : public Oracle {
         result.object[k] = search.best_object;
       }
     }
+  }
+
+  bool triangles_within(const Vec3& point, double radius_m,
+                        std::vector<NearTriangle>& out) const override {
+    out.clear();
+    if (!has_triangles_ || !point.allFinite() || !(radius_m >= 0)) return true;
+    RadiusSearch search;
+    search.objects = &objects_;
+    search.point = point;
+    search.radius = radius_m;
+    search.found = &out;
+    const double slack = 1e-6 * (coordinate_scale_ + point.cwiseAbs().maxCoeff());
+    RTCPointQuery query;
+    query.x = static_cast<float>(point.x());
+    query.y = static_cast<float>(point.y());
+    query.z = static_cast<float>(point.z());
+    query.time = 0;
+    query.radius = std::nextafter(static_cast<float>(radius_m + slack),
+                                  std::numeric_limits<float>::infinity());
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(scene_.get(), &query, &context, &collect_candidate, &search);
+    return true;
   }
 
   std::optional<double> intersection_volume(const TriangleMesh&) const override {

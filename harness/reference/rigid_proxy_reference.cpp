@@ -1,0 +1,335 @@
+#include "harness/reference/rigid_proxy_reference.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "harness/reference/surface_samples.h"
+
+namespace hb {
+
+namespace {
+
+using MatX = Eigen::MatrixXd;
+using VecX = Eigen::VectorXd;
+
+// Lawson–Hanson non-negative least squares: u ≥ 0 minimising |E u − f|.
+// E has few rows (7) and any number of columns; the passive set never
+// holds more columns than the rank allows.
+VecX non_negative_least_squares(const MatX& e, const VecX& f) {
+  const Eigen::Index m = e.cols();
+  VecX u = VecX::Zero(m);
+  std::vector<uint8_t> passive(static_cast<std::size_t>(m), 0);
+  const double scale = std::max(1.0, e.cwiseAbs().maxCoeff()) * std::max(1.0, f.norm());
+  const double tolerance = 1e-13 * scale;
+  std::vector<Eigen::Index> columns;
+  VecX z;
+  const auto solve_passive = [&] {
+    columns.clear();
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (passive[static_cast<std::size_t>(j)]) columns.push_back(j);
+    MatX ep(e.rows(), static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      ep.col(static_cast<Eigen::Index>(k)) = e.col(columns[k]);
+    const VecX zp = ep.completeOrthogonalDecomposition().solve(f);
+    z = VecX::Zero(m);
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      z[columns[k]] = zp[static_cast<Eigen::Index>(k)];
+  };
+  for (Eigen::Index outer = 0; outer < 3 * m + 10; ++outer) {
+    const VecX w = e.transpose() * (f - e * u);
+    Eigen::Index best = -1;
+    double best_w = tolerance;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (!passive[static_cast<std::size_t>(j)] && w[j] > best_w) best_w = w[j], best = j;
+    if (best < 0) break;
+    passive[static_cast<std::size_t>(best)] = 1;
+    for (int inner = 0; inner < 100; ++inner) {
+      solve_passive();
+      bool positive = true;
+      for (Eigen::Index j : columns) positive = positive && z[j] > 0;
+      if (positive) {
+        u = z;
+        break;
+      }
+      double alpha = 1.0;
+      for (Eigen::Index j : columns)
+        if (z[j] <= 0) alpha = std::min(alpha, u[j] / (u[j] - z[j]));
+      u += alpha * (z - u);
+      for (Eigen::Index j : columns)
+        if (u[j] <= tolerance * 1e-3) u[j] = 0, passive[static_cast<std::size_t>(j)] = 0;
+    }
+  }
+  return u;
+}
+
+// Points along the mesh's sharp edges (faces meeting at more than
+// kSharpDegrees, or an open boundary), about `spacing` apart, endpoints
+// excluded: with the vertices they keep a scene's ridges out of the tool
+// between its own samples.
+constexpr double kSharpDegrees = 5.0;
+
+void add_sharp_edge_points(const TriangleMesh& mesh, const Pose& pose, double spacing,
+                           std::vector<Vec3>& out) {
+  std::vector<std::array<int, 4>> edges;  // (low vertex, high vertex, triangle, unused)
+  edges.reserve(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), 0});
+    }
+  std::sort(edges.begin(), edges.end());
+  const auto normal = [&](int t) {
+    const auto& [a, b, c] = mesh.triangles[static_cast<std::size_t>(t)];
+    return (mesh.vertices[b] - mesh.vertices[a])
+        .cross(mesh.vertices[c] - mesh.vertices[a])
+        .normalized();
+  };
+  const double sharp_cos = std::cos(kSharpDegrees * M_PI / 180.0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    const bool sharp = j - i != 2 || normal(edges[i][2]).dot(normal(edges[i + 1][2])) < sharp_cos;
+    if (sharp) {
+      const Vec3 a = pose.transform_point(mesh.vertices[static_cast<std::size_t>(edges[i][0])]);
+      const Vec3 b = pose.transform_point(mesh.vertices[static_cast<std::size_t>(edges[i][1])]);
+      const int pieces = static_cast<int>(std::ceil((b - a).norm() / spacing));
+      for (int k = 1; k < pieces; ++k) out.push_back(a + (b - a) * (double(k) / pieces));
+    }
+    i = j;
+  }
+}
+
+}  // namespace
+
+/// n·(δx + φ × r) ≥ b, written as a·δ ≥ b with a = (n, r × n).
+struct RigidProxyReference::Row {
+  Vec6 a;
+  double b = 0;         ///< m: ε − d
+  double distance = 0;  ///< m: d
+};
+
+RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
+                                         const TriangleMesh& tool_mesh, const CouplingGains& gains,
+                                         const RigidProxySettings& settings)
+    : settings_(settings), gains_(gains) {
+  scene_ = make_embree_oracle(scene);
+  SceneObject tool;
+  tool.name = "tool";
+  tool.mesh = tool_mesh;
+  tool.distance_only = true;  // distances to its surface only
+  tool_ = make_embree_oracle({tool});
+
+  spacing_m_ = settings_.sample_spacing_m > 0 ? settings_.sample_spacing_m
+                                              : tool_mesh.bounds().diagonal().norm() / 40.0;
+  // Every vertex (the deepest point of a polyhedral tool on a face is
+  // one), then the samples between them.
+  tool_samples_ = tool_mesh.vertices;
+  const std::vector<Vec3> samples = sample_surface(tool_mesh, spacing_m_);
+  tool_samples_.insert(tool_samples_.end(), samples.begin(), samples.end());
+  for (const Vec3& s : tool_samples_) tool_radius_m_ = std::max(tool_radius_m_, s.norm());
+  for (const Vec3& v : tool_mesh.vertices) tool_radius_m_ = std::max(tool_radius_m_, v.norm());
+  sample_distance_.assign(tool_samples_.size(), -1.0);
+  sample_motion_at_.assign(tool_samples_.size(), 0.0);
+
+  for (const SceneObject& object : scene) {
+    for (const Vec3& v : object.mesh.vertices)
+      scene_vertices_.push_back(object.pose.transform_point(v));
+    add_sharp_edge_points(object.mesh, object.pose, spacing_m_, scene_vertices_);
+  }
+  vertex_distance_.assign(scene_vertices_.size(), -1.0);
+  vertex_motion_at_.assign(scene_vertices_.size(), 0.0);
+  cell_m_ = std::max(tool_radius_m_, 1e-4);
+  vertex_cells_.reserve(scene_vertices_.size());
+  for (std::size_t i = 0; i < scene_vertices_.size(); ++i) {
+    const Vec3 c = (scene_vertices_[i] / cell_m_).array().floor();
+    const int64_t key = (static_cast<int64_t>(c.x()) * 73856093) ^
+                        (static_cast<int64_t>(c.y()) * 19349663) ^
+                        (static_cast<int64_t>(c.z()) * 83492791);
+    vertex_cells_.push_back({key, static_cast<int32_t>(i)});
+  }
+  std::sort(vertex_cells_.begin(), vertex_cells_.end());
+}
+
+RigidProxyReference::~RigidProxyReference() = default;
+
+// Every linearised distance the next step can change by more than its
+// clearance: samples and scene vertices whose distance's lower bound is
+// below `band`, against every triangle within the band.
+void RigidProxyReference::collect_rows(double band) {
+  rows_.clear();
+  const Pose& pose = *proxy_;
+  const double eps = settings_.clearance_m;
+  const auto add_row = [&](const Vec3& out, const Vec3& point, double distance) {
+    Row row;
+    row.a.head<3>() = out;
+    row.a.tail<3>() = (point - pose.p).cross(out);
+    row.b = eps - distance;
+    row.distance = distance;
+    rows_.push_back(row);
+  };
+  for (std::size_t i = 0; i < tool_samples_.size(); ++i) {
+    if (sample_distance_[i] - (motion_m_ - sample_motion_at_[i]) >= band) continue;
+    const Vec3 p = pose.transform_point(tool_samples_[i]);
+    scene_->triangles_within(p, band, near_);
+    ++stats_.point_queries;
+    double least = band;
+    for (const NearTriangle& t : near_) {
+      least = std::min(least, t.distance);
+      if (t.distance > 0) add_row((p - t.closest) / t.distance, t.closest, t.distance);
+    }
+    sample_distance_[i] = least;
+    sample_motion_at_[i] = motion_m_;
+  }
+  // Scene vertices in the cells the tool's sphere (grown by the band) touches.
+  const double reach = tool_radius_m_ + band;
+  const Vec3 low = ((pose.p.array() - reach) / cell_m_).floor();
+  const Vec3 high = ((pose.p.array() + reach) / cell_m_).floor();
+  for (int64_t x = static_cast<int64_t>(low.x()); x <= static_cast<int64_t>(high.x()); ++x)
+    for (int64_t y = static_cast<int64_t>(low.y()); y <= static_cast<int64_t>(high.y()); ++y)
+      for (int64_t z = static_cast<int64_t>(low.z()); z <= static_cast<int64_t>(high.z()); ++z) {
+        const int64_t key = (x * 73856093) ^ (y * 19349663) ^ (z * 83492791);
+        auto it = std::lower_bound(vertex_cells_.begin(), vertex_cells_.end(),
+                                   std::pair<int64_t, int32_t>(key, -1));
+        for (; it != vertex_cells_.end() && it->first == key; ++it) {
+          const auto j = static_cast<std::size_t>(it->second);
+          const Vec3& v = scene_vertices_[j];
+          if ((v - pose.p).norm() > reach) continue;
+          if (vertex_distance_[j] - (motion_m_ - vertex_motion_at_[j]) >= band) continue;
+          tool_->triangles_within(pose.inverse_transform_point(v), band, near_);
+          ++stats_.point_queries;
+          double least = band;
+          for (const NearTriangle& t : near_) {
+            least = std::min(least, t.distance);
+            const Vec3 closest = pose.transform_point(t.closest);
+            if (t.distance > 0) add_row((closest - v) / t.distance, closest, t.distance);
+          }
+          vertex_distance_[j] = least;
+          vertex_motion_at_[j] = motion_m_;
+        }
+      }
+}
+
+// The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row:
+// with z = S(δ − g), S = K^½, a least-distance program min |z| subject to
+// (a S⁻¹) z ≥ b − a·g, solved by NNLS (Lawson and Hanson, ch. 23).
+bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const {
+  Vec6 g;
+  g << gx, gphi;
+  Vec6 s_inverse;
+  s_inverse << Vec3::Constant(1 / std::sqrt(gains_.k_t)), Vec3::Constant(1 / std::sqrt(gains_.k_r));
+  const auto m = static_cast<Eigen::Index>(rows_.size());
+  bool binding = false;
+  for (const Row& row : rows_) binding = binding || row.a.dot(g) < row.b;
+  if (!binding) {
+    step = g;
+    return true;
+  }
+  MatX e(7, m);
+  VecX f = VecX::Zero(7);
+  f[6] = 1;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const Row& row = rows_[static_cast<std::size_t>(j)];
+    e.col(j).head<6>() = row.a.cwiseProduct(s_inverse);
+    e(6, j) = row.b - row.a.dot(g);
+  }
+  const VecX u = non_negative_least_squares(e, f);
+  const VecX r = e * u - f;
+  if (!(std::abs(r[6]) > 1e-12)) return false;  // no step satisfies every row
+  const Vec6 z = -r.head<6>() / r[6];
+  step = g + z.cwiseProduct(s_inverse);
+  return true;
+}
+
+double RigidProxyReference::kkt_residual(const Vec3& gx, const Vec3& gphi) const {
+  Vec6 pull;  // S g: the coupling's pull in the energy metric
+  pull << std::sqrt(gains_.k_t) * gx, std::sqrt(gains_.k_r) * gphi;
+  if (!(pull.norm() > 0)) return 0;
+  std::vector<const Row*> active;
+  for (const Row& row : rows_)
+    if (row.distance <= 10 * settings_.clearance_m) active.push_back(&row);
+  if (active.empty()) return 1;
+  MatX e(6, static_cast<Eigen::Index>(active.size()));
+  for (std::size_t j = 0; j < active.size(); ++j) {
+    const Vec6& a = active[j]->a;
+    e.col(static_cast<Eigen::Index>(j)) << a.head<3>() / std::sqrt(gains_.k_t),
+        a.tail<3>() / std::sqrt(gains_.k_r);
+  }
+  // Contact forces Aᵀμ balance the pull K g: in the metric, E μ = −S g.
+  const VecX f = -pull;
+  const VecX mu = non_negative_least_squares(e, f);
+  return (e * mu - f).norm() / pull.norm();
+}
+
+bool RigidProxyReference::start_at(const Pose& device) {
+  std::vector<Vec3> points(tool_samples_.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = device.transform_point(tool_samples_[i]);
+  if (scene_->penetration(points).inside > 0) return false;
+  PointQueryRequest request;
+  request.points = points;
+  request.want_inside = false;
+  request.want_closest = true;
+  PointQueryResult closest;
+  scene_->query_points(request, closest);
+  for (double d : closest.distance)
+    if (!(d >= settings_.clearance_m)) return false;
+  proxy_ = device;
+  return true;
+}
+
+std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
+  stats_ = RigidProxyUpdateStats{};
+  if (!proxy_ && !start_at(device)) return std::nullopt;
+  Pose& pose = *proxy_;
+  const double eps = settings_.clearance_m;
+  const double rotation_limit = std::sqrt(eps / std::max(tool_radius_m_, 1e-9));
+  Vec3 gx, gphi;
+  for (;;) {
+    gx = device.p - pose.p;
+    gphi = rotation_vector(device.q * pose.q.conjugate());
+    const double full = gx.norm() + gphi.norm() * tool_radius_m_;
+    if (full <= settings_.step_tolerance_m) {
+      rows_.clear();
+      stats_.converged = true;
+      break;
+    }
+    if (stats_.iterations >= settings_.max_iterations) break;
+    ++stats_.iterations;
+    const double band = std::clamp(full, 4 * eps, settings_.band_max_m) + eps;
+    collect_rows(band);
+    stats_.constraints = static_cast<int>(rows_.size());
+    Vec6 step;
+    if (!solve_step(gx, gphi, step)) {
+      stats_.infeasible = true;
+      break;
+    }
+    const Vec3 dx = step.head<3>();
+    const Vec3 phi = step.tail<3>();
+    const double moves = dx.norm() + phi.norm() * tool_radius_m_;
+    if (moves <= settings_.step_tolerance_m) {
+      stats_.converged = true;
+      break;
+    }
+    double scale = std::min(1.0, (band - eps) / moves);
+    if (!rows_.empty() && phi.norm() > rotation_limit)
+      scale = std::min(scale, rotation_limit / phi.norm());
+    pose.p += scale * dx;
+    pose.q = (quat_from_rotation_vector(scale * phi) * pose.q).normalized();
+    motion_m_ += scale * moves;
+  }
+  stats_.kkt_residual = rows_.empty() ? 0.0 : kkt_residual(gx, gphi);
+
+  IdealRendering rendering;
+  rendering.proxy = pose;
+  rendering.display.force = gains_.k_t * (pose.p - device.p);
+  rendering.display.torque = -gains_.k_r * rotation_vector(device.q * pose.q.conjugate());
+  for (const Row& row : rows_)
+    rendering.in_contact = rendering.in_contact || row.distance <= 10 * eps;
+  if (rendering.in_contact && rendering.display.force.norm() > 0)
+    rendering.contact_normal = rendering.display.force.normalized();
+  return rendering;
+}
+
+}  // namespace hb

@@ -1,0 +1,122 @@
+// The ideal rendering of any scene of meshes and primitives: the rigid,
+// massless, frictionless proxy of the coupling's definition, followed tick
+// by tick. At each update the proxy moves from where the last one left it
+// toward the device along a path that never brings the tool into the scene,
+// to the pose where the coupling energy
+//   E = ½ k_t |x_h − x_p|² + ½ k_r |θ(q_h q_p⁻¹)|²
+// is stationary among the poses it may take (a local minimum reached by
+// descent: the proxy stays on its side of a thin wall, as a real one must).
+//
+// Geometry comes from the Embree oracle (oracle.h), never from the
+// algorithms' collision code: the tool's surface samples (the points by
+// which the oracles measure penetration) keep a clearance ε from every
+// scene triangle, and every scene vertex keeps ε from every tool triangle.
+// Each iteration solves, exactly (least-distance programming by
+// Lawson–Hanson NNLS), the quadratic program of the energy over the
+// linearised distances to every triangle within a band; a triangle's
+// distance is convex, so its linearisation is a lower bound and a step
+// that keeps it ≥ ε keeps the whole straight path ≥ ε. A rotation's
+// second-order motion is bounded by limiting it per iteration (½|φ|² r ≤
+// ε/2), and points outside the band by conservative advancement. The
+// update ends when an iteration moves no point more than a nanometre; the
+// KKT residual at the end is the share of the coupling's pull (in the
+// energy's metric) that the contact normals cannot balance.
+// Units: m, rad, N, N·m; world frame unless a comment says otherwise.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "algorithms/core/pose.h"
+#include "algorithms/core/scene.h"
+#include "harness/reference/analytic_reference.h"
+#include "harness/reference/oracle.h"
+
+namespace hb {
+
+struct RigidProxySettings {
+  /// Spacing (m) of the tool surface samples that must stay outside; 0 =
+  /// a fortieth of the tool's bounding diagonal (the oracles' rule).
+  double sample_spacing_m = 0;
+  /// ε (m): the clearance every sample and scene vertex keeps. It bounds a
+  /// rotation's second-order motion; it shifts the force by k_t·ε.
+  double clearance_m = 1e-6;
+  /// An update has converged when an iteration moves no point more than this (m).
+  double step_tolerance_m = 1e-9;
+  /// The widest band (m) of triangles an iteration linearises: a longer
+  /// motion takes several iterations.
+  double band_max_m = 5e-3;
+  /// Iterations an update may take before it reports itself unconverged
+  /// (far more than any update needs; only a cycling solve meets it).
+  int max_iterations = 20000;
+};
+
+/// What one update did.
+struct RigidProxyUpdateStats {
+  int iterations = 0;
+  bool converged = false;
+  /// The pose the device asked for could not be approached (the linearised
+  /// constraints had no feasible step): the proxy stayed.
+  bool infeasible = false;
+  /// |S⁻¹(Aᵀμ + K g)| / |S g| at the end, minimised over μ ≥ 0, with A the
+  /// contact rows within 10 ε, K = diag(k_t, k_r) and S = K^½: the share of
+  /// the coupling's pull (energy metric) the contacts cannot balance; 0
+  /// when nothing pulls.
+  double kkt_residual = 0;
+  int constraints = 0;  ///< rows of the last iteration's program
+  int64_t point_queries = 0;
+};
+
+class RigidProxyReference {
+ public:
+  /// Builds Embree structures for the scene (world) and the tool (tool
+  /// frame). Throws InputError for scene objects the oracles refuse.
+  RigidProxyReference(const std::vector<SceneObject>& scene, const TriangleMesh& tool_mesh,
+                      const CouplingGains& gains, const RigidProxySettings& settings = {});
+  ~RigidProxyReference();
+  RigidProxyReference(const RigidProxyReference&) = delete;
+  RigidProxyReference& operator=(const RigidProxyReference&) = delete;
+
+  /// The ideal rendering for the next device pose (tool frame). Before the
+  /// first device pose whose samples are all outside the scene there is no
+  /// proxy to follow: nullopt (started inside).
+  std::optional<IdealRendering> update(const Pose& device);
+
+  const RigidProxyUpdateStats& last_stats() const { return stats_; }
+  std::size_t sample_count() const { return tool_samples_.size(); }
+  double sample_spacing_m() const { return spacing_m_; }
+  double clearance_m() const { return settings_.clearance_m; }
+
+ private:
+  struct Row;  // one linearised distance
+  void collect_rows(double band);
+  bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const;
+  double kkt_residual(const Vec3& gx, const Vec3& gphi) const;
+  bool start_at(const Pose& device);
+
+  RigidProxySettings settings_;
+  CouplingGains gains_;
+  std::unique_ptr<Oracle> scene_;   ///< world frame
+  std::unique_ptr<Oracle> tool_;    ///< tool frame
+  std::vector<Vec3> tool_samples_;  ///< tool frame
+  double spacing_m_ = 0;
+  double tool_radius_m_ = 0;  ///< largest |sample| and |vertex| about the tool origin
+  std::vector<Vec3> scene_vertices_;
+  /// Scene vertices by cubic cell of side cell_m_ (key from the cell's indices).
+  std::vector<std::pair<int64_t, int32_t>> vertex_cells_;  ///< (cell key, vertex), sorted
+  double cell_m_ = 0;
+  // Lower bounds on each point's distance: d at its last query, less the
+  // motion bound accumulated since (motion_m_ − motion_at_query).
+  std::vector<double> sample_distance_, sample_motion_at_;
+  std::vector<double> vertex_distance_, vertex_motion_at_;
+  double motion_m_ = 0;  ///< Σ over applied steps of |δx| + |φ| r (m)
+
+  std::optional<Pose> proxy_;
+  std::vector<Row> rows_;
+  std::vector<NearTriangle> near_;  ///< scratch
+  RigidProxyUpdateStats stats_;
+};
+
+}  // namespace hb
