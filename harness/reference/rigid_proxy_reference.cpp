@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "harness/reference/surface_samples.h"
 
@@ -101,6 +102,21 @@ void add_sharp_edge_points(const TriangleMesh& mesh, const Pose& pose, double sp
   }
 }
 
+// Sets distance[indices[k]] to the exact distance of points[k] from the
+// oracle's surface.
+void refresh_distances(const Oracle& oracle, std::span<const Vec3> points,
+                       std::span<const std::size_t> indices, std::vector<double>& distance) {
+  if (points.empty()) return;
+  PointQueryRequest request;
+  request.points = points;
+  request.want_inside = false;
+  request.want_closest = true;
+  PointQueryResult result;
+  oracle.query_points(request, result);
+  for (std::size_t k = 0; k < indices.size(); ++k)
+    if (result.distance[k] >= 0) distance[indices[k]] = result.distance[k];
+}
+
 }  // namespace
 
 /// n·(δx + φ × r) ≥ b, written as a·δ ≥ b with a = (n, r × n).
@@ -169,6 +185,10 @@ void RigidProxyReference::collect_rows(double band) {
     row.distance = distance;
     rows_.push_back(row);
   };
+  // Points with nothing within the band get their exact distance as their
+  // bound (one batch per side), so they are not asked again for a while.
+  std::vector<std::size_t> far_samples, far_vertices;
+  std::vector<Vec3> far_points;
   for (std::size_t i = 0; i < tool_samples_.size(); ++i) {
     if (sample_distance_[i] - (motion_m_ - sample_motion_at_[i]) >= band) continue;
     const Vec3 p = pose.transform_point(tool_samples_[i]);
@@ -181,7 +201,9 @@ void RigidProxyReference::collect_rows(double band) {
     }
     sample_distance_[i] = least;
     sample_motion_at_[i] = motion_m_;
+    if (near_.empty()) far_samples.push_back(i), far_points.push_back(p);
   }
+  refresh_distances(*scene_, far_points, far_samples, sample_distance_);
   // Scene vertices in the cells the tool's sphere (grown by the band) touches.
   const double reach = tool_radius_m_ + band;
   const Vec3 low = ((pose.p.array() - reach) / cell_m_).floor();
@@ -207,8 +229,13 @@ void RigidProxyReference::collect_rows(double band) {
           }
           vertex_distance_[j] = least;
           vertex_motion_at_[j] = motion_m_;
+          if (near_.empty()) far_vertices.push_back(j);
         }
       }
+  far_points.clear();
+  for (std::size_t j : far_vertices)
+    far_points.push_back(pose.inverse_transform_point(scene_vertices_[j]));
+  refresh_distances(*tool_, far_points, far_vertices, vertex_distance_);
 }
 
 // The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row:
@@ -297,7 +324,11 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     }
     if (stats_.iterations >= settings_.max_iterations) break;
     ++stats_.iterations;
-    const double band = std::clamp(full, 4 * eps, settings_.band_max_m) + eps;
+    // The band follows the steps taken: wide enough for the last one twice
+    // over, four times wider after a step it cut short. Steps in contact
+    // are short, and a narrow band linearises few triangles.
+    const double band =
+        std::clamp(std::min(full, band_hint_m_), 4 * eps, settings_.band_max_m) + eps;
     collect_rows(band);
     stats_.constraints = static_cast<int>(rows_.size());
     Vec6 step;
@@ -313,6 +344,7 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
       break;
     }
     double scale = std::min(1.0, (band - eps) / moves);
+    band_hint_m_ = scale < 1 ? 4 * band : 2 * moves;
     if (!rows_.empty() && phi.norm() > rotation_limit)
       scale = std::min(scale, rotation_limit / phi.norm());
     pose.p += scale * dx;

@@ -111,7 +111,8 @@ class RigidProxyReference {
   // motion bound accumulated since (motion_m_ − motion_at_query).
   std::vector<double> sample_distance_, sample_motion_at_;
   std::vector<double> vertex_distance_, vertex_motion_at_;
-  double motion_m_ = 0;  ///< Σ over applied steps of |δx| + |φ| r (m)
+  double motion_m_ = 0;         ///< Σ over applied steps of |δx| + |φ| r (m)
+  double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 
   std::optional<Pose> proxy_;
   std::vector<Row> rows_;
