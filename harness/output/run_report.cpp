@@ -257,6 +257,22 @@ json summary_json(const ScenarioRun& run) {
               {"distance_only_objects", run.oracle->distance_only_objects},
               {"build_seconds", run.oracle->build_seconds}};
   }
+  json force_reference = nullptr;
+  if (const auto& f = run.force_reference) {
+    force_reference = {{"method", f->method},
+                       {"every", f->every},
+                       {"evaluated_ticks", f->evaluated_ticks},
+                       {"not_started_ticks", f->not_started_ticks},
+                       {"unconverged_ticks", f->unconverged_ticks},
+                       {"infeasible_ticks", f->infeasible_ticks},
+                       {"max_iterations", f->max_iterations},
+                       {"kkt_residual_max", f->kkt_residual_max},
+                       {"tool_points", f->tool_points},
+                       {"clearance_m", f->clearance_m},
+                       {"frictionless_with_friction", f->frictionless_with_friction},
+                       {"seconds", f->seconds},
+                       {"cache_hit", f->cache_hit}};
+  }
   return {{"schema_version", 1},
           {"context",
            {{"commit", run.context.commit},
@@ -278,6 +294,7 @@ json summary_json(const ScenarioRun& run) {
             {"trace", run.trace_description},
             {"scene_friction", run.scene_friction}}},
           {"oracle", oracle},
+          {"force_reference", force_reference},
           {"runs", runs},
           {"metric_table", metric_table_json()}};
 }

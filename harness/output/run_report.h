@@ -85,6 +85,24 @@ struct OracleDescription {
   double build_seconds = 0;
 };
 
+/// How the mesh force reference (harness/run/force_reference.h) went, for
+/// summary.json's "force_reference".
+struct ForceReferenceDescription {
+  std::string method;  ///< what it is, in one phrase
+  int64_t every = 1;   ///< evaluated on ticks k with k % every == 0
+  int64_t evaluated_ticks = 0;
+  int64_t not_started_ticks = 0;  ///< sampled ticks before the device was first outside the scene
+  int64_t unconverged_ticks = 0;
+  int64_t infeasible_ticks = 0;
+  int max_iterations = 0;                   ///< most iterations one tick took
+  double kkt_residual_max = 0;              ///< largest KKT residual over converged ticks
+  int64_t tool_points = 0;                  ///< tool vertices and samples kept outside
+  double clearance_m = 0;                   ///< ε
+  bool frictionless_with_friction = false;  ///< the scene has μ > 0; the reference ignores it
+  double seconds = 0;                       ///< computing it (0 from the cache)
+  bool cache_hit = false;
+};
+
 struct ScenarioRun {
   std::string scenario_name;
   std::string scenario_path;
@@ -93,6 +111,7 @@ struct ScenarioRun {
   std::vector<double> scene_friction;  ///< Coulomb μ of each scene object, in scene order
   RunContext context;
   std::optional<OracleDescription> oracle;
+  std::optional<ForceReferenceDescription> force_reference;  ///< the mesh force reference
   std::vector<AlgorithmRun> runs;
 
   bool all_budgets_pass() const;

@@ -141,6 +141,20 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (progress) progress->finish_task();
   }
+  if (wants_mesh_force_reference(scenario, truth.analytic.has_value())) {
+    try {
+      truth.force = compute_force_reference(scenario, progress);
+    } catch (const InputError& error) {
+      throw InputError(with_source(error, scenario.path), error.location(),
+                       error.message() + " (scenario " + scenario.path + ")");
+    }
+    truth.analytic_name = "mesh reference: " + truth.force->description.method;
+    if (truth.force->description.frictionless_with_friction)
+      truth.analytic_note =
+          "the mesh reference is frictionless: the scene's Coulomb friction is not in it";
+    else
+      truth.analytic_note.clear();
+  }
   return truth;
 }
 }  // namespace

@@ -124,6 +124,14 @@ class EvaluatingObserver : public TickObserver {
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
     }
+    if (truth_.force) {
+      const ForceReferenceTick& tick =
+          truth_.force->ticks[static_cast<std::size_t>(record.device->tick)];
+      if (tick.evaluated) {
+        evaluation.ideal_display = tick.display;
+        evaluation.reference_contact = tick.in_contact;
+      }
+    }
     if (tunnelling_) evaluation.tunnelled = tunnelling_->update(record.result.proxy);
     if (record.device_actual) {
       if (truth_.analytic)
@@ -194,6 +202,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     d.distance_only_objects = truth.oracle->distance_only_objects();
     d.build_seconds = truth.oracle_build_seconds;
   }
+  if (truth.force) report.force_reference = truth.force->description;
 
   MetricsSettings metrics_settings;
   const Tool& tool = scenario.context.tool;

@@ -15,6 +15,7 @@
 #include "harness/reference/analytic_reference.h"
 #include "harness/reference/oracle_evaluation.h"
 #include "harness/replay/replay.h"
+#include "harness/run/force_reference.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -39,6 +40,9 @@ struct GroundTruth {
   std::string analytic_name;  ///< e.g. "ideal rigid contact: sphere tool on box"
   std::string analytic_note;  ///< why there is no analytic reference, if there is none
   std::unique_ptr<OracleEvaluator> oracle;  ///< null when reference.oracle is "none"
+  /// The mesh force reference along the trajectory, where the closed forms
+  /// do not cover the scene (reference.force "auto").
+  std::optional<ForceReferenceTrack> force;
   double oracle_build_seconds = 0;
 };
 

@@ -665,8 +665,10 @@ class ScenarioReader {
 
   ReferenceSpec read_reference(const JsonField& field) const {
     field.require_object(
-        "expected {\"oracle\", \"exact_every\", \"analytic\", \"sample_spacing_m\"}");
-    field.reject_unknown_keys({"oracle", "exact_every", "analytic", "sample_spacing_m"});
+        "expected {\"oracle\", \"exact_every\", \"analytic\", \"force\", \"force_every\", "
+        "\"sample_spacing_m\"}");
+    field.reject_unknown_keys(
+        {"oracle", "exact_every", "analytic", "force", "force_every", "sample_spacing_m"});
     ReferenceSpec reference;
     if (field.has("oracle")) {
       std::vector<std::string_view> choices = {"none"};
@@ -684,6 +686,12 @@ class ScenarioReader {
                                            "expected a whole number of ticks >= 1");
     if (field.has("analytic"))
       reference.analytic = field.existing_member("analytic").choice({"auto", "none"});
+    if (field.has("force"))
+      reference.force = field.existing_member("force").choice({"auto", "none"});
+    if (field.has("force_every"))
+      reference.force_every = field.existing_member("force_every")
+                                  .integer(1, std::numeric_limits<int64_t>::max(),
+                                           "expected a whole number of ticks >= 1");
     if (field.has("sample_spacing_m"))
       reference.sample_spacing_m = field.existing_member("sample_spacing_m")
                                        .positive_number("expected a positive spacing in metres");

@@ -28,6 +28,10 @@ struct ReferenceSpec {
   std::vector<std::string> oracle_backends;  ///< what `oracle` names, in oracle_backends() order
   int64_t exact_every = 10;                  ///< evaluation period of exact backends (CGAL), ticks
   std::string analytic = "auto";             ///< auto or none
+  /// auto: the mesh force reference (harness/reference/rigid_proxy_reference.h)
+  /// where the closed forms do not cover the scene; none: no force reference there.
+  std::string force = "auto";
+  int64_t force_every = 1;  ///< the mesh force reference on ticks k with k % force_every == 0
   /// Spacing (m) of the tool surface samples whose penetration the oracles
   /// measure; 0 = automatic (a fortieth of the tool's bounding diameter).
   double sample_spacing_m = 0;
