@@ -115,7 +115,7 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
   add_timing(record, in_contact);
 
-  // Accuracy against the analytic reference.
+  // Accuracy against the reference (analytic, else the mesh force reference).
   if (evaluation.ideal_display) {
     ++ideal_ticks_;
     const Wrench& ideal = *evaluation.ideal_display;
@@ -125,6 +125,8 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
         std::max(partial_.accuracy.force_err_max_n.value_or(0.0), force_err);
     const double torque_err = (display.torque - ideal.torque).norm();
     torque_err_sq_ += torque_err * torque_err;
+    partial_.accuracy.torque_err_max_nm =
+        std::max(partial_.accuracy.torque_err_max_nm.value_or(0.0), torque_err);
     force_pairs_.push_back({ideal.force.x(), ideal.force.y(), ideal.force.z(), display.force.x(),
                             display.force.y(), display.force.z()});
     peak_ideal_force_n_ = std::max(peak_ideal_force_n_, ideal.force.norm());

@@ -25,9 +25,11 @@ namespace hb {
 
 /// Ground truth for one tick, computed outside the timed window.
 struct TickEvaluation {
-  std::optional<Wrench> ideal_display;  ///< analytic ideal displayed wrench (N, N·m, tool origin)
-  std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
-  std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
+  /// The ideal displayed wrench (N, N·m, tool origin): the analytic
+  /// reference's, else the mesh force reference's on the ticks it evaluated.
+  std::optional<Wrench> ideal_display;
+  std::optional<double> penetration_m;    ///< proxy penetration into the scene by the reference (m)
+  std::optional<bool> reference_contact;  ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
   /// Whether the proxy's tool origin has just passed through the scene
   /// (tunnelling.h: the analytic box where there is one, else the primary
@@ -72,7 +74,8 @@ struct AccuracyMetrics {
   /// its peak in the run) and |F| >= 0.05 N
   std::optional<double> force_dir_err_rms_deg;
   std::optional<double> force_dir_err_max_deg;
-  std::optional<double> torque_err_rms_nm;   ///< |tau - tau_ideal|, RMS over all ticks
+  std::optional<double> torque_err_rms_nm;  ///< |tau - tau_ideal|, RMS over all ticks
+  std::optional<double> torque_err_max_nm;
   std::optional<double> penetration_max_m;   ///< proxy penetration by the reference
   std::optional<double> penetration_rms_m;   ///< RMS over ticks with penetration > 0
   std::optional<int64_t> penetration_ticks;  ///< ticks with penetration > 0

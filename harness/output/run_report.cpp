@@ -198,7 +198,6 @@ json run_json(const AlgorithmRun& run) {
         {"reference_note", run.reference_note},
         {"penetration_source",
          run.penetration_source.empty() ? json(nullptr) : json(run.penetration_source)},
-        {"force_err_max_n", or_null(m.accuracy.force_err_max_n)},
         {"force_dir_err_rms_deg", or_null(m.accuracy.force_dir_err_rms_deg)},
         {"penetration_ticks", or_null(m.accuracy.penetration_ticks)}}},
       {"stability",
