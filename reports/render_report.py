@@ -1389,8 +1389,8 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
         body.append(figure_html(
             "fig-pareto", uri, "error against CPU time per tick p99, one panel per scenario",
             "One panel per scenario (errors of different scenarios are not comparable): force "
-            "error RMS against the analytic reference (or, without one, the maximum "
-            "penetration) against the p99 CPU time per tick of both loops, the haptic step "
+            "error RMS against the reference (the analytic one, else the mesh force "
+            "reference, which is frictionless; without either, the maximum penetration) against the p99 CPU time per tick of both loops, the haptic step "
             "plus the slow-loop work attributed to the tick (timing.cpu_per_tick_ns), so that "
             "an algorithm whose work sits in its slow loop is not shown as free. The red line "
             "is each scenario's Pareto front: no other run of that scenario is both cheaper "
