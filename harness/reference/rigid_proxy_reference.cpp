@@ -293,15 +293,15 @@ bool RigidProxyReference::start_at(const Pose& device) {
   std::vector<Vec3> points(tool_samples_.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     points[i] = device.transform_point(tool_samples_[i]);
-  if (scene_->penetration(points).inside > 0) return false;
+  // One query: every point outside the scene and at least ε from it.
   PointQueryRequest request;
   request.points = points;
-  request.want_inside = false;
+  request.want_inside = true;
   request.want_closest = true;
-  PointQueryResult closest;
-  scene_->query_points(request, closest);
-  for (double d : closest.distance)
-    if (!(d >= settings_.clearance_m)) return false;
+  PointQueryResult found;
+  scene_->query_points(request, found);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (found.inside[i] || !(found.distance[i] >= settings_.clearance_m)) return false;
   proxy_ = device;
   return true;
 }
