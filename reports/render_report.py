@@ -1133,8 +1133,8 @@ def friction_html(folders):
                    "<code>friction</code>). The god-object and constrained dynamics render it; "
                    "the penalty algorithms, Voxmap PointShell and sensation-preserving are "
                    "frictionless, so the difference between the two groups is what friction "
-                   "changes. Force error is against the analytic reference, which sticks and "
-                   "slides with the scene's μ (— without an analytic scene).")
+                   "changes. Force error is against the analytic reference or, on meshes, the mesh "
+                   "force reference; both stick and slide with the scene's μ.")
             + '<table><tr><th class="text">scenario</th><th>μ</th><th class="text">label</th>'
               '<th class="text">contacts</th><th>force error RMS (N)</th>'
               "<th>penetration max (mm)</th></tr>%s</table>" % "".join(rows))
@@ -1390,7 +1390,7 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
             "fig-pareto", uri, "error against CPU time per tick p99, one panel per scenario",
             "One panel per scenario (errors of different scenarios are not comparable): force "
             "error RMS against the reference (the analytic one, else the mesh force "
-            "reference, which is frictionless; without either, the maximum penetration) against the p99 CPU time per tick of both loops, the haptic step "
+            "reference, both with the scene's Coulomb friction; without either, the maximum penetration) against the p99 CPU time per tick of both loops, the haptic step "
             "plus the slow-loop work attributed to the tick (timing.cpu_per_tick_ns), so that "
             "an algorithm whose work sits in its slow loop is not shown as free. The red line "
             "is each scenario's Pareto front: no other run of that scenario is both cheaper "

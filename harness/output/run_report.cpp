@@ -268,7 +268,8 @@ json summary_json(const ScenarioRun& run) {
                        {"kkt_residual_max", f->kkt_residual_max},
                        {"tool_points", f->tool_points},
                        {"clearance_m", f->clearance_m},
-                       {"frictionless_with_friction", f->frictionless_with_friction},
+                       {"friction", f->friction},
+                       {"sticking_ticks", f->sticking_ticks},
                        {"seconds", f->seconds},
                        {"cache_hit", f->cache_hit}};
   }

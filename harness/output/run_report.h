@@ -94,12 +94,15 @@ struct ForceReferenceDescription {
   int64_t not_started_ticks = 0;  ///< sampled ticks before the device was first outside the scene
   int64_t unconverged_ticks = 0;
   int64_t infeasible_ticks = 0;
-  int max_iterations = 0;                   ///< most iterations one tick took
-  double kkt_residual_max = 0;              ///< largest KKT residual over converged ticks
-  int64_t tool_points = 0;                  ///< tool vertices and samples kept outside
-  double clearance_m = 0;                   ///< ε
-  bool frictionless_with_friction = false;  ///< the scene has μ > 0; the reference ignores it
-  double seconds = 0;                       ///< computing it (0 from the cache)
+  int max_iterations = 0;       ///< most iterations one tick took
+  double kkt_residual_max = 0;  ///< largest KKT residual over converged ticks
+  int64_t tool_points = 0;      ///< tool vertices and samples kept outside
+  double clearance_m = 0;       ///< ε
+  /// The scene has μ > 0 and the reference applies it (Coulomb friction on
+  /// the proxy's translation, the analytic reference's model).
+  bool friction = false;
+  int64_t sticking_ticks = 0;  ///< evaluated ticks on which friction held the proxy
+  double seconds = 0;          ///< computing it (0 from the cache)
   bool cache_hit = false;
 };
 

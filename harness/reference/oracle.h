@@ -47,6 +47,7 @@ struct PenetrationResult {
 struct NearTriangle {
   Vec3 closest = Vec3::Zero();  ///< m, world frame: the triangle's point nearest the query
   double distance = 0;          ///< m, from the query point to `closest`
+  int32_t object = -1;          ///< index of the triangle's object in the oracle's scene
 };
 
 class Oracle {

@@ -176,7 +176,7 @@ bool collect_candidate(RTCPointQueryFunctionArguments* args) {
   const std::pair<unsigned, unsigned> key(args->geomID, args->primID);
   if (std::find(search->seen.begin(), search->seen.end(), key) != search->seen.end()) return false;
   search->seen.push_back(key);
-  search->found->push_back({closest, distance});
+  search->found->push_back({closest, distance, static_cast<int32_t>(args->geomID)});
   return false;
 }
 

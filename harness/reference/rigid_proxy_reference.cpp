@@ -124,6 +124,7 @@ struct RigidProxyReference::Row {
   Vec6 a;
   double b = 0;         ///< m: ε − d
   double distance = 0;  ///< m: d
+  double friction = 0;  ///< Coulomb μ of the scene object in this contact
 };
 
 RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
@@ -153,6 +154,9 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
     for (const Vec3& v : object.mesh.vertices)
       scene_vertices_.push_back(object.pose.transform_point(v));
     add_sharp_edge_points(object.mesh, object.pose, spacing_m_, scene_vertices_);
+    const double mu = settings_.friction ? object.friction : 0.0;
+    object_friction_.push_back(mu);
+    scene_vertex_friction_.resize(scene_vertices_.size(), mu);
   }
   vertex_distance_.assign(scene_vertices_.size(), -1.0);
   vertex_motion_at_.assign(scene_vertices_.size(), 0.0);
@@ -177,12 +181,13 @@ void RigidProxyReference::collect_rows(double band) {
   rows_.clear();
   const Pose& pose = *proxy_;
   const double eps = settings_.clearance_m;
-  const auto add_row = [&](const Vec3& out, const Vec3& point, double distance) {
+  const auto add_row = [&](const Vec3& out, const Vec3& point, double distance, double mu) {
     Row row;
     row.a.head<3>() = out;
     row.a.tail<3>() = (point - pose.p).cross(out);
     row.b = eps - distance;
     row.distance = distance;
+    row.friction = mu;
     rows_.push_back(row);
   };
   // Points with nothing within the band get their exact distance as their
@@ -197,7 +202,9 @@ void RigidProxyReference::collect_rows(double band) {
     double least = band;
     for (const NearTriangle& t : near_) {
       least = std::min(least, t.distance);
-      if (t.distance > 0) add_row((p - t.closest) / t.distance, t.closest, t.distance);
+      if (t.distance > 0)
+        add_row((p - t.closest) / t.distance, t.closest, t.distance,
+                object_friction_[static_cast<std::size_t>(t.object)]);
     }
     sample_distance_[i] = least;
     sample_motion_at_[i] = motion_m_;
@@ -225,7 +232,8 @@ void RigidProxyReference::collect_rows(double band) {
           for (const NearTriangle& t : near_) {
             least = std::min(least, t.distance);
             const Vec3 closest = pose.transform_point(t.closest);
-            if (t.distance > 0) add_row((closest - v) / t.distance, closest, t.distance);
+            if (t.distance > 0)
+              add_row((closest - v) / t.distance, closest, t.distance, scene_vertex_friction_[j]);
           }
           vertex_distance_[j] = least;
           vertex_motion_at_[j] = motion_m_;
@@ -269,24 +277,58 @@ bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& ste
   return true;
 }
 
-double RigidProxyReference::kkt_residual(const Vec3& gx, const Vec3& gphi) const {
+RigidProxyReference::Balance RigidProxyReference::balance(const Vec3& gx, const Vec3& gphi) const {
+  Balance out;
+  for (const Row& row : rows_)
+    if (row.distance <= 10 * settings_.clearance_m) out.rows.push_back(&row);
   Vec6 pull;  // S g: the coupling's pull in the energy metric
   pull << std::sqrt(gains_.k_t) * gx, std::sqrt(gains_.k_r) * gphi;
-  if (!(pull.norm() > 0)) return 0;
-  std::vector<const Row*> active;
-  for (const Row& row : rows_)
-    if (row.distance <= 10 * settings_.clearance_m) active.push_back(&row);
-  if (active.empty()) return 1;
-  MatX e(6, static_cast<Eigen::Index>(active.size()));
-  for (std::size_t j = 0; j < active.size(); ++j) {
-    const Vec6& a = active[j]->a;
+  if (!(pull.norm() > 0)) {
+    out.normal_force.assign(out.rows.size(), 0.0);
+    return out;
+  }
+  if (out.rows.empty()) {
+    out.residual = 1;
+    return out;
+  }
+  MatX e(6, static_cast<Eigen::Index>(out.rows.size()));
+  for (std::size_t j = 0; j < out.rows.size(); ++j) {
+    const Vec6& a = out.rows[j]->a;
     e.col(static_cast<Eigen::Index>(j)) << a.head<3>() / std::sqrt(gains_.k_t),
         a.tail<3>() / std::sqrt(gains_.k_r);
   }
-  // Contact forces Aᵀμ balance the pull K g: in the metric, E μ = −S g.
+  // Contact forces Aᵀλ balance the pull K g: in the metric, E λ = −S g.
   const VecX f = -pull;
-  const VecX mu = non_negative_least_squares(e, f);
-  return (e * mu - f).norm() / pull.norm();
+  const VecX lambda = non_negative_least_squares(e, f);
+  out.residual = (e * lambda - f).norm() / pull.norm();
+  out.normal_force.assign(lambda.data(), lambda.data() + lambda.size());
+  return out;
+}
+
+void RigidProxyReference::apply_friction(const Balance& contacts, const Pose& device,
+                                         IdealRendering& rendering) {
+  double limit_n = 0;  // Σ μ_i λ_i
+  for (std::size_t j = 0; j < contacts.rows.size(); ++j)
+    limit_n += contacts.rows[j]->friction * contacts.normal_force[j];
+  const Vec3 force = rendering.display.force;
+  if (!rendering.in_contact || !(limit_n > 0) || !(force.norm() > 0)) {
+    friction_proxy_p_.reset();
+    return;
+  }
+  stats_.friction_limit_n = limit_n;
+  const Vec3 n = force.normalized();
+  Vec3 offset = Vec3::Zero();  // m, ⟂ n: the frictional proxy relative to the frictionless one
+  if (friction_proxy_p_) {
+    const Vec3 kept = *friction_proxy_p_ - rendering.proxy.p;
+    offset = kept - n.dot(kept) * n;
+  }
+  const double limit_m = limit_n / gains_.k_t;
+  const double length = offset.norm();
+  stats_.sticking = length <= limit_m;
+  if (!stats_.sticking) offset *= limit_m / length;
+  rendering.proxy.p += offset;
+  rendering.display.force = gains_.k_t * (rendering.proxy.p - device.p);
+  friction_proxy_p_ = rendering.proxy.p;
 }
 
 bool RigidProxyReference::start_at(const Pose& device) {
@@ -351,7 +393,8 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     pose.q = (quat_from_rotation_vector(scale * phi) * pose.q).normalized();
     motion_m_ += scale * moves;
   }
-  stats_.kkt_residual = rows_.empty() ? 0.0 : kkt_residual(gx, gphi);
+  const Balance contacts = balance(gx, gphi);
+  stats_.kkt_residual = rows_.empty() ? 0.0 : contacts.residual;
 
   IdealRendering rendering;
   rendering.proxy = pose;
@@ -361,6 +404,7 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     rendering.in_contact = rendering.in_contact || row.distance <= 10 * eps;
   if (rendering.in_contact && rendering.display.force.norm() > 0)
     rendering.contact_normal = rendering.display.force.normalized();
+  apply_friction(contacts, device, rendering);
   return rendering;
 }
 

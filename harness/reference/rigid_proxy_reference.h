@@ -1,8 +1,8 @@
 // The ideal rendering of any scene of meshes and primitives: the rigid,
-// massless, frictionless proxy of the coupling's definition, followed tick
-// by tick. At each update the proxy moves from where the last one left it
-// toward the device along a path that never brings the tool into the scene,
-// to the pose where the coupling energy
+// massless proxy of the coupling's definition, followed tick by tick. At
+// each update the proxy moves from where the last one left it toward the
+// device along a path that never brings the tool into the scene, to the
+// pose where the coupling energy
 //   E = ½ k_t |x_h − x_p|² + ½ k_r |θ(q_h q_p⁻¹)|²
 // is stationary among the poses it may take (a local minimum reached by
 // descent: the proxy stays on its side of a thin wall, as a real one must).
@@ -21,6 +21,18 @@
 // update ends when an iteration moves no point more than a nanometre; the
 // KKT residual at the end is the share of the coupling's pull (in the
 // energy's metric) that the contact normals cannot balance.
+//
+// Coulomb friction (μ > 0 on a scene object) is the analytic reference's
+// quasi-static translational model (FrictionalContactReference), carried to
+// any contact: with F the frictionless proxy's display force and n = F/|F|,
+// the frictional proxy sits at p₀ + d with d ⟂ n; it keeps its place while
+// k_t |d| ≤ Σ μ_i λ_i (the contacts' normal forces λ_i, from the balance
+// that gives the KKT residual, each with its object's μ; μ F_n on one
+// face), and otherwise slides behind the device with k_t |d| equal to it.
+// The display adds k_t d. Out of contact d is dropped. Not modelled, as in
+// the analytic reference: the friction's torque (orientation and torque
+// are the frictionless proxy's) and a proxy kept beyond a face's edge; on a
+// curved surface the offset proxy is off the surface by about |d|²/(2R).
 // Units: m, rad, N, N·m; world frame unless a comment says otherwise.
 #pragma once
 
@@ -51,6 +63,9 @@ struct RigidProxySettings {
   /// Iterations an update may take before it reports itself unconverged
   /// (far more than any update needs; only a cycling solve meets it).
   int max_iterations = 20000;
+  /// Apply the scene objects' Coulomb friction (the model above); false:
+  /// frictionless whatever the scene says.
+  bool friction = true;
 };
 
 /// What one update did.
@@ -67,6 +82,12 @@ struct RigidProxyUpdateStats {
   double kkt_residual = 0;
   int constraints = 0;  ///< rows of the last iteration's program
   int64_t point_queries = 0;
+  /// N: Σ μ_i λ_i, the tangential force the contacts' friction can hold
+  /// (0 frictionless or out of contact).
+  double friction_limit_n = 0;
+  /// The frictional proxy kept its place (friction_limit_n > 0 and the
+  /// tangential pull within it).
+  bool sticking = false;
 };
 
 class RigidProxyReference {
@@ -93,7 +114,16 @@ class RigidProxyReference {
   struct Row;  // one linearised distance
   void collect_rows(double band);
   bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const;
-  double kkt_residual(const Vec3& gx, const Vec3& gphi) const;
+  /// The contact rows within 10 ε and their normal forces λ ≥ 0 (N) that
+  /// best balance the coupling's pull; residual as
+  /// RigidProxyUpdateStats::kkt_residual.
+  struct Balance {
+    std::vector<const Row*> rows;
+    std::vector<double> normal_force;
+    double residual = 0;
+  };
+  Balance balance(const Vec3& gx, const Vec3& gphi) const;
+  void apply_friction(const Balance& contacts, const Pose& device, IdealRendering& rendering);
   bool start_at(const Pose& device);
 
   RigidProxySettings settings_;
@@ -104,6 +134,8 @@ class RigidProxyReference {
   double spacing_m_ = 0;
   double tool_radius_m_ = 0;  ///< largest |sample| and |vertex| about the tool origin
   std::vector<Vec3> scene_vertices_;
+  std::vector<double> scene_vertex_friction_;  ///< μ of each scene vertex's object
+  std::vector<double> object_friction_;        ///< μ by scene index
   /// Scene vertices by cubic cell of side cell_m_ (key from the cell's indices).
   std::vector<std::pair<int64_t, int32_t>> vertex_cells_;  ///< (cell key, vertex), sorted
   double cell_m_ = 0;
@@ -114,7 +146,10 @@ class RigidProxyReference {
   double motion_m_ = 0;         ///< Σ over applied steps of |δx| + |φ| r (m)
   double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 
-  std::optional<Pose> proxy_;
+  std::optional<Pose> proxy_;  ///< the frictionless proxy
+  /// m, world: the frictional proxy's position at the last update in
+  /// contact with friction (none out of contact).
+  std::optional<Vec3> friction_proxy_p_;
   std::vector<Row> rows_;
   std::vector<NearTriangle> near_;  ///< scratch
   RigidProxyUpdateStats stats_;

@@ -13,7 +13,7 @@ namespace hb {
 namespace {
 
 // Bump when the reference's results change for the same inputs.
-constexpr int kReferenceVersion = 1;
+constexpr int kReferenceVersion = 2;
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;
@@ -22,6 +22,7 @@ std::string cache_key(const Scenario& scenario, const RigidProxySettings& settin
   for (const SceneObject& object : scenario.context.scene) {
     hash.add(mesh_geometry_hash(object.mesh)).add(exact_key_text(object.pose));
     hash.add(object.distance_only ? "d;" : "c;");
+    add_double(object.friction);
   }
   hash.add(mesh_geometry_hash(scenario.context.tool.mesh));
   add_double(scenario.context.coupling.k_t);
@@ -52,7 +53,8 @@ std::string serialise(const ForceReferenceTrack& track) {
   };
   put(static_cast<int64_t>(track.ticks.size()));
   put(d.evaluated_ticks), put(d.not_started_ticks), put(d.unconverged_ticks),
-      put(d.infeasible_ticks), put(d.max_iterations), put(d.kkt_residual_max), put(d.tool_points);
+      put(d.infeasible_ticks), put(d.max_iterations), put(d.kkt_residual_max), put(d.tool_points),
+      put(d.sticking_ticks);
   for (const ForceReferenceTick& tick : track.ticks) {
     TickRecord record{tick.evaluated, tick.in_contact, {}};
     for (int k = 0; k < 3; ++k) {
@@ -78,12 +80,12 @@ bool deserialise(std::string_view bytes, int64_t ticks, ForceReferenceTrack& tra
   if (!get(count) || count != ticks) return false;
   if (!(get(d.evaluated_ticks) && get(d.not_started_ticks) && get(d.unconverged_ticks) &&
         get(d.infeasible_ticks) && get(d.max_iterations) && get(d.kkt_residual_max) &&
-        get(d.tool_points)))
+        get(d.tool_points) && get(d.sticking_ticks)))
     return false;
   if (bytes.size() - at != static_cast<std::size_t>(ticks) * sizeof(TickRecord)) return false;
   track.ticks.resize(static_cast<std::size_t>(ticks));
   for (ForceReferenceTick& tick : track.ticks) {
-    TickRecord record;
+    TickRecord record{};
     get(record);
     tick.evaluated = record.evaluated != 0;
     tick.in_contact = record.in_contact != 0;
@@ -106,12 +108,12 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   settings.sample_spacing_m = scenario.reference.sample_spacing_m;
   ForceReferenceDescription d;
   d.method =
-      "rigid frictionless proxy: coupling energy minimised over non-penetrating poses reached "
-      "continuously (Embree geometry)";
+      "rigid proxy: coupling energy minimised over non-penetrating poses reached continuously "
+      "(Embree geometry), the scene's Coulomb friction on its translation";
   d.every = scenario.reference.force_every;
   d.clearance_m = settings.clearance_m;
   for (const SceneObject& object : scenario.context.scene)
-    d.frictionless_with_friction = d.frictionless_with_friction || object.friction > 0;
+    d.friction = d.friction || (settings.friction && object.friction > 0);
   const int64_t ticks = scenario.trajectory.ticks();
 
   const DiskCache cache(default_cache_directory(), "force_reference");
@@ -150,6 +152,7 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
     out.max_iterations = std::max(out.max_iterations, stats.iterations);
     if (!stats.converged) ++out.unconverged_ticks;
     if (stats.infeasible) ++out.infeasible_ticks;
+    if (stats.sticking) ++out.sticking_ticks;
     if (stats.converged) out.kkt_residual_max = std::max(out.kkt_residual_max, stats.kkt_residual);
     ForceReferenceTick& record = track.ticks[static_cast<std::size_t>(tick)];
     record.evaluated = true;

@@ -149,11 +149,7 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
                        error.message() + " (scenario " + scenario.path + ")");
     }
     truth.analytic_name = "mesh reference: " + truth.force->description.method;
-    if (truth.force->description.frictionless_with_friction)
-      truth.analytic_note =
-          "the mesh reference is frictionless: the scene's Coulomb friction is not in it";
-    else
-      truth.analytic_note.clear();
+    truth.analytic_note.clear();
   }
   return truth;
 }

@@ -56,10 +56,10 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
       tool.shape->subdivisions = 5;
       tool.mesh = shape_mesh(*tool.shape);
     }
-    RenderContext analytic_context = scenario.context;
-    for (SceneObject& object : analytic_context.scene) object.friction = 0;
-    const std::optional<AnalyticScene> analytic = make_analytic_scene(analytic_context);
+    // With the scene's friction: the closed form's stick and slip.
+    const std::optional<AnalyticScene> analytic = make_analytic_scene(scenario.context);
     REQUIRE(analytic);
+    FrictionalContactReference closed_form(*analytic);
     const bool sphere = tool.shape->type == ShapeType::kSphere;
     const Tessellation tessellation =
         sphere ? inscribed_error(tool.mesh, tool.shape->radius) : Tessellation{};
@@ -68,7 +68,8 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
     RigidProxyReference reference(scenario.context.scene, tool.mesh, scenario.context.coupling,
                                   settings);
     std::vector<IdealRendering> closed_forms, meshes;
-    double peak_force = 0, peak_torque = 0;
+    double peak_force = 0, peak_torque = 0, peak_friction = 0;
+    int sticking = 0;
     for (int64_t tick = 0; tick < scenario.trajectory.ticks(); tick += 5) {
       const Pose device = scenario.trajectory.at(tick).pose;
       const std::optional<IdealRendering> mesh = reference.update(device);
@@ -76,8 +77,11 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
       CHECK(reference.last_stats().converged);
       CHECK(reference.last_stats().kkt_residual < 1e-4);
       meshes.push_back(*mesh);
-      closed_forms.push_back(ideal_rigid_contact(*analytic, device));
-      peak_force = std::max(peak_force, closed_forms.back().display.force.norm());
+      closed_forms.push_back(closed_form.update(device));
+      sticking += closed_form.sticking();
+      const Vec3 force = closed_forms.back().display.force;
+      peak_friction = std::max(peak_friction, (force - force.z() * Vec3::UnitZ()).norm());
+      peak_force = std::max(peak_force, force.norm());
       peak_torque = std::max(peak_torque, closed_forms.back().display.torque.norm());
     }
     const double k_t = scenario.context.coupling.k_t;
@@ -102,11 +106,99 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
                        << " N·m, worst torque error " << worst_torque << " (tolerance "
                        << torque_tolerance << ")");
     CHECK(peak_force > 1.0);
+    if (analytic->friction > 0) {
+      // Both phases are there to compare: sticking, and sliding with the
+      // full μ F_n along the face.
+      CHECK(sticking > 0);
+      CHECK(peak_friction > 0.5 * analytic->friction * peak_force);
+    }
     CHECK(worst_force <= force_tolerance);
     CHECK(worst_torque <= torque_tolerance);
     ++scenarios;
   }
   CHECK(scenarios >= 7);
+}
+
+// A sphere pressed into a right-angled V groove along x and dragged along
+// it: each face pushes with λ = F/√2 for a vertical push F, so the friction
+// that holds it is μ Σλ = √2 μ F, more than on one face (the wedge); the
+// proxy sticks while the device's pull is within it and slides with
+// exactly that much behind it.
+TEST_CASE("the mesh reference holds a sphere in a groove with the wedge's friction") {
+  const double mu = 0.3, r = 0.01;
+  std::vector<SceneObject> scene;
+  for (double side : {-1.0, 1.0}) {
+    // A slab whose top face passes through the groove's axis (the x axis)
+    // at 45° to the vertical.
+    const Quat tilt(Eigen::AngleAxisd(side * M_PI / 4, Vec3::UnitX()));
+    scene.push_back(
+        test::box_object(Vec3(0.2, 0.1, 0.02), Pose{tilt * Vec3(0, side * 0.05, -0.01), tilt}));
+    scene.back().mesh = shape_mesh(*scene.back().shape);
+    scene.back().friction = mu;
+  }
+  Tool tool = test::sphere_tool(r);
+  tool.shape->subdivisions = 5;
+  const CouplingGains gains = test::example_gains();
+  RigidProxyReference reference(scene, shape_mesh(*tool.shape), gains);
+  const double rest_z = r * std::sqrt(2.0);  // the sphere touching both faces
+  const double press = 0.003;                // m, below the rest height
+  // Clear above, then down, then along x by 1 mm (within the friction's
+  // reach: F = k_t press, holds to √2 μ F / k_t = 1.27 mm), then 2 cm.
+  std::vector<Pose> path;
+  for (int k = 0; k <= 20; ++k)
+    path.push_back({Vec3(0, 0, rest_z + 0.005 - 0.0004 * k), Quat::Identity()});
+  const double reach = std::sqrt(2.0) * mu * press;
+  for (int k = 1; k <= 10; ++k)
+    path.push_back({Vec3(0.0001 * k, 0, rest_z - press), Quat::Identity()});
+  std::optional<IdealRendering> held;
+  for (const Pose& device : path) {
+    held = reference.update(device);
+    REQUIRE(held);
+  }
+  INFO("held: force " << held->display.force.transpose() << ", limit "
+                      << reference.last_stats().friction_limit_n);
+  CHECK(reference.last_stats().sticking);
+  CHECK(held->display.force.x() == Approx(-gains.k_t * 0.001).epsilon(0.02));
+  const double push = held->display.force.z();
+  CHECK(push == Approx(gains.k_t * press).epsilon(0.02));
+  CHECK(reference.last_stats().friction_limit_n ==
+        Approx(std::sqrt(2.0) * mu * push).epsilon(0.02));
+  std::optional<IdealRendering> sliding;
+  for (int k = 1; k <= 40; ++k) {
+    sliding = reference.update(Pose{Vec3(0.001 + 0.0005 * k, 0, rest_z - press), Quat::Identity()});
+    REQUIRE(sliding);
+  }
+  CHECK_FALSE(reference.last_stats().sticking);
+  CHECK(-sliding->display.force.x() ==
+        Approx(std::sqrt(2.0) * mu * sliding->display.force.z()).epsilon(0.02));
+  CHECK(-sliding->display.force.x() > gains.k_t * reach * 0.95);
+  CHECK(std::abs(sliding->display.force.y()) < 0.01 * push);
+}
+
+TEST_CASE("the mesh reference's friction can be left out") {
+  std::vector<SceneObject> scene = {
+      test::box_object(Vec3(0.2, 0.2, 0.02), Pose{Vec3(0, 0, -0.01), Quat::Identity()})};
+  scene[0].mesh = shape_mesh(*scene[0].shape);
+  scene[0].friction = 0.5;
+  const Tool tool = test::sphere_tool(0.01);
+  RigidProxySettings frictionless;
+  frictionless.friction = false;
+  RigidProxyReference with(scene, shape_mesh(*tool.shape), test::example_gains());
+  RigidProxyReference without(scene, shape_mesh(*tool.shape), test::example_gains(), frictionless);
+  const std::vector<Pose> path = {{Vec3(0, 0, 0.02), Quat::Identity()},
+                                  {Vec3(0, 0, 0.008), Quat::Identity()},
+                                  {Vec3(0.002, 0, 0.008), Quat::Identity()}};
+  IdealRendering a, b;
+  for (const Pose& device : path) {
+    a = *with.update(device);
+    b = *without.update(device);
+  }
+  // Pressed 2 mm (F_n = 4 N) and moved 2 mm along the face: the frictional
+  // proxy slides 1 mm behind the device (μ F_n = 2 N), the frictionless one
+  // follows it.
+  CHECK(-a.display.force.x() == Approx(0.5 * a.display.force.z()).epsilon(0.02));
+  CHECK(std::abs(b.display.force.x()) < 1e-6);
+  CHECK(without.last_stats().friction_limit_n == 0.0);
 }
 
 TEST_CASE("the mesh reference keeps a hook turned about its tip out of the slab") {
