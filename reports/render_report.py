@@ -629,10 +629,11 @@ def stiffness_text(k):
 
 
 def stiffness_limits(runs):
-    """(largest k_t that did not diverge, smallest k_t that diverged), None where there is none."""
-    stable = [k for k, run in runs if dig(run.summary, "stability", "diverged") is False]
-    diverged = [k for k, run in runs if dig(run.summary, "stability", "diverged") is True]
-    return (max(stable) if stable else None), (min(diverged) if diverged else None)
+    """(largest stable k_t, smallest unstable k_t) by the runs' stability
+    verdicts, None where there is none."""
+    stable = [k for k, run in runs if verdict_stable(run) is True]
+    unstable = [k for k, run in runs if verdict_stable(run) is False]
+    return (max(stable) if stable else None), (min(unstable) if unstable else None)
 
 
 def sweep_figure(by_integrator, closed_form_bound):
@@ -994,15 +995,15 @@ def stability_html(folders, runs):
             ks = sorted({k for k, _ in integrator_runs})
             rows.append(
                 '<tr data-integrator="%s"><td class="text">%s</td><td>%d (%s … %s)</td>'
-                '<td class="largest-stable">%s</td><td class="smallest-diverged">%s</td></tr>'
+                '<td class="largest-stable">%s</td><td class="smallest-unstable">%s</td></tr>'
                 % (esc(integrator), esc(integrator), len(ks), stiffness_text(ks[0]),
                    stiffness_text(ks[-1]), stiffness_text(largest), stiffness_text(smallest)))
         parts.append(
             '<table class="stiffness-sweep" data-sweep="%s"><tr><th class="text">integrator</th>'
             "<th>stiffnesses run (N/m)</th><th>largest stable k_t (N/m)</th>"
-            "<th>smallest diverged k_t (N/m)</th></tr>%s</table>" % (esc(base), "".join(rows)))
-        parts.append('<p class="small">Stable: <code>stability.diverged</code> is false in the '
-                     "run's summary.</p>")
+            "<th>smallest unstable k_t (N/m)</th></tr>%s</table>" % (esc(base), "".join(rows)))
+        parts.append('<p class="small">Stable: the run\'s stability verdict '
+                     "(<code>stability.verdict.stable</code> in its summary).</p>")
         if from_file:
             path, data = from_file
             verdicts = "; ".join(
@@ -1022,11 +1023,6 @@ def stability_html(folders, runs):
     return "".join(parts)
 
 
-# A stress run passes when its passivity energy stays above −ε (J), as in
-# `hapticbench stability`'s default.
-STRESS_PASSIVITY_EPSILON_J = 1e-6
-
-
 def is_stress_folder(folder):
     """A run of a scenario kept in a folder named stress (scenarios/stress/)."""
     path = str(dig(folder.summary, "scenario", "path") or "")
@@ -1034,31 +1030,20 @@ def is_stress_folder(folder):
 
 
 def stress_verdict(run):
-    """(passed, text): the first failed check of no non-finite, no divergence,
-    no tunnelling, passivity and no chatter, with its figure; else the
-    largest penetration (or the passivity minimum) behind the pass."""
-    stability = run.summary.get("stability") or {}
-    nonfinite = stability.get("nonfinite") or 0
-    if nonfinite:
-        return False, "non-finite on %d ticks" % nonfinite
-    if stability.get("diverged"):
-        tick = stability.get("diverged_at_tick")
-        return False, "diverged" + (" at tick %d" % tick if isinstance(tick, int) else "")
-    tunnelled = stability.get("tunnelled")
-    if isinstance(tunnelled, int) and tunnelled > 0:
-        return False, "tunnelled %d×" % tunnelled
-    energy = number_or_none(stability.get("passivity_energy_min_j"))
-    if energy is not None and energy < -STRESS_PASSIVITY_EPSILON_J:
-        return False, "passivity %s mJ" % fmt(energy, "%.3g", 1e3)
-    if stability.get("chatters"):
-        chatter = number_or_none(stability.get("proxy_chatter_m"))
-        return False, "chatters" + (" %s µm" % fmt(chatter, "%.2g", 1e6) if chatter else "")
-    depth = number_or_none(dig(run.summary, "accuracy", "penetration_max_m"))
-    if depth is not None:
-        return True, "pen %s mm" % fmt(depth, "%.2g", 1e3)
-    if energy is not None:
-        return True, "E_min %s mJ" % fmt(energy, "%.2g", 1e3)
-    return True, "passed"
+    """(passed, text) from the run's stability verdict, which hapticbench
+    computes (summary.json stability.verdict; harness/stability/
+    stability_verdict.h): the first failed check with its figure, or the
+    figure behind a pass. (None, "no verdict") for a summary without one."""
+    verdict = dig(run.summary, "stability", "verdict")
+    if not isinstance(verdict, dict) or not isinstance(verdict.get("stable"), bool):
+        return None, "no verdict"
+    return verdict["stable"], str(verdict.get("reason") or "")
+
+
+def verdict_stable(run):
+    """True or False from the run's stability verdict; None without one."""
+    stable = dig(run.summary, "stability", "verdict", "stable")
+    return stable if isinstance(stable, bool) else None
 
 
 def stress_matrix_html(folders):
@@ -1082,17 +1067,21 @@ def stress_matrix_html(folders):
                 cells.append('<td class="na">—</td>')
                 continue
             passed, text = stress_verdict(run)
+            if passed is None:
+                cells.append('<td class="na">%s</td>' % esc(text))
+                continue
             failures += not passed
             cells.append('<td class="%s" data-pass="%s">%s %s</td>'
                          % ("pass" if passed else "fail", "true" if passed else "false",
                             "✓" if passed else "✗", esc(text)))
         rows.append('<tr><td class="text">%s</td>%s</tr>' % (esc(label), "".join(cells)))
     return ("<h3 id='stress-matrix'>Stress matrix</h3>"
-            + note("Each run of a scenario in a <code>stress/</code> folder, by algorithm label. "
-                   "A cell fails on the first of: a non-finite wrench, divergence, tunnelling "
-                   "(stability.tunnelled), passivity energy below −%g J, chatter at the end of "
-                   "the run (stability.chatters); a passing cell shows the largest penetration. "
-                   "%d of the cells fail." % (STRESS_PASSIVITY_EPSILON_J, failures))
+            + note("Each run of a scenario in a <code>stress/</code> folder, by algorithm label: "
+                   "the run's stability verdict (<code>stability.verdict</code>, the same that "
+                   "<code>hapticbench stability</code> applies). A cell fails on the first of: "
+                   "a non-finite wrench, divergence, tunnelling, an energy minimum below −ε, "
+                   "chatter at the end of the run or a limit cycle; a passing cell shows the "
+                   "largest penetration. %d of the cells fail." % failures)
             + '<div class="wide"><table class="stress-matrix"><tr><th class="text">label</th>%s'
               "</tr>%s</table></div>" % (header, "".join(rows)))
 

@@ -6,6 +6,7 @@
 
 #include "harness/metrics/metric_table.h"
 #include "harness/output/xml_text.h"
+#include "harness/stability/stability_verdict.h"
 
 namespace hb {
 
@@ -88,6 +89,20 @@ void write_table_metrics(json& out, const RunMetrics& m) {
     else
       out[pointer] = *value;
   }
+}
+
+// The one stability verdict (stability_verdict.h) at its defaults, with
+// the criterion it applied.
+json stability_verdict_json(const RunMetrics& metrics) {
+  const StabilityRequest request;
+  const StabilityResult verdict = judge_stability(metrics, request);
+  return {{"stable", verdict.stable},
+          {"failed", verdict.failed == StabilityCheck::kNone
+                         ? json(nullptr)
+                         : json(stability_check_name(verdict.failed))},
+          {"reason", verdict.reason},
+          {"criterion", stability_criterion_name(request.criterion)},
+          {"epsilon_j", request.epsilon_j}};
 }
 
 json run_json(const AlgorithmRun& run) {
@@ -208,7 +223,8 @@ json run_json(const AlgorithmRun& run) {
         {"proxy_nonfinite_ticks", m.stability.proxy_nonfinite_ticks},
         {"passivity_energy_final_j", m.stability.passivity_energy_final_j},
         {"force_hf_energy_fraction", m.stability.force_hf_energy_fraction},
-        {"device_chatter_m", m.stability.device_chatter_m}}},
+        {"device_chatter_m", m.stability.device_chatter_m},
+        {"verdict", stability_verdict_json(m)}}},
       {"transparency",
        {{"free_space_ticks", m.transparency.free_space_ticks},
         {"free_space_force_rms_n", or_null(m.transparency.free_space_force_rms_n)}}},

@@ -22,41 +22,14 @@ constexpr int kMaxProbes = 64;
 Json or_null(const std::optional<double>& value) { return value ? Json(*value) : Json(); }
 }  // namespace
 
-std::optional<StabilityCriterion> stability_criterion_named(std::string_view name) {
-  if (name == "all") return StabilityCriterion::kAll;
-  if (name == "passivity") return StabilityCriterion::kPassivity;
-  if (name == "oscillation") return StabilityCriterion::kOscillation;
-  return std::nullopt;
-}
-
-std::string stability_criterion_text(StabilityCriterion criterion, double epsilon_j) {
-  const std::string base =
-      "stable: the run did not diverge (proxy farther than max(0.1 m, 5 tool radii) from the "
-      "device, or reset) and displayed no non-finite wrench";
-  const std::string passivity =
-      "its energy minimum was >= -" + std::to_string(epsilon_j) +
-      " J (the port energy in open loop; in closed loop the energy the hand put into the "
-      "device, display_energy_min_j)";
-  const std::string oscillation =
-      "the proxy did not chatter (its position's tick-to-tick second difference, RMS over the "
-      "last quarter of the run, below max(1 um, 10 times the device's)) and, in closed loop, "
-      "the device had no limit cycle (docs/closed-loop.md)";
-  switch (criterion) {
-    case StabilityCriterion::kPassivity:
-      return base + ", and " + passivity;
-    case StabilityCriterion::kOscillation:
-      return base + ", and " + oscillation;
-    case StabilityCriterion::kAll:
-      break;
-  }
-  return base + ", " + passivity + ", and " + oscillation;
-}
-
 Json probe_json(const StabilityProbe& p) {
   Json json = Json::object();
   for (const auto& [pointer, value] : p.settings) json["settings"][pointer] = value;
   json["value"] = p.settings.empty() ? Json() : Json(p.settings.back().second);
   json["stable"] = p.stable;
+  json["failed"] =
+      p.failed == StabilityCheck::kNone ? Json() : Json(stability_check_name(p.failed));
+  json["reason"] = p.reason;
   json["diverged"] = p.diverged;
   json["nonfinite"] = p.nonfinite;
   json["passivity_energy_min_j"] = p.passivity_min_j;
@@ -153,15 +126,14 @@ StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, do
     p.limit_cycle_amplitude_m = m.closed_loop->limit_cycles.amplitude_m;
     p.limit_cycle_frequency_hz = m.closed_loop->limit_cycles.frequency_hz;
   }
-  const bool passive = p.display_energy_min_j.value_or(p.passivity_min_j) >= -epsilon_j_;
-  const bool settled = !p.chatters && !p.limit_cycle.value_or(false);
-  p.stable = !p.diverged && p.nonfinite == 0 &&
-             (criterion_ == StabilityCriterion::kOscillation || passive) &&
-             (criterion_ == StabilityCriterion::kPassivity || settled);
+  const StabilityResult verdict = judge_stability(m, {criterion_, epsilon_j_});
+  p.stable = verdict.stable;
+  p.failed = verdict.failed;
+  p.reason = verdict.reason;
   std::ostringstream line;
   line << "stability:";
   for (const auto& [pointer, value] : settings) line << " " << pointer << " = " << value;
-  line << ": " << (p.stable ? "stable" : "unstable") << "\n";
+  line << ": " << (p.stable ? "stable" : "unstable") << " (" << p.reason << ")\n";
   progress_.print_above(std::cerr, line.str());
   return p;
 }

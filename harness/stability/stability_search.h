@@ -1,7 +1,7 @@
 // Stability searches over scenario parameters (`hapticbench stability`,
 // `hapticbench zwidth`): a probe is one run of one algorithm of a scenario
-// with some of its fields set; stable is decided by one criterion, here
-// and nowhere else; the largest stable value of a field is found by
+// with some of its fields set, judged by the one verdict of
+// stability_verdict.h; the largest stable value of a field is found by
 // bracketing and bisection on a log scale.
 #pragma once
 
@@ -14,28 +14,16 @@
 #include <vector>
 
 #include "harness/progress/progress_display.h"
+#include "harness/stability/stability_verdict.h"
 
 namespace hb {
-
-/// What a stable run must satisfy besides not diverging and displaying no
-/// non-finite wrench.
-enum class StabilityCriterion {
-  kAll,          ///< passivity and oscillation
-  kPassivity,    ///< energy minimum >= −ε: the port energy in open loop, the
-                 ///< energy the hand put into the device in closed loop
-  kOscillation,  ///< no proxy chatter, and in closed loop no limit cycle
-};
-
-/// "all", "passivity", "oscillation"; nullopt for anything else.
-std::optional<StabilityCriterion> stability_criterion_named(std::string_view name);
-
-/// The criterion as result files state it.
-std::string stability_criterion_text(StabilityCriterion criterion, double epsilon_j);
 
 /// One run at one setting of the fields searched.
 struct StabilityProbe {
   std::vector<std::pair<std::string, double>> settings;  ///< JSON pointer, value
   bool stable = false;
+  StabilityCheck failed = StabilityCheck::kNone;  ///< the verdict's first failed check
+  std::string reason;                             ///< the verdict's reason
   bool diverged = false;
   int64_t nonfinite = 0;
   double passivity_min_j = 0;

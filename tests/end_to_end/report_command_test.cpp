@@ -228,7 +228,11 @@ json sweep_summary(double k_t) {
                  {{"nonfinite", 0},
                   {"diverged", diverged},
                   {"passivity_energy_min_j", 0.0},
-                  {"max_proxy_separation_m", diverged ? 1e30 : 0.01}}},
+                  {"max_proxy_separation_m", diverged ? 1e30 : 0.01},
+                  {"verdict",
+                   {{"stable", !diverged},
+                    {"failed", diverged ? json("diverged") : json(nullptr)},
+                    {"reason", diverged ? "diverged at tick 40" : "E_min 0 mJ"}}}}},
                 {"budgets", json::array()}};
   };
   const std::string name = "stability_k" + std::to_string(static_cast<int>(k_t));
@@ -260,9 +264,9 @@ TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t
   const std::string explicit_row = row_with(html, "<tr data-integrator=\"explicit_euler\"");
   const std::string implicit_row = row_with(html, "<tr data-integrator=\"implicit_euler\"");
   CHECK(explicit_row.find("class=\"largest-stable\">4950<") != std::string::npos);
-  CHECK(explicit_row.find("class=\"smallest-diverged\">5050<") != std::string::npos);
+  CHECK(explicit_row.find("class=\"smallest-unstable\">5050<") != std::string::npos);
   CHECK(implicit_row.find("class=\"largest-stable\">8000<") != std::string::npos);
-  CHECK(implicit_row.find("class=\"smallest-diverged\">none<") != std::string::npos);
+  CHECK(implicit_row.find("class=\"smallest-unstable\">none<") != std::string::npos);
   CHECK(html.find("id=\"fig-stiffness-sweep-0\"") != std::string::npos);
 
   // Summary-only folders: no time series, said on the page; step times from the sample.
@@ -302,7 +306,7 @@ TEST_CASE("stress runs and stability results make the stress matrix and the marg
   REQUIRE(report.exit_code == 0);
   const std::string html = hb::test::read_text_file(work / "stress.html");
   CHECK(html.find("id='stress-matrix'") != std::string::npos);
-  CHECK(html.find("data-pass=\"false\">✗ diverged") != std::string::npos);
+  CHECK(html.find("data-pass=\"false\">✗ diverged at tick 40") != std::string::npos);
   CHECK(html.find("data-pass=\"true\">") != std::string::npos);
   const std::string margins = row_with(html, "<tr><td class=\"text\">margin_sphere_on_box");
   CHECK(margins.find("penalty_explicit") != std::string::npos);
