@@ -21,15 +21,15 @@ constexpr AlgorithmEntry kAlgorithms[] = {
     {"god_object",
      "Ortega, Redon & Coquillart 2007: massless proxy, Gauss' least constraint, screw-motion "
      "mesh CCD on the slow loop",
-     &create_god_object},
+     &create_god_object, true},
     {"god_object_3dof",
      "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
-     &create_god_object_3dof},
+     &create_god_object_3dof, true},
     {"constrained_dynamics",
      "Duriez et al. 2006: rigid proxy with mass, hard contacts and Coulomb friction as impulses "
      "(projected Gauss-Seidel), implicit coupling, contacts from the god-object's proximity "
      "certificates",
-     &create_constrained_dynamics},
+     &create_constrained_dynamics, true},
     {"voxmap_pointshell",
      "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, tangent-plane "
      "penalty per point, dynamic proxy",
@@ -43,14 +43,18 @@ constexpr AlgorithmEntry kAlgorithms[] = {
 
 std::span<const AlgorithmEntry> algorithm_table() { return kAlgorithms; }
 
+const AlgorithmEntry* find_algorithm(std::string_view name) {
+  for (const AlgorithmEntry& entry : kAlgorithms)
+    if (entry.name == name) return &entry;
+  return nullptr;
+}
+
 std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderContext& context,
                                           const ParamSet& params, const std::string& field) {
-  for (const AlgorithmEntry& entry : kAlgorithms) {
-    if (entry.name == name) {
-      std::unique_ptr<Renderer> renderer = entry.create(context, params);
-      params.reject_unknown();
-      return renderer;
-    }
+  if (const AlgorithmEntry* entry = find_algorithm(name)) {
+    std::unique_ptr<Renderer> renderer = entry->create(context, params);
+    params.reject_unknown();
+    return renderer;
   }
   std::string known;
   for (const AlgorithmEntry& entry : kAlgorithms)

@@ -16,10 +16,16 @@ struct AlgorithmEntry {
   std::string_view name;     ///< the `name` in a scenario's algorithms[]
   std::string_view summary;  ///< one line for `hapticbench list`
   std::unique_ptr<Renderer> (*create)(const RenderContext& context, const ParamSet& params);
+  /// Its contacts carry the scene objects' Coulomb friction ("friction");
+  /// the others are frictionless whatever the scene says.
+  bool renders_friction = false;
 };
 
 /// Every algorithm, in the order `hapticbench list` shows them.
 std::span<const AlgorithmEntry> algorithm_table();
+
+/// The entry named `name`, or nullptr.
+const AlgorithmEntry* find_algorithm(std::string_view name);
 
 /// Builds a renderer by name. Throws InputError naming `field` for an
 /// unknown name, and the parameter's field for bad or unknown parameters.

@@ -8,8 +8,8 @@ summary-only baseline, one ticks_<label>.csv per algorithm label. The page
 has a summary table per scenario and label, error against tick time (Pareto
 front) across all runs, passivity and stiffness-sweep stability figures, and
 per scenario the displayed force and torque against time (with the analytic
-reference when there is one), penetration against time (with the Embree and
-CGAL oracle columns when present) and the distribution of step times.
+reference when there is one), penetration against time (with each oracle
+backend's column when present) and the distribution of step times.
 
 Every figure is an inline PNG, the style sheet is inline and the only script
 is a few lines that count the decoded figures: the file opens offline.
@@ -52,8 +52,12 @@ FORCE_PANEL_FLOOR_N = 1e-3
 TORQUE_PANEL_FLOOR_NM = 1e-5
 
 REQUIRED_TICKS_COLUMNS = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "step_ns"]
-OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz",
-                          "embree_pen_m", "cgal_pen_m"]
+OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz"]
+# Each oracle backend's penetration column is "<backend>_pen_m" (the backends
+# are listed in summary.json's oracle_backends).
+BACKEND_PEN_SUFFIX = "_pen_m"
+# How the backends' columns are drawn, in the order summary.json lists them.
+BACKEND_STYLES = [dict(ls=":"), dict(ls="none", marker="x"), dict(ls="-."), dict(ls="--")]
 # Run folders of one scene at several coupling stiffnesses k_t (N/m), by name:
 # scripts/stability-sweep writes "<scene>_k<k_t>", `hapticbench sweep` writes
 # "<scene>__k_t=<k_t>__<other grid keys>".
@@ -174,7 +178,8 @@ def read_ticks(path):
         if missing:
             raise ReportInputError(path, "line 1", "expected columns %s in the header"
                                    % ", ".join(missing))
-        wanted = REQUIRED_TICKS_COLUMNS + [c for c in OPTIONAL_TICKS_COLUMNS if c in index]
+        optional = OPTIONAL_TICKS_COLUMNS + [c for c in header if c.endswith(BACKEND_PEN_SUFFIX)]
+        wanted = REQUIRED_TICKS_COLUMNS + [c for c in optional if c in index]
         positions = [index[name] for name in wanted]
         rows = []
         for line_number, line in enumerate(f, start=2):
@@ -191,8 +196,8 @@ def read_ticks(path):
                                        "expected a number, got \"%s\"" % fields[index[bad]])
     table = np.asarray(rows, dtype=float).reshape(len(rows), len(wanted))
     columns = {name: table[:, i] for i, name in enumerate(wanted)}
-    for name in OPTIONAL_TICKS_COLUMNS:  # a column of empty fields says "not measured"
-        if name in columns and not np.isfinite(columns[name]).any():
+    for name in wanted[len(REQUIRED_TICKS_COLUMNS):]:  # empty fields say "not measured"
+        if not np.isfinite(columns[name]).any():
             del columns[name]
     return columns
 
@@ -309,11 +314,35 @@ def wrench_figure(runs, kind):
     return png_data_uri(fig), bool(references)
 
 
+def backend_names(runs):
+    """The oracle backends' names, as summary.json's oracle_backends lists
+    them; for a summary without that list, the backends whose
+    <name>_pen_m column a ticks log has."""
+    names = []
+    for run in runs:
+        for entry in dig(run.folder.summary, "oracle_backends") or []:
+            name = entry.get("name") if isinstance(entry, dict) else None
+            if isinstance(name, str) and name not in names:
+                names.append(name)
+    if names:
+        return names
+    for run in runs:
+        for column in (run.ticks or {}):
+            if column.endswith(BACKEND_PEN_SUFFIX) and column != "penetration_m":
+                name = column[:-len(BACKEND_PEN_SUFFIX)]
+                if name not in names:
+                    names.append(name)
+    return names
+
+
 def penetration_figure(runs):
     """Penetration (mm) of each run against time, with the oracle columns; None if none."""
     colours = run_colours(runs)
     fig = Figure(figsize=(10, 3.8))
     ax = fig.subplots()
+    styles = {"penetration_m": dict(ls="-")}
+    for k, name in enumerate(backend_names(runs)):
+        styles[name + BACKEND_PEN_SUFFIX] = BACKEND_STYLES[k % len(BACKEND_STYLES)]
     sources = set()
     for run in runs:
         if run.ticks is None:
@@ -323,24 +352,19 @@ def penetration_figure(runs):
         if np.isfinite(run.ticks["penetration_m"]).any():
             plot_series(ax, t, run.ticks["penetration_m"] * 1e3, color=colour, lw=1.3)
             sources.add("penetration_m")
-        if "embree_pen_m" in run.ticks:
-            y = run.ticks["embree_pen_m"] * 1e3
+        for column, style in styles.items():
+            if column == "penetration_m" or column not in run.ticks:
+                continue
+            y = run.ticks[column] * 1e3
             ok = np.isfinite(y)
-            ax.plot(*envelope(t[ok], y[ok]), color=colour, lw=0.9, ls=":")
-            sources.add("embree_pen_m")
-        if "cgal_pen_m" in run.ticks:
-            y = run.ticks["cgal_pen_m"] * 1e3
-            ok = np.isfinite(y)
-            ax.plot(*envelope(t[ok], y[ok]), ls="none", marker="x", ms=4, color=colour)
-            sources.add("cgal_pen_m")
+            ax.plot(*envelope(t[ok], y[ok]), color=colour, lw=0.9, ms=4, **style)
+            sources.add(column)
     if not sources:
         return None
     handles = [Line2D([], [], color=colours[id(run)], lw=2, label=run.label)
                for run in runs if run.ticks is not None]
-    styles = {"penetration_m": dict(ls="-"), "embree_pen_m": dict(ls=":"),
-              "cgal_pen_m": dict(ls="none", marker="x")}
     handles += [Line2D([], [], color="grey", label=name, **styles[name])
-                for name in ("penetration_m", "embree_pen_m", "cgal_pen_m") if name in sources]
+                for name in styles if name in sources]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
               frameon=False)
     ax.set_xlabel("time (s)")
@@ -892,9 +916,10 @@ def scenario_section(folder):
             parts.append(figure_html(
                 "fig-penetration-" + folder.slug, uri, "penetration against time, "
                 + folder.scenario, "Penetration of the proxy's tool: <code>penetration_m</code> "
-                "(analytic, else Embree), and where present the oracles' own columns "
-                "<code>embree_pen_m</code> (dotted) and <code>cgal_pen_m</code> (crosses, every "
-                "N-th tick)."))
+                "(analytic, else the primary oracle), and where present each oracle backend's own "
+                "column <code>&lt;backend&gt;_pen_m</code> (in the order of the summary's "
+                "<code>oracle_backends</code>: dotted, crosses, dash-dot; an exact backend on "
+                "every N-th tick only)."))
         else:
             parts.append(note("No penetration ground truth in this scenario (no analytic "
                               "reference, oracle off or distance-only scene)."))
@@ -1086,11 +1111,6 @@ def stress_matrix_html(folders):
               "</tr>%s</table></div>" % (header, "".join(rows)))
 
 
-# Algorithms whose contacts carry the scene's Coulomb friction; the others
-# are frictionless whatever the scene says.
-FRICTION_ALGORITHMS = {"god_object", "god_object_3dof", "constrained_dynamics"}
-
-
 def scene_friction(folder):
     """The largest Coulomb μ of the scenario's scene objects (0 when absent)."""
     values = [number_or_none(v) for v in dig(folder.summary, "scenario", "scene_friction") or []]
@@ -1107,8 +1127,8 @@ def friction_html(folders):
     rows = []
     for folder, mu in rough:
         for run in folder.runs:
-            algorithm = str(run.summary.get("algorithm") or "")
-            renders = algorithm in FRICTION_ALGORITHMS
+            # The algorithm's registry entry says whether it renders friction.
+            renders = run.summary.get("renders_friction") is True
             error = number_or_none(dig(run.summary, "accuracy", "force_err_rms_n"))
             depth = number_or_none(dig(run.summary, "accuracy", "penetration_max_m"))
             rows.append('<tr><td class="text">%s</td><td>%s</td><td class="text">%s</td>'
@@ -1119,10 +1139,9 @@ def friction_html(folders):
                            cell(error, "%.3g"), cell(depth, "%.3g", 1e3)))
     return ("<h3 id='friction'>Friction</h3>"
             + note("Runs of scenarios whose scene has Coulomb friction (scene objects' "
-                   "<code>friction</code>). The god-object and constrained dynamics render it; "
-                   "the penalty algorithms, Voxmap PointShell and sensation-preserving are "
-                   "frictionless, so the difference between the two groups is what friction "
-                   "changes. Force error is against the analytic reference or, on meshes, the mesh "
+                   "<code>friction</code>). Whether an algorithm renders it is its registry entry's "
+                   "word (<code>renders_friction</code> in the summary); the difference between "
+                   "the two groups is what friction changes. Force error is against the analytic reference or, on meshes, the mesh "
                    "force reference; both stick and slide with the scene's μ.")
             + '<table><tr><th class="text">scenario</th><th>μ</th><th class="text">label</th>'
               '<th class="text">contacts</th><th>force error RMS (N)</th>'

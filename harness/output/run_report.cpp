@@ -105,6 +105,17 @@ json stability_verdict_json(const RunMetrics& metrics) {
           {"epsilon_j", request.epsilon_j}};
 }
 
+// Every oracle backend this build knows, in oracle_backends() order: the
+// ticks CSV has <name>_pen_m and <name>_inside columns for each, and
+// <name>_volume_m3 for those that compute intersection volumes.
+json oracle_backends_json() {
+  json out = json::array();
+  for (const OracleBackendEntry& entry : oracle_backends())
+    out.push_back(
+        {{"name", std::string(entry.name)}, {"intersection_volume", entry.intersection_volume}});
+  return out;
+}
+
 json run_json(const AlgorithmRun& run) {
   const RunMetrics& m = run.metrics;
   json params = json::parse(run.params_json.empty() ? "{}" : run.params_json);
@@ -188,6 +199,7 @@ json run_json(const AlgorithmRun& run) {
   json out = {
       {"algorithm", run.name},
       {"label", run.label},
+      {"renders_friction", run.renders_friction},
       {"params", params},
       {"ticks_file", run.ticks_file},
       {"preprocess",
@@ -312,7 +324,8 @@ json summary_json(const ScenarioRun& run) {
           {"oracle", oracle},
           {"force_reference", force_reference},
           {"runs", runs},
-          {"metric_table", metric_table_json()}};
+          {"metric_table", metric_table_json()},
+          {"oracle_backends", oracle_backends_json()}};
 }
 
 std::string junit_xml(const ScenarioRun& run) {

@@ -51,7 +51,8 @@ struct InstructionCounts {
 struct AlgorithmRun {
   std::string name;
   std::string label;
-  std::string params_json;  ///< the params object as written in the scenario
+  bool renders_friction = false;  ///< its registry entry's renders_friction
+  std::string params_json;        ///< the params object as written in the scenario
   /// "measured" (default), "1", "5" (fixed), "replayed"; empty without a slow loop.
   std::string slow_loop_latency;
   std::string schedule_file;    ///< schedule_<label>.csv in the run folder; empty without

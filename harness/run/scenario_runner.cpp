@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "algorithms/core/input_error.h"
+#include "algorithms/registry.h"
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
@@ -272,6 +273,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     AlgorithmRun run;
     run.name = algorithm.spec->name;
     run.label = algorithm.spec->label;
+    const AlgorithmEntry* entry = find_algorithm(run.name);
+    run.renders_friction = entry && entry->renders_friction;
     run.params_json = algorithm.spec->params_json;
     run.preprocess = algorithm.preprocess;
     run.metrics = observer.metrics();
