@@ -7,7 +7,7 @@ import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "reports"))
-import render_report  # noqa: E402
+from hapticbench_report import figures, inputs, tables  # noqa: E402
 
 
 class Folder:
@@ -15,7 +15,7 @@ class Folder:
         self.scenario = scenario
 
 
-class FakeRun(render_report.Run):
+class FakeRun(inputs.Run):
     """A run built from a summary entry alone (no folder on disk)."""
 
     def __init__(self, scenario, label, error, step_p99_ns, cpu_p99_ns=None, diverged=False,
@@ -45,7 +45,7 @@ class ParetoTest(unittest.TestCase):
         ]
 
     def test_diverged_and_nonfinite_runs_are_never_on_a_front(self):
-        uri, fronts, left_out, failed = render_report.pareto_figure(self.runs)
+        uri, fronts, left_out, failed = figures.pareto_figure(self.runs)
         self.assertIsNotNone(uri)
         self.assertEqual(left_out, [])
         self.assertNotIn("explicit", fronts["press"])
@@ -55,22 +55,22 @@ class ParetoTest(unittest.TestCase):
                          {"explicit": "diverged", "nan": "non-finite"})
 
     def test_one_front_per_scenario_on_cpu_per_tick(self):
-        _, fronts, _, _ = render_report.pareto_figure(self.runs)
+        _, fronts, _, _ = figures.pareto_figure(self.runs)
         self.assertEqual(set(fronts), {"press", "rub"})
         self.assertEqual(fronts["rub"], ["only"])
         # god_object costs 20 µs per tick with its slow loop: more than slow_exact's 5 µs
         # and less accurate, so it is not on the front despite its 0.2 µs step.
         self.assertEqual(fronts["press"], ["fast_rough", "slow_exact"])
-        self.assertEqual(render_report.cost_us(self.runs[4]), 20.0)
+        self.assertEqual(figures.cost_us(self.runs[4]), 20.0)
 
 
 class NumberTextTest(unittest.TestCase):
     def test_microseconds_print_as_c_printf_does(self):
         # printf("%.2f", 8935 / 1000.0) prints 8.94; 8935 * 1e-3 would print 8.93.
-        self.assertEqual(render_report.fmt(8935, "%.2f", 1e-3), "8.94")
-        self.assertEqual(render_report.fmt(1234567, "%.2f", 1e-3), "1234.57")
-        self.assertEqual(render_report.fmt(0.0012, "%.3f", 1e3), "1.200")
-        self.assertIsNone(render_report.fmt(float("nan"), "%.2f", 1e-3))
+        self.assertEqual(tables.fmt(8935, "%.2f", 1e-3), "8.94")
+        self.assertEqual(tables.fmt(1234567, "%.2f", 1e-3), "1234.57")
+        self.assertEqual(tables.fmt(0.0012, "%.3f", 1e3), "1.200")
+        self.assertIsNone(tables.fmt(float("nan"), "%.2f", 1e-3))
 
 
 class WorkCountersTest(unittest.TestCase):
@@ -81,12 +81,12 @@ class WorkCountersTest(unittest.TestCase):
                     FakeRun("press", "penalty", 0.5, 200)]
         ScenarioFolder.runs[0].summary["contacts"] = {
             "work": {"ccd_budget_hits": 3, "ccd_bound_tests": 1200}}
-        html = render_report.work_counters_html(ScenarioFolder)
+        html = tables.work_counters_html(ScenarioFolder)
         self.assertIn("<code>ccd_budget_hits</code></td><td>3</td><td class=\"na\"", html)
         self.assertIn("<code>ccd_bound_tests</code></td><td>1200</td>", html)
         self.assertLess(html.index("ccd_bound_tests"), html.index("ccd_budget_hits"))
         ScenarioFolder.runs[0].summary["contacts"] = {"work": {}}
-        self.assertEqual(render_report.work_counters_html(ScenarioFolder), "")
+        self.assertEqual(tables.work_counters_html(ScenarioFolder), "")
 
 
 class StressRun:
@@ -110,7 +110,7 @@ class StressMatrixTest(unittest.TestCase):
         # The checks and their order are hapticbench's
         # (tests/harness/stability/stability_verdict_test.cpp); the report
         # shows what the summary says.
-        verdict = render_report.stress_verdict
+        verdict = tables.stress_verdict
         self.assertEqual(verdict(StressRun("a", False, "tunnelled 9×", "tunnelled")),
                          (False, "tunnelled 9×"))
         self.assertEqual(verdict(StressRun("a")), (True, "pen 1.9 mm"))
@@ -123,13 +123,13 @@ class StressMatrixTest(unittest.TestCase):
                               [StressRun("coupling_only", False, "tunnelled 1×", "tunnelled"),
                                StressRun("god_object")])
         other = StressFolder("press", "/x/scenarios/smoke/press.json", [StressRun("other")])
-        page = render_report.stress_matrix_html([stress, other])
+        page = tables.stress_matrix_html([stress, other])
         self.assertIn("thin_wall", page)
         self.assertNotIn(">other<", page)
         self.assertIn('data-pass="false">✗ tunnelled 1×', page)
         self.assertIn('data-pass="true">✓ pen 1.9 mm', page)
         self.assertIn("1 of the cells fail", page)
-        self.assertEqual(render_report.stress_matrix_html([other]), "")
+        self.assertEqual(tables.stress_matrix_html([other]), "")
 
 
 class StabilityMarginsTest(unittest.TestCase):
@@ -146,7 +146,7 @@ class StabilityMarginsTest(unittest.TestCase):
                  "criterion": "stable: ..."})
 
     def test_one_row_per_label_one_column_per_quantity(self):
-        page = render_report.stability_margins_html([
+        page = tables.stability_margins_html([
             self.result("explicit", "/coupling/k_t", 3924.19, 3995.42, chatters=True),
             self.result("explicit", "/algorithms/0/params/contact_stiffness", 4946.9, 5002.9,
                         passivity_energy_min_j=-0.002),
@@ -160,10 +160,10 @@ class StabilityMarginsTest(unittest.TestCase):
         self.assertIn("1e+06 (the range&#x27;s top)", page)
         self.assertIn("none ≥ 100<br><span class=\"small\">unstable at 100 (diverged)", page)
         self.assertEqual(page.count("<tr>"), 4)  # the header and three labels
-        self.assertEqual(render_report.stability_margins_html([]), "")
+        self.assertEqual(tables.stability_margins_html([]), "")
 
     def test_closed_loop_reasons_are_named(self):
-        page = render_report.stability_margins_html([
+        page = tables.stability_margins_html([
             self.result("wall", "/coupling/k_t", 9991.4, 10064.7, display_energy_min_j=-2e-5),
             self.result("hold", "/coupling/b_t", 14067.0, 14193.7, limit_cycle=True)])
         self.assertIn("unstable at 1.006e+04 (display passivity -0.02 mJ)", page)
@@ -179,7 +179,7 @@ class ZwidthTest(unittest.TestCase):
                             for x, lo, hi in points]})
 
     def test_one_figure_per_scenario_with_every_label(self):
-        page = render_report.zwidth_html([
+        page = tables.zwidth_html([
             self.result("wall", "god_object", [(0, 14002, 14167), (5, 23160, 23432)]),
             self.result("wall", "penalty", [(0, 9000, 9100), (5, 1e5, None)]),
             self.result("slab", "god_object", [(0, 3000, 3100)])])
@@ -187,7 +187,7 @@ class ZwidthTest(unittest.TestCase):
         self.assertIn('id="fig-zwidth-wall"', page)
         self.assertIn('id="fig-zwidth-slab"', page)
         self.assertIn("god_object (god_object), penalty (penalty)", page)
-        self.assertEqual(render_report.zwidth_html([]), "")
+        self.assertEqual(tables.zwidth_html([]), "")
 
     def test_a_map_without_points_is_bad_input_naming_the_field(self):
         with tempfile.TemporaryDirectory() as folder:
@@ -195,8 +195,8 @@ class ZwidthTest(unittest.TestCase):
             with open(path, "w") as f:
                 json.dump({"scenario": "s", "label": "l", "x_param": "/a", "y_param": "/b",
                            "points": []}, f)
-            with self.assertRaises(render_report.ReportInputError) as raised:
-                render_report.read_zwidth_result(path)
+            with self.assertRaises(inputs.ReportInputError) as raised:
+                inputs.read_zwidth_result(path)
             self.assertIn("/points", str(raised.exception))
 
 
@@ -222,21 +222,21 @@ class FrictionTest(unittest.TestCase):
                                [FrictionRun("cd", "constrained_dynamics", 0.098),
                                 FrictionRun("penalty", "penalty_analytic", 3.58)])
         smooth = FrictionFolder("press", [0.0], [FrictionRun("other", "god_object", 0.1)])
-        page = render_report.friction_html([rough, smooth])
+        page = tables.friction_html([rough, smooth])
         self.assertIn("<td>0.8</td><td class=\"text\">cd</td>"
                       "<td class=\"text\" data-friction=\"true\">Coulomb μ</td><td>0.098</td>",
                       page)
         self.assertIn('data-friction="false">frictionless</td><td>3.58</td>', page)
         self.assertNotIn(">other<", page)
-        self.assertEqual(render_report.friction_html([smooth]), "")
+        self.assertEqual(tables.friction_html([smooth]), "")
         # Summaries written before scenes had friction have no field: no section.
-        self.assertEqual(render_report.friction_html([FrictionFolder("old", None, [])]), "")
+        self.assertEqual(tables.friction_html([FrictionFolder("old", None, [])]), "")
 
 
 class ProgressTest(unittest.TestCase):
     def test_steps_are_lines_of_done_total_unit_and_phase_on_the_descriptor(self):
         read_fd, write_fd = os.pipe()
-        progress = render_report.Progress(write_fd)
+        progress = inputs.Progress(write_fd)
         progress.step("reading run folders", 2, 5, "folders")
         progress.step("drawing the summary figures")
         progress.out.close()
@@ -245,9 +245,9 @@ class ProgressTest(unittest.TestCase):
                                            "0 0 - drawing the summary figures\n")
 
     def test_without_a_descriptor_or_once_the_reader_is_gone_nothing_fails(self):
-        render_report.Progress().step("anything", 1, 2, "units")
+        inputs.Progress().step("anything", 1, 2, "units")
         read_fd, write_fd = os.pipe()
-        progress = render_report.Progress(write_fd)
+        progress = inputs.Progress(write_fd)
         os.close(read_fd)
         progress.step("after the reader left", 1, 2, "units")  # EPIPE is swallowed
         self.assertIsNone(progress.out)

@@ -1,0 +1,602 @@
+"""The report's figures, each an inline PNG: force, torque and penetration
+against time, step times, the error-against-cost Pareto panels,
+passivity, the coupling-stiffness sweeps and the Z-width maps."""
+import base64
+import io
+import math
+import os
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
+
+from .inputs import (  # noqa: E402
+    BACKEND_PEN_SUFFIX, dig, finite_number, microseconds, read_json_or_none)
+
+
+DPI = 80
+
+
+ONE_MS_US = 1000.0
+
+
+# Long runs are drawn from at most this many points per series, chosen as
+# the minimum and maximum of each time bucket so spikes stay visible.
+MAX_PLOT_POINTS = 3000
+
+
+# The passivity figure shows at most this many runs (the lowest energies).
+MAX_PASSIVITY_BARS = 60
+
+
+# Beyond this many points the Pareto figure labels only the front.
+MAX_PARETO_LABELS = 40
+
+
+# Wrench panels span at least ± this (well below what a device can display),
+# so rounding noise of 1e-15 N on an axis that carries nothing stays flat.
+FORCE_PANEL_FLOOR_N = 1e-3
+
+
+TORQUE_PANEL_FLOOR_NM = 1e-5
+
+
+# How the backends' columns are drawn, in the order summary.json lists them.
+BACKEND_STYLES = [dict(ls=":"), dict(ls="none", marker="x"), dict(ls="-."), dict(ls="--")]
+
+
+# Run folders of one scene at several coupling stiffnesses k_t (N/m), by name:
+# scripts/stability-sweep writes "<scene>_k<k_t>", `hapticbench sweep` writes
+# "<scene>__k_t=<k_t>__<other grid keys>".
+NUMBER = r"[0-9]+(?:\.[0-9]+)?(?:[eE][+-]?[0-9]+)?"
+
+
+STIFFNESS_NAMES = [re.compile(r"^(?P<head>.+)_k(?P<k>%s)(?P<tail>)$" % NUMBER),
+                   re.compile(r"^(?P<head>.+)__k_t=(?P<k>%s)(?P<tail>(?:__.*)?)$" % NUMBER)]
+
+
+def png_data_uri(fig):
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=DPI)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def sparse_minor_ticks(axis, label_minor=False):
+    """Ticks of a log axis: plain numbers (1, 10, 100) at decades, minor ticks at 2 and 5
+    (labelled too when the axis spans less than two decades): readable, and cheap to draw."""
+    plain = FuncFormatter(lambda value, _: "%g" % value)
+    axis.set_major_formatter(plain)
+    axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    axis.set_minor_formatter(plain if label_minor else NullFormatter())
+
+
+def spans_under_two_decades(values):
+    values = [v for v in values if v > 0]
+    return bool(values) and max(values) < 100 * min(values)
+
+
+def run_colours(runs):
+    palette = matplotlib.colormaps["tab10" if len(runs) <= 10 else "tab20"]
+    return {id(run): palette(i % palette.N) for i, run in enumerate(runs)}
+
+
+def envelope(t, y):
+    """At most MAX_PLOT_POINTS points of (t, y): each bucket's minimum and maximum."""
+    n = len(t)
+    if n <= MAX_PLOT_POINTS:
+        return t, y
+    size = -(-n // (MAX_PLOT_POINTS // 2))
+    buckets = -(-n // size)
+    padded = np.full(buckets * size, np.nan)
+    padded[:n] = np.where(np.isfinite(y), y, np.nan)
+    grid = padded.reshape(buckets, size)
+    missing = np.isnan(grid)
+    lowest = np.where(missing, np.inf, grid).argmin(axis=1)
+    highest = np.where(missing, -np.inf, grid).argmax(axis=1)
+    start = np.arange(buckets) * size
+    keep = np.sort(np.column_stack([start + lowest, start + highest]), axis=1).ravel()
+    keep = np.unique(keep[keep < n])
+    return t[keep], y[keep]
+
+
+def plot_series(ax, t, y, **style):
+    y = np.where(np.isfinite(y), y, np.nan)
+    ax.plot(*envelope(t, y), **style)
+
+
+def same_series(arrays):
+    first = arrays[0]
+    return all(a.shape == first.shape and np.allclose(a, first, rtol=1e-9, atol=1e-12,
+                                                      equal_nan=True) for a in arrays[1:])
+
+
+def wrench_figure(runs, kind):
+    """Force (kind "force") or torque ("torque") components and magnitude against time."""
+    names = ("fx", "fy", "fz") if kind == "force" else ("tx", "ty", "tz")
+    unit = "N" if kind == "force" else "N·m"
+    symbol = "F" if kind == "force" else "τ"
+    colours = run_colours(runs)
+    fig = Figure(figsize=(10, 7.2))
+    axes = fig.subplots(4, 1, sharex=True)
+    with_ticks = [run for run in runs if run.ticks is not None]
+    references = [run for run in with_ticks if all("ref_" + n in run.ticks for n in names)]
+    shared_reference = len(references) == len(with_ticks) and references and same_series(
+        [np.column_stack([run.ticks["ref_" + n] for n in names]) for run in references])
+    for run in with_ticks:
+        t = run.ticks["t_ns"] * 1e-9
+        components = [run.ticks[n] for n in names]
+        magnitude = np.sqrt(sum(c * c for c in components))
+        for ax, y in zip(axes, components + [magnitude]):
+            plot_series(ax, t, y, color=colours[id(run)], lw=1.2, label=run.label)
+    for position, run in enumerate(references):
+        if shared_reference and position > 0:
+            break
+        t = run.ticks["t_ns"] * 1e-9
+        components = [run.ticks["ref_" + n] for n in names]
+        magnitude = np.sqrt(sum(c * c for c in components))
+        style = (dict(color="black", lw=1.0, ls="--", label="analytic reference")
+                 if shared_reference else
+                 dict(color=colours[id(run)], lw=0.9, ls="--", label=run.label + " reference"))
+        for ax, y in zip(axes, components + [magnitude]):
+            plot_series(ax, t, y, **style)
+    # Rounding noise must not fill a panel: every panel spans at least a few
+    # percent of the figure's peak, and at least the floor.
+    peak = max([np.nanmax(np.abs(line.get_ydata())) for ax in axes for line in ax.get_lines()
+                if np.isfinite(line.get_ydata()).any()] + [0.0])
+    floor = max(0.02 * peak, FORCE_PANEL_FLOOR_N if kind == "force" else TORQUE_PANEL_FLOOR_NM)
+    for ax, name in zip(axes, list(names) + ["|%s|" % symbol]):
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(min(lo, -floor), max(hi, floor))
+        ax.set_ylabel("%s (%s)" % (name, unit))
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("time (s)")
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("displayed %s against time" % kind, fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.80, top=0.94, bottom=0.07, hspace=0.12)
+    return png_data_uri(fig), bool(references)
+
+
+def backend_names(runs):
+    """The oracle backends' names, as summary.json's oracle_backends lists
+    them; for a summary without that list, the backends whose
+    <name>_pen_m column a ticks log has."""
+    names = []
+    for run in runs:
+        for entry in dig(run.folder.summary, "oracle_backends") or []:
+            name = entry.get("name") if isinstance(entry, dict) else None
+            if isinstance(name, str) and name not in names:
+                names.append(name)
+    if names:
+        return names
+    for run in runs:
+        for column in (run.ticks or {}):
+            if column.endswith(BACKEND_PEN_SUFFIX) and column != "penetration_m":
+                name = column[:-len(BACKEND_PEN_SUFFIX)]
+                if name not in names:
+                    names.append(name)
+    return names
+
+
+def penetration_figure(runs):
+    """Penetration (mm) of each run against time, with the oracle columns; None if none."""
+    colours = run_colours(runs)
+    fig = Figure(figsize=(10, 3.8))
+    ax = fig.subplots()
+    styles = {"penetration_m": dict(ls="-")}
+    for k, name in enumerate(backend_names(runs)):
+        styles[name + BACKEND_PEN_SUFFIX] = BACKEND_STYLES[k % len(BACKEND_STYLES)]
+    sources = set()
+    for run in runs:
+        if run.ticks is None:
+            continue
+        t = run.ticks["t_ns"] * 1e-9
+        colour = colours[id(run)]
+        if np.isfinite(run.ticks["penetration_m"]).any():
+            plot_series(ax, t, run.ticks["penetration_m"] * 1e3, color=colour, lw=1.3)
+            sources.add("penetration_m")
+        for column, style in styles.items():
+            if column == "penetration_m" or column not in run.ticks:
+                continue
+            y = run.ticks[column] * 1e3
+            ok = np.isfinite(y)
+            ax.plot(*envelope(t[ok], y[ok]), color=colour, lw=0.9, ms=4, **style)
+            sources.add(column)
+    if not sources:
+        return None
+    handles = [Line2D([], [], color=colours[id(run)], lw=2, label=run.label)
+               for run in runs if run.ticks is not None]
+    handles += [Line2D([], [], color="grey", label=name, **styles[name])
+                for name in styles if name in sources]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+              frameon=False)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("penetration (mm)")
+    ax.grid(True, alpha=0.3)
+    fig.suptitle("penetration of the proxy's tool against time", fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.80, top=0.90, bottom=0.14)
+    return png_data_uri(fig)
+
+
+def timing_figure(runs):
+    """Histogram (log x) and CDF of step times with the 1 ms budget and each p99; None if none."""
+    colours = run_colours(runs)
+    samples = [(run, *run.step_us()) for run in runs]
+    samples = [(run, values[values > 0], source) for run, values, source in samples
+               if values is not None and (values > 0).any()]
+    if not samples:
+        return None
+    lo = min(values.min() for _, values, _ in samples)
+    hi = max(max(values.max() for _, values, _ in samples), ONE_MS_US)
+    bins = np.geomspace(lo / 1.05, hi * 1.05, 70)
+    fig = Figure(figsize=(10, 3.9))
+    histogram, cdf = fig.subplots(1, 2)
+    for run, values, source in samples:
+        colour = colours[id(run)]
+        label = run.label + ("" if source == "ticks" else " (summary sample)")
+        histogram.hist(values, bins=bins, histtype="step", lw=1.3, color=colour, label=label)
+        ordered = np.sort(values)
+        cdf.step(ordered, np.arange(1, len(ordered) + 1) / len(ordered), where="post",
+                 color=colour, lw=1.3, label=label)
+        p99 = run.p99_us()
+        if p99 is not None:
+            histogram.axvline(p99, color=colour, ls=":", lw=1.2)
+            cdf.plot([p99], [0.99], marker="o", ms=5, color=colour)
+    for ax in (histogram, cdf):
+        ax.set_xscale("log")
+        sparse_minor_ticks(ax.xaxis)
+        ax.axvline(ONE_MS_US, color="crimson", lw=1.5, ls="--", label="1 ms budget")
+        ax.set_xlabel("step time (µs)")
+        ax.grid(True, alpha=0.3, which="both")
+    histogram.set_yscale("log")
+    histogram.yaxis.set_minor_locator(NullLocator())
+    histogram.set_ylabel("ticks")
+    histogram.set_title("histogram (dotted: p99)", fontsize=9)
+    cdf.axhline(0.99, color="grey", lw=0.8, ls=":")
+    cdf.set_ylabel("fraction of ticks ≤ x")
+    cdf.set_title("cumulative distribution (dots: p99)", fontsize=9)
+    cdf.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("time of one step", fontsize=11)
+    fig.subplots_adjust(left=0.07, right=0.80, top=0.86, bottom=0.14, wspace=0.25)
+    return png_data_uri(fig)
+
+
+def pareto_error(run):
+    """(metric name, value): force error RMS when there is a reference, else penetration max."""
+    force = dig(run.summary, "accuracy", "force_err_rms_n")
+    if finite_number(force):
+        return "force_err_rms_n", force
+    penetration = dig(run.summary, "accuracy", "penetration_max_m")
+    if finite_number(penetration):
+        return "penetration_max_m", penetration
+    return None, None
+
+
+def pareto_front(points):
+    """Indices of the points no other point beats in both cost and error."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], math.inf
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def cost_us(run):
+    """CPU time per tick of both loops at p99 (µs): the step plus the slow-loop work
+    attributed to the tick; the step alone for summaries without it."""
+    cpu = microseconds(dig(run.summary, "timing", "cpu_per_tick_ns", "p99"))
+    return cpu if cpu is not None else run.p99_us()
+
+
+def failure_of(run):
+    """Why a run cannot be on a front ('diverged', 'non-finite'), or None."""
+    if dig(run.summary, "stability", "diverged") is True:
+        return "diverged"
+    nonfinite = dig(run.summary, "stability", "nonfinite")
+    if isinstance(nonfinite, (int, float)) and nonfinite > 0:
+        return "non-finite"
+    return None
+
+
+def pareto_panels(runs):
+    """Per scenario and error metric, the runs that can be drawn: [(scenario, metric, points)]
+    with points (cost µs, error, run, failure); and the runs left out."""
+    panels, left_out = {}, []
+    for run in runs:
+        metric, value = pareto_error(run)
+        cost = cost_us(run)
+        if metric is None or cost is None or cost <= 0:
+            left_out.append(run)
+            continue
+        panels.setdefault((run.folder.scenario, metric), []).append(
+            (cost, value, run, failure_of(run)))
+    return [(scenario, metric, points) for (scenario, metric), points in panels.items()], left_out
+
+
+def pareto_figure(runs):
+    """Error against CPU time per tick, one panel per scenario (errors of different scenarios
+    are not comparable), each with its own Pareto front over the runs that stayed stable;
+    diverged or non-finite runs are drawn hollow and never on a front.
+    Returns (uri, {scenario: front names}, left out, [(run, failure)])."""
+    panels, left_out = pareto_panels(runs)
+    failed = [(p[2], p[3]) for _, _, points in panels for p in points if p[3]]
+    if not panels:
+        return None, {}, left_out, failed
+    columns = 1 if len(panels) == 1 else 2
+    rows = (len(panels) + columns - 1) // columns
+    fig = Figure(figsize=(10 if columns == 1 else 12, 4.6 * rows), dpi=DPI)
+    axes = fig.subplots(rows, columns, squeeze=False).ravel()
+    fronts = {}
+    placed = []
+    for ax, (scenario, metric, points) in zip(axes, panels):
+        scale = 1.0 if metric == "force_err_rms_n" else 1e3
+        healthy = [p for p in points if not p[3]]
+        xy = [(cost, value * scale) for cost, value, _, _ in healthy]
+        front = pareto_front(xy) if xy else []
+        fronts.setdefault(scenario, []).extend(healthy[i][2].label for i in front)
+        if xy:
+            ax.scatter([x for x, _ in xy], [y for _, y in xy], s=22, color="#4a6fa5", zorder=3)
+            fx = [xy[i][0] for i in front]
+            fy = [xy[i][1] for i in front]
+            ax.step(fx, fy, where="post", color="crimson", lw=1.4, zorder=2,
+                    label="Pareto front")
+            ax.scatter(fx, fy, s=40, facecolors="none", edgecolors="crimson", zorder=4)
+        bad = [(cost, value * scale) for cost, value, _, failure in points if failure]
+        if bad:
+            ax.scatter([x for x, _ in bad], [y for _, y in bad], s=40, facecolors="none",
+                       edgecolors="grey", zorder=3, label="diverged or non-finite (not ranked)")
+        every = xy + bad
+        ax.set_xscale("log")
+        sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in every]))
+        if all(y > 0 for _, y in every):
+            ax.set_yscale("log")
+            sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in every]))
+        ax.margins(x=0.15, y=0.12)
+        ax.set_title(scenario, fontsize=10)
+        ax.set_xlabel("CPU time per tick, p99 (µs): step + slow loop")
+        ax.set_ylabel("force error RMS (N)" if metric == "force_err_rms_n"
+                      else "penetration max (mm)")
+        ax.grid(True, alpha=0.3, which="both")
+        ax.legend(loc="upper right", fontsize=7)
+        placed.append((ax, healthy, front, points, scale))
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle("error against CPU time per tick, per scenario: lower left is better",
+                 fontsize=11)
+    fig.tight_layout()
+    for ax, healthy, front, points, scale in placed:  # labels once the axes have their place
+        on_front = {id(healthy[i][2]) for i in front}
+        chosen = [p for p in points if len(points) <= MAX_PARETO_LABELS or id(p[2]) in on_front]
+        label_points(ax, [((p[0], p[1] * scale), p[2].label, id(p[2]) in on_front)
+                          for p in chosen])
+    return png_data_uri(fig), fronts, left_out, failed
+
+
+def label_points(ax, labelled):
+    """Writes each (point, text, bold) beside its point, moved up or down until it overlaps
+    no label placed before (front points first), with a leader line when moved."""
+    size = 7.0
+    pixels_per_point = ax.figure.dpi / 72.0
+    height = size * 1.25 * pixels_per_point
+    area = ax.bbox
+    ax.autoscale_view()
+
+    def free(box):
+        return all(box[2] <= b[0] or box[0] >= b[2] or box[3] <= b[1] or box[1] >= b[3]
+                   for b in placed)
+
+    marker = 3.0 * pixels_per_point
+    placed = [(px - marker, py - marker, px + marker, py + marker)
+              for px, py in ax.transData.transform([point for point, _, _ in labelled])]
+    for (x, y), text, bold in sorted(labelled, key=lambda item: (not item[2], item[0])):
+        px, py = ax.transData.transform((x, y))
+        width = len(text) * size * 0.6 * pixels_per_point
+        left = px + 5 if px + 5 + width <= area.x1 else px - 5 - width
+        boxes = [(left, py - height / 2 + step * height, left + width,
+                  py + height / 2 + step * height, step)
+                 for step in [0] + [s for n in range(1, 15) for s in (n, -n)]]
+        box = next((b for b in boxes if free(b)), boxes[0])
+        step = box[4]
+        placed.append(box[:4])
+        offset = ((box[0] - px) / pixels_per_point, (box[1] + height / 2 - py) / pixels_per_point)
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=offset, fontsize=size,
+                    va="center", ha="left", color="#222", weight="bold" if bold else "normal",
+                    arrowprops=dict(arrowstyle="-", color="#999", lw=0.6) if step else None)
+
+
+def passivity_figure(runs):
+    """passivity_energy_min_j per run as bars; (uri, runs shown, runs without the metric)."""
+    with_energy = [run for run in runs
+                   if finite_number(dig(run.summary, "stability", "passivity_energy_min_j"))]
+    without = [run for run in runs if run not in with_energy]
+    if not with_energy:
+        return None, [], without
+    shown = with_energy
+    if len(shown) > MAX_PASSIVITY_BARS:
+        shown = sorted(shown, key=lambda r: r.summary["stability"]["passivity_energy_min_j"])
+        shown = shown[:MAX_PASSIVITY_BARS]
+    energies = [run.summary["stability"]["passivity_energy_min_j"] for run in shown]
+    diverged = [dig(run.summary, "stability", "diverged") is True for run in shown]
+    fig = Figure(figsize=(10, 1.2 + 0.24 * len(shown)))
+    ax = fig.subplots()
+    positions = np.arange(len(shown))[::-1]
+    colours = ["#c62828" if e < 0 else "#2e7d32" for e in energies]
+    ax.barh(positions, energies, color=colours, height=0.7)
+    for position, energy, is_diverged in zip(positions, energies, diverged):
+        text = "%.3g J%s" % (energy, "  diverged" if is_diverged else "")
+        ax.annotate(text, (0, position), textcoords="offset points",
+                    xytext=(4 if energy >= 0 else -4, -3), fontsize=7,
+                    ha="left" if energy >= 0 else "right")
+    ax.set_yticks(positions)
+    ax.set_yticklabels([run.name for run in shown], fontsize=7)
+    nonzero = [abs(e) for e in energies if e != 0]
+    linear = min(nonzero) if nonzero else 1e-6
+    ax.set_xscale("symlog", linthresh=linear)
+    span = max(nonzero) if nonzero else 1e-6
+    ax.set_xlim(-span * 30, span * 30)
+    ax.axvline(0, color="black", lw=0.8)
+    ax.set_xlabel("passivity observer minimum E_min (J), symmetric log scale; below 0 the "
+                  "rendering gave energy away")
+    ax.grid(True, axis="x", alpha=0.3)
+    fig.tight_layout()
+    return png_data_uri(fig), shown, without
+
+
+def integrator_of(run):
+    integrator = dig(run.summary, "params", "integrator")
+    return integrator if isinstance(integrator, str) else run.label
+
+
+def coupling_stiffness(folder):
+    """(scene, k_t) when the folder is one point of a coupling stiffness sweep, else None.
+    The scene is the name without its stiffness; k_t comes from the scenario.json a sweep
+    keeps in the run folder, else from the name."""
+    for name in (folder.scenario, os.path.basename(os.path.normpath(folder.path))):
+        for pattern in STIFFNESS_NAMES:
+            match = pattern.match(name)
+            if match:
+                k = dig(read_json_or_none(os.path.join(folder.path, "scenario.json")) or {},
+                        "coupling", "k_t")
+                return (match.group("head") + match.group("tail"),
+                        float(k) if finite_number(k) else float(match.group("k")))
+    return None
+
+
+def stiffness_sweeps(folders):
+    """Scenes run at several coupling stiffnesses with two or more integrators, each at two
+    or more stiffnesses: {scene: {integrator: [(k_t, run)]}}."""
+    sweeps = {}
+    for folder in folders:
+        point = coupling_stiffness(folder)
+        if point is None:
+            continue
+        scene, k = point
+        for run in folder.runs:
+            sweeps.setdefault(scene, {}).setdefault(integrator_of(run), []).append((k, run))
+    return {scene: by_integrator for scene, by_integrator in sweeps.items()
+            if len(by_integrator) >= 2
+            and all(len({k for k, _ in runs}) >= 2 for runs in by_integrator.values())}
+
+
+def stiffness_text(k):
+    """A stiffness (N/m) as people write it: 5000, 1000000, 2500.5."""
+    if not finite_number(k):
+        return "none" if k is None else str(k)
+    return "%d" % k if float(k).is_integer() else "%g" % k
+
+
+def verdict_stable(run):
+    """True or False from the run's stability verdict; None without one."""
+    stable = dig(run.summary, "stability", "verdict", "stable")
+    return stable if isinstance(stable, bool) else None
+
+
+def stiffness_limits(runs):
+    """(largest stable k_t, smallest unstable k_t) by the runs' stability
+    verdicts, None where there is none."""
+    stable = [k for k, run in runs if verdict_stable(run) is True]
+    unstable = [k for k, run in runs if verdict_stable(run) is False]
+    return (max(stable) if stable else None), (min(unstable) if unstable else None)
+
+
+def sweep_figure(by_integrator, closed_form_bound):
+    """Largest proxy separation (or the divergence verdict) against k_t, one line per integrator."""
+    fig = Figure(figsize=(10, 4.2))
+    ax = fig.subplots()
+    palette = matplotlib.colormaps["tab10"]
+    every_run = [run for runs in by_integrator.values() for _, run in runs]
+    separation_of = {id(run): dig(run.summary, "stability", "max_proxy_separation_m")
+                     for run in every_run}
+    has_separation = all(finite_number(v) and v > 0 for v in separation_of.values())
+    # A diverged proxy flies off to 1e150 m: such points sit on the top edge.
+    stable_separations = [separation_of[id(run)] for run in every_run
+                          if has_separation and dig(run.summary, "stability", "diverged") is False]
+    ceiling = max([1.0] + [10 * v for v in stable_separations])
+    clipped_any = False
+    for i, (integrator, runs) in enumerate(sorted(by_integrator.items())):
+        colour = palette(i % 10)
+        runs = sorted(runs, key=lambda kr: kr[0])
+        ks = [k for k, _ in runs]
+        if has_separation:
+            y = [min(separation_of[id(run)], ceiling) for _, run in runs]
+        else:  # no separation in the summaries: draw the verdict itself
+            y = [1.0 if dig(run.summary, "stability", "diverged") else 0.0 for _, run in runs]
+        ax.plot(ks, y, color=colour, lw=1.0, alpha=0.6)
+        for k, value, (_, run) in zip(ks, y, runs):
+            diverged = dig(run.summary, "stability", "diverged") is True
+            clipped = has_separation and separation_of[id(run)] > ceiling
+            clipped_any |= clipped
+            ax.plot([k], [value], ls="none", marker="^" if clipped else "x" if diverged else "o",
+                    ms=7 if diverged else 5, color=colour, mfc=colour if diverged else "none")
+        largest, _ = stiffness_limits(runs)
+        if largest is not None:
+            ax.axvline(largest, color=colour, ls=":", lw=1.5)
+        ax.plot([], [], color=colour, label="%s (largest stable %s N/m)"
+                % (integrator, stiffness_text(largest)))
+    if closed_form_bound:
+        ax.axvline(closed_form_bound, color="black", ls="--", lw=1.0,
+                   label="explicit Euler bound b_t/Δt = %s N/m"
+                   % stiffness_text(closed_form_bound))
+    ax.plot([], [], ls="none", marker="o", mfc="none", color="grey", label="stable")
+    ax.plot([], [], ls="none", marker="x", color="grey", label="diverged")
+    if clipped_any:
+        ax.plot([], [], ls="none", marker="^", color="grey",
+                label="diverged, off scale (> %g m)" % ceiling)
+    ax.set_xscale("log")
+    sparse_minor_ticks(ax.xaxis)
+    if has_separation:
+        ax.set_yscale("log")
+        sparse_minor_ticks(ax.yaxis)
+        ax.set_ylabel("max proxy separation (m)")
+    else:
+        ax.set_ylabel("diverged (1) or not (0)")
+    ax.set_xlabel("coupling stiffness k_t (N/m)")
+    ax.grid(True, alpha=0.3, which="both")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("stability against coupling stiffness", fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.70, top=0.90, bottom=0.13)
+    return png_data_uri(fig)
+
+
+def zwidth_figure(scenario, results):
+    """One scenario's Z-width map: per algorithm label, the largest stable
+    value of the y field against the x field, the band up to the smallest
+    unstable value shaded; below the line is stable."""
+    fig = Figure(figsize=(8, 4.2))
+    ax = fig.subplots()
+    palette = matplotlib.colormaps["tab10"]
+    for i, (_, data) in enumerate(sorted(results, key=lambda r: r[1]["label"])):
+        colour = palette(i % 10)
+        points = sorted(data["points"], key=lambda p: p["x"])
+        xs = [p["x"] for p in points if p.get("largest_stable") is not None]
+        stable = [p["largest_stable"] for p in points if p.get("largest_stable") is not None]
+        ax.plot(xs, stable, color=colour, marker="o", ms=4, label=data["label"])
+        band = [(p["x"], p["largest_stable"], p["smallest_unstable"]) for p in points
+                if p.get("largest_stable") is not None and p.get("smallest_unstable") is not None]
+        if band:
+            ax.fill_between([b[0] for b in band], [b[1] for b in band], [b[2] for b in band],
+                            color=colour, alpha=0.25, lw=0)
+        top = [p["x"] for p in points if p.get("smallest_unstable") is None]
+        if top:
+            range_top = dig(data, "y_range")
+            if isinstance(range_top, list) and len(range_top) == 2 and finite_number(range_top[1]):
+                ax.plot(top, [range_top[1]] * len(top), ls="none", marker="^", color=colour)
+    first = results[0][1]
+    values = [p[key] for _, d in results for p in d["points"]
+              for key in ("largest_stable", "smallest_unstable") if p.get(key)]
+    if values and max(values) > 10 * min(values):  # a decade or more: log scale
+        ax.set_yscale("log")
+        sparse_minor_ticks(ax.yaxis)
+    ax.set_xlabel(first["x_param"])
+    ax.set_ylabel("largest stable " + first["y_param"])
+    ax.grid(True, alpha=0.3, which="both")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("Z-width: %s" % scenario, fontsize=11)
+    fig.subplots_adjust(left=0.11, right=0.75, top=0.90, bottom=0.13)
+    return png_data_uri(fig)

@@ -1,0 +1,229 @@
+"""Reading what the report draws: run folders (summary.json and the ticks
+logs), stability.json and zwidth.json results; bad input is a
+ReportInputError naming the file and the place in it. Also the progress
+lines `hapticbench report` shows."""
+import json
+import math
+import os
+
+import numpy as np
+
+
+
+class ReportInputError(Exception):
+    """Bad input: a file, a place in it, and what was expected."""
+
+    def __init__(self, path, location, message):
+        super().__init__("%s: %s: %s" % (path, location, message) if location
+                         else "%s: %s" % (path, message))
+
+
+def dig(mapping, *keys):
+    """mapping[k0][k1]... or None where a key is missing or a value is null."""
+    value = mapping
+    for key in keys:
+        if not isinstance(value, dict) or key not in value:
+            return None
+        value = value[key]
+    return value
+
+
+def finite_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def number_or_none(value):
+    return value if finite_number(value) else None
+
+
+class Run:
+    """One algorithm label of one run folder: its summary entry and ticks."""
+
+    def __init__(self, folder, summary_run):
+        self.folder = folder
+        self.summary = summary_run
+        self.label = str(summary_run.get("label", summary_run.get("algorithm", "?")))
+        self.ticks_path = os.path.join(folder.path, summary_run.get("ticks_file")
+                                       or "ticks_%s.csv" % self.label)
+        self.ticks = read_ticks(self.ticks_path) if os.path.isfile(self.ticks_path) else None
+
+    @property
+    def name(self):
+        return "%s/%s" % (self.folder.scenario, self.label)
+
+    def step_us(self):
+        """Step times (µs) from the ticks, else the summary's evenly spaced sample."""
+        if self.ticks is not None:
+            return self.ticks["step_ns"] / 1000.0, "ticks"
+        sample = dig(self.summary, "timing", "step_ns_sample")
+        if isinstance(sample, list) and sample:
+            return np.asarray(sample, dtype=float) / 1000.0, "summary sample"
+        return None, None
+
+    def p99_us(self):
+        return microseconds(dig(self.summary, "timing", "step_ns", "p99"))
+
+
+class RunFolder:
+    """A run folder: summary.json and the runs it lists."""
+
+    def __init__(self, path, summary):
+        self.path = path
+        self.summary = summary
+        self.scenario = str(dig(summary, "scenario", "name") or os.path.basename(path))
+        self.slug = ""
+        self.runs = [Run(self, run) for run in summary["runs"]]
+
+
+def read_json_object(path):
+    """A JSON file holding an object; bad input names the file and the line."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except OSError as error:
+        raise ReportInputError(path, "", "cannot read: %s" % error.strerror)
+    except json.JSONDecodeError as error:
+        raise ReportInputError(path, "line %d" % error.lineno, "not JSON: %s" % error.msg)
+    if not isinstance(data, dict):
+        raise ReportInputError(path, "", "expected a JSON object")
+    return data
+
+
+def read_summary(folder):
+    path = os.path.join(folder, "summary.json")
+    summary = read_json_object(path)
+    version = summary.get("schema_version")
+    if type(version) is not int or version != 1:  # neither true nor 1.0 is version 1
+        raise ReportInputError(path, "/schema_version", "expected 1, got %s"
+                               % json.dumps(summary.get("schema_version")))
+    if not isinstance(summary.get("runs"), list):
+        raise ReportInputError(path, "/runs", "expected an array of runs")
+    for index, run in enumerate(summary["runs"]):
+        if not isinstance(run, dict) or not isinstance(run.get("label"), str):
+            raise ReportInputError(path, "/runs/%d/label" % index, "expected a string")
+    return summary
+
+
+def read_ticks(path):
+    """The plotted columns of a ticks CSV as float arrays (empty field -> NaN)."""
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().rstrip("\r\n").split(",")
+        index = {name: i for i, name in enumerate(header)}
+        missing = [name for name in REQUIRED_TICKS_COLUMNS if name not in index]
+        if missing:
+            raise ReportInputError(path, "line 1", "expected columns %s in the header"
+                                   % ", ".join(missing))
+        optional = OPTIONAL_TICKS_COLUMNS + [c for c in header if c.endswith(BACKEND_PEN_SUFFIX)]
+        wanted = REQUIRED_TICKS_COLUMNS + [c for c in optional if c in index]
+        positions = [index[name] for name in wanted]
+        rows = []
+        for line_number, line in enumerate(f, start=2):
+            fields = line.rstrip("\r\n").split(",")
+            if len(fields) != len(header):
+                raise ReportInputError(path, "line %d" % line_number, "expected %d fields, got %d"
+                                       % (len(header), len(fields)))
+            try:
+                rows.append([float(fields[p]) if fields[p] else math.nan for p in positions])
+            except ValueError:
+                bad = next(name for name, p in zip(wanted, positions)
+                           if fields[p] and not is_float(fields[p]))
+                raise ReportInputError(path, "line %d, column %s" % (line_number, bad),
+                                       "expected a number, got \"%s\"" % fields[index[bad]])
+    table = np.asarray(rows, dtype=float).reshape(len(rows), len(wanted))
+    columns = {name: table[:, i] for i, name in enumerate(wanted)}
+    for name in wanted[len(REQUIRED_TICKS_COLUMNS):]:  # empty fields say "not measured"
+        if not np.isfinite(columns[name]).any():
+            del columns[name]
+    return columns
+
+
+def is_float(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def read_json_or_none(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def read_stability_result(path):
+    """A stability.json as `hapticbench stability` writes it."""
+    data = read_json_object(path)
+    for key in ("scenario", "label", "param"):
+        if not isinstance(data.get(key), str):
+            raise ReportInputError(path, "/" + key, "expected a string")
+    if not isinstance(data.get("runs"), list):
+        raise ReportInputError(path, "/runs", "expected an array of runs")
+    return data
+
+
+def read_zwidth_result(path):
+    """A zwidth.json as `hapticbench zwidth` writes it."""
+    data = read_json_object(path)
+    for key in ("scenario", "label", "x_param", "y_param"):
+        if not isinstance(data.get(key), str):
+            raise ReportInputError(path, "/" + key, "expected a string")
+    points = data.get("points")
+    if not isinstance(points, list) or not points:
+        raise ReportInputError(path, "/points", "expected a non-empty array of points")
+    for i, point in enumerate(points):
+        if not isinstance(point, dict) or not finite_number(point.get("x")):
+            raise ReportInputError(path, "/points/%d/x" % i, "expected a number")
+        for key in ("largest_stable", "smallest_unstable"):
+            if point.get(key) is not None and not finite_number(point.get(key)):
+                raise ReportInputError(path, "/points/%d/%s" % (i, key),
+                                       "expected a number or null")
+    return data
+
+
+def load_run_folder(path):
+    """A run folder's summary and ticks; a file that is not as hapticbench
+    writes it (unreadable, not UTF-8, wrong shape) is bad input naming it."""
+    try:
+        return RunFolder(path, read_summary(path))
+    except ReportInputError:
+        raise
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError) as error:
+        raise ReportInputError(path, "", "not a run folder as hapticbench writes it (%s: %s)"
+                               % (type(error).__name__, error))
+
+
+def microseconds(ns):
+    """ns / 1000, or None: divided, not multiplied by 1e-3, so that 8935 ns prints 8.94 µs
+    the way C's printf("%.2f", ns / 1000.0) does."""
+    return ns / 1000.0 if finite_number(ns) else None
+
+
+class Progress:
+    """Where rendering is, for `hapticbench report`'s progress display: one
+    line per step, "<done> <total> <unit> <phase>" (unit "-": none), on the
+    file descriptor it passes with --progress-fd. Silent without one."""
+
+    def __init__(self, fd=None):
+        self.out = os.fdopen(fd, "w", buffering=1) if fd is not None else None
+
+    def step(self, phase, done=0, total=0, unit="-"):
+        if self.out is None:
+            return
+        try:
+            self.out.write("%d %d %s %s\n" % (done, total, unit, phase))
+        except OSError:  # the reader went away: rendering goes on
+            self.out = None
+
+
+REQUIRED_TICKS_COLUMNS = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "step_ns"]
+
+
+OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz"]
+
+
+# Each oracle backend's penetration column is "<backend>_pen_m" (the backends
+# are listed in summary.json's oracle_backends).
+BACKEND_PEN_SUFFIX = "_pen_m"

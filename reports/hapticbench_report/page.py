@@ -1,0 +1,266 @@
+"""The page: one section per scenario and the stability sections, put into
+the template; and the command line of render_report.py."""
+import argparse
+import datetime
+import json
+import os
+import re
+import string
+import sys
+
+from .inputs import (
+    Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result)
+from .figures import (
+    pareto_figure, passivity_figure, penetration_figure, stiffness_limits, stiffness_sweeps,
+    stiffness_text, sweep_figure, timing_figure, wrench_figure)
+from .tables import (
+    context_html, esc, figure_html, folders_html, friction_html, metric_table_html, note,
+    stability_margins_html, stress_matrix_html, summary_table, sweep_file_verdict,
+    work_counters_html, zwidth_html)
+
+
+def scenario_section(folder):
+    runs = folder.runs
+    s = folder.summary.get("scenario") or {}
+    parts = ['<section class="scenario" id="%s"><h3>%s</h3>'
+             % (folder.slug, esc(folder.scenario))]
+    facts = ["run folder <code>%s</code>" % esc(folder.path)]
+    if s.get("path"):
+        facts.append("scenario <code>%s</code>" % esc(s["path"]))
+    if s.get("trace"):
+        facts.append("trace: %s" % esc(s["trace"]))
+    if s.get("hash"):
+        facts.append("hash <code>%s</code>" % esc(s["hash"]))
+    parts.append('<p class="small">%s</p>' % "; ".join(facts))
+    missing = [run for run in runs if run.ticks is None]
+    if missing:
+        parts.append(note("No ticks CSV for %s (a summary-only run folder): no time series for "
+                          "%s." % (", ".join("<code>%s</code>" % esc(os.path.basename(r.ticks_path))
+                                             for r in missing),
+                                   "this scenario" if len(missing) == len(runs)
+                                   else "these labels")))
+    if len(missing) < len(runs):
+        uri, has_reference = wrench_figure(runs, "force")
+        parts.append(figure_html(
+            "fig-force-" + folder.slug, uri, "force against time, " + folder.scenario,
+            "Displayed force (world frame) per label"
+            + (", dashed: the analytic reference (ideal rigid contact)." if has_reference
+               else "; no analytic reference for this scene.")))
+        uri, has_reference = wrench_figure(runs, "torque")
+        parts.append(figure_html(
+            "fig-torque-" + folder.slug, uri, "torque against time, " + folder.scenario,
+            "Displayed torque about the tool frame's origin (world frame)"
+            + (", dashed: the analytic reference." if has_reference
+               else "; no analytic reference for this scene.")))
+        uri = penetration_figure(runs)
+        if uri:
+            parts.append(figure_html(
+                "fig-penetration-" + folder.slug, uri, "penetration against time, "
+                + folder.scenario, "Penetration of the proxy's tool: <code>penetration_m</code> "
+                "(analytic, else the primary oracle), and where present each oracle backend's own "
+                "column <code>&lt;backend&gt;_pen_m</code> (in the order of the summary's "
+                "<code>oracle_backends</code>: dotted, crosses, dash-dot; an exact backend on "
+                "every N-th tick only)."))
+        else:
+            parts.append(note("No penetration ground truth in this scenario (no analytic "
+                              "reference, oracle off or distance-only scene)."))
+    uri = timing_figure(runs)
+    if uri:
+        from_sample = [r for r in runs if r.ticks is None and r.step_us()[0] is not None]
+        parts.append(figure_html(
+            "fig-timing-" + folder.slug, uri, "step time distribution, " + folder.scenario,
+            "Time of <code>Renderer::step</code> per tick: histogram (log x) and cumulative "
+            "distribution, dashed red: the 1 ms budget, dotted / dots: each label's p99 from "
+            "the summary." + (" Labels without ticks use the summary's evenly spaced sample of "
+                              "step times." if from_sample else "")))
+    else:
+        parts.append(note("No step times in this run folder (no ticks CSV and no sample in the "
+                          "summary)."))
+    parts.append(metric_table_html(folder))
+    parts.append(work_counters_html(folder))
+    parts.append("</section>")
+    return "".join(parts)
+
+
+def stability_html(folders, runs):
+    parts = []
+    uri, shown, without = passivity_figure(runs)
+    if uri:
+        parts.append(figure_html(
+            "fig-passivity", uri, "passivity energy minimum per run",
+            "Minimum over time of the passivity observer E = Σ (F·v + τ·ω) Δt at the device "
+            "port, per run (red: below zero; diverged runs are marked)."
+            + (" The %d lowest of %d runs are shown." % (len(shown), len(runs) - len(without))
+               if len(shown) < len(runs) - len(without) else "")))
+    if without:
+        parts.append(note("No passivity energy for %s."
+                          % ", ".join(esc(r.name) for r in without)))
+    for index, (base, by_integrator) in enumerate(sorted(stiffness_sweeps(folders).items())):
+        all_runs = [kr for runs in by_integrator.values() for kr in runs]
+        from_file = sweep_file_verdict(all_runs)
+        bound = dig(from_file[1], "explicit_bound_closed_form_n_per_m") if from_file else None
+        parts.append("<h3>Coupling stiffness sweep: %s</h3>" % esc(base))
+        rows = []
+        for integrator, integrator_runs in sorted(by_integrator.items()):
+            largest, smallest = stiffness_limits(integrator_runs)
+            ks = sorted({k for k, _ in integrator_runs})
+            rows.append(
+                '<tr data-integrator="%s"><td class="text">%s</td><td>%d (%s … %s)</td>'
+                '<td class="largest-stable">%s</td><td class="smallest-unstable">%s</td></tr>'
+                % (esc(integrator), esc(integrator), len(ks), stiffness_text(ks[0]),
+                   stiffness_text(ks[-1]), stiffness_text(largest), stiffness_text(smallest)))
+        parts.append(
+            '<table class="stiffness-sweep" data-sweep="%s"><tr><th class="text">integrator</th>'
+            "<th>stiffnesses run (N/m)</th><th>largest stable k_t (N/m)</th>"
+            "<th>smallest unstable k_t (N/m)</th></tr>%s</table>" % (esc(base), "".join(rows)))
+        parts.append('<p class="small">Stable: the run\'s stability verdict '
+                     "(<code>stability.verdict.stable</code> in its summary).</p>")
+        if from_file:
+            path, data = from_file
+            verdicts = "; ".join(
+                "%s largest stable %s N/m, smallest unstable %s N/m"
+                % (esc(name), stiffness_text(dig(data, name, "largest_stable_n_per_m")),
+                   stiffness_text(dig(data, name, "smallest_unstable_n_per_m")))
+                for name in sorted(by_integrator) if isinstance(data.get(name), dict))
+            if verdicts:
+                parts.append(note("<code>%s</code> (written by scripts/stability-sweep, which also "
+                                  "counts growth of the proxy's separation beyond the exciting "
+                                  "jump as unstable): %s." % (esc(path), verdicts)))
+        parts.append(figure_html(
+            "fig-stiffness-sweep-%d" % index, sweep_figure(by_integrator, bound),
+            "stability against coupling stiffness, " + base,
+            "Largest proxy separation from the device per run against the coupling stiffness "
+            "(crosses: diverged); dotted: each integrator's largest stable k_t."))
+    return "".join(parts)
+
+
+def render(folders, template, metric_table, stability_results=(), progress=Progress(),
+           zwidth_results=()):
+    slugs = set()
+    for folder in folders:
+        slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
+        candidate, n = slug, 2
+        while candidate in slugs:
+            candidate, n = "%s-%d" % (slug, n), n + 1
+        slugs.add(candidate)
+        folder.slug = candidate
+    runs = [run for folder in folders for run in folder.runs]
+    failed = [run for run in runs if any(b.get("pass") is not True
+                                         for b in run.summary.get("budgets") or [])]
+    body = ["<header><h1>hapticbench report</h1>",
+            '<p class="small">%d scenario%s, %d run%s; generated %s.</p>'
+            % (len(folders), "" if len(folders) == 1 else "s", len(runs),
+               "" if len(runs) == 1 else "s",
+               datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")),
+            context_html(folders),
+            "<details%s><summary>Run folders covered (%d)</summary>%s</details></header>"
+            % (" open" if len(folders) <= 12 else "", len(folders), folders_html(folders))]
+    body.append("<nav><h2>Contents</h2><ul><li><a href='#summary'>Summary</a></li>"
+                "<li><a href='#pareto'>Error against CPU time per tick</a></li>"
+                "<li><a href='#stability'>Stability</a></li>%s</ul></nav>"
+                % "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
+                          for f in folders))
+    body.append('<section id="summary"><h2>Summary</h2>')
+    body.append('<p class="%s">%s</p>' % (
+        "fail" if failed else "pass",
+        "%d of %d runs failed a budget: %s." % (len(failed), len(runs),
+                                                ", ".join(esc(r.name) for r in failed))
+        if failed else "All %d runs are within their budgets." % len(runs)))
+    body.append(summary_table(folders, metric_table))
+    body.append('<p class="small">Columns come from the metric table '
+                "(<code>hapticbench list --metrics</code>; hover a header for its definition). "
+                "Step times are of <code>Renderer::step</code> only; CPU per tick adds the "
+                "slow-loop work attributed to the tick. Force and direction errors are against "
+                "the analytic reference (ideal rigid contact); penetration comes from the "
+                "analytic reference, else the Embree oracle. "
+                "— : the metric does not apply to the run.</p></section>")
+    body.append('<section id="pareto"><h2>Error against CPU time per tick</h2>')
+    progress.step("drawing the summary figures")
+    uri, fronts, left_out, failed = pareto_figure(runs)
+    if uri:
+        on_front = "; ".join("%s: %s" % (scenario, ", ".join(labels))
+                             for scenario, labels in fronts.items())
+        body.append(figure_html(
+            "fig-pareto", uri, "error against CPU time per tick p99, one panel per scenario",
+            "One panel per scenario (errors of different scenarios are not comparable): force "
+            "error RMS against the reference (the analytic one, else the mesh force "
+            "reference, both with the scene's Coulomb friction; without either, the maximum penetration) against the p99 CPU time per tick of both loops, the haptic step "
+            "plus the slow-loop work attributed to the tick (timing.cpu_per_tick_ns), so that "
+            "an algorithm whose work sits in its slow loop is not shown as free. The red line "
+            "is each scenario's Pareto front: no other run of that scenario is both cheaper "
+            "and more accurate. On the fronts: %s." % esc(on_front)))
+    if failed:
+        body.append(note("Drawn hollow and never on a front, because their error says nothing "
+                         "about the algorithm's accuracy: %s." % esc(", ".join(
+                             "%s (%s)" % (run.name, why) for run, why in failed))))
+    if left_out:
+        body.append(note("Not on the figure (no force error, no penetration or no step time): "
+                         "%s." % esc(", ".join(r.name for r in left_out))))
+    body.append('</section><section id="stability"><h2>Stability</h2>')
+    body.append(stress_matrix_html(folders))
+    body.append(stability_margins_html(list(stability_results)))
+    body.append(zwidth_html(list(zwidth_results)))
+    body.append(stability_html(folders, runs))
+    body.append(friction_html(folders))
+    body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
+    for done, folder in enumerate(folders):
+        progress.step("drawing the scenarios' figures", done, len(folders), "scenarios")
+        body.append(scenario_section(folder))
+    body.append("</section>")
+    return string.Template(template).substitute(title="hapticbench report", body="\n".join(body))
+
+
+def main():
+    parser = argparse.ArgumentParser(
+        description="Renders hapticbench run folders into one self-contained HTML report.")
+    parser.add_argument("--out", required=True, help="HTML file to write")
+    parser.add_argument("--template", default=os.path.join(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__))), "report_template.html"))
+    parser.add_argument("--metric-table", help="the metric table as JSON (hapticbench report "
+                        "passes it); else the one the first summary carries")
+    parser.add_argument("--stability", action="append", default=[],
+                        help="a stability.json of `hapticbench stability` (repeatable): a row "
+                        "of the stability-margin table")
+    parser.add_argument("--zwidth", action="append", default=[],
+                        help="a zwidth.json of `hapticbench zwidth` (repeatable): drawn in the "
+                        "scenario's Z-width figure")
+    parser.add_argument("--progress-fd", type=int, help="file descriptor for progress lines "
+                        "(hapticbench report passes it; see Progress)")
+    parser.add_argument("folders", nargs="*", help="run folders (each with a summary.json)")
+    args = parser.parse_args()
+    progress = Progress(args.progress_fd)
+    try:
+        folders = []
+        for done, path in enumerate(args.folders):
+            progress.step("reading run folders", done, len(args.folders), "folders")
+            folders.append(load_run_folder(path))
+        metric_table = []
+        if args.metric_table:
+            with open(args.metric_table, encoding="utf-8") as f:
+                metric_table = json.load(f)
+        else:
+            metric_table = next((f.summary["metric_table"] for f in folders
+                                 if isinstance(f.summary.get("metric_table"), list)), [])
+        with open(args.template, encoding="utf-8") as f:
+            template = f.read()
+        stability_results = [(path, read_stability_result(path)) for path in args.stability]
+        zwidth_results = [(path, read_zwidth_result(path)) for path in args.zwidth]
+        page = render(folders, template, metric_table, stability_results, progress,
+                      zwidth_results)
+    except ReportInputError as error:
+        print("error: %s" % error, file=sys.stderr)
+        return 2
+    except Exception as error:  # a bug, not bad input: one line, no traceback
+        if os.environ.get("HAPTICBENCH_DEBUG"):
+            raise
+        print("internal error: rendering failed: %s: %s (HAPTICBENCH_DEBUG=1 shows where)"
+              % (type(error).__name__, error), file=sys.stderr)
+        return 3
+    try:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(page)
+    except OSError as error:
+        print("error: %s: cannot write the report: %s" % (args.out, error.strerror or error),
+              file=sys.stderr)
+        return 2
+    return 0
