@@ -139,11 +139,7 @@ CheckRow determinism_row(CheckRow row, const ScenarioSummary& baseline_scenario,
 
 // How a count's or a flag's notes speak of it.
 std::string_view counted_as(const MetricDefinition& metric) {
-  if (metric.name == "nonfinite") return "ticks with a non-finite wrench";
-  if (metric.name == "tunnelled") return "passes through the scene";
-  if (metric.name == "diverged") return "diverged";
-  if (metric.name == "chatters") return "chatters";
-  return metric.name;
+  return metric.counted_as.empty() ? metric.name : metric.counted_as;
 }
 
 }  // namespace

@@ -30,21 +30,35 @@ enum class CompareRule {
   kFlag,       ///< false -> true regresses (divergence)
 };
 
+/// How summary.json writes a metric's value.
+enum class ValueKind {
+  kNumber,  ///< a number
+  kCount,   ///< a whole number (ticks, passes)
+  kFlag,    ///< true or false (read as 1 or 0)
+};
+
+/// One row of the table; written with designated initializers, naming only
+/// what differs from these defaults.
 struct MetricDefinition {
   std::string_view name;  ///< e.g. "force_err_rms_n"; the budget name
   std::string_view
       json_pointer;       ///< within a run of summary.json, e.g. "/accuracy/force_err_rms_n"
   std::string_view unit;  ///< of the summary's value, e.g. "N", "ns", "ticks"
-  Better better;
-  bool budget;          ///< may appear in a scenario's "budgets"
-  double budget_scale;  ///< budget value = summary value × this (1e-3: ns → µs)
-  CompareRule compare;
-  double abs_tol;             ///< kTolerance: a change below this never regresses
-  bool compare_when_present;  ///< compared only when a side has it (else always, n/a when null)
+  ValueKind kind = ValueKind::kNumber;
+  Better better = Better::kLower;
+  bool budget = true;       ///< may appear in a scenario's "budgets"
+  double budget_scale = 1;  ///< budget value = summary value × this (1e-3: ns → µs)
+  CompareRule compare = CompareRule::kNone;
+  double abs_tol = 0;  ///< kTolerance: a change below this never regresses
+  bool compare_when_present =
+      false;  ///< compared only when a side has it (else always, n/a when null)
   /// The summary's value from the run's metrics; nullopt where it does not apply.
-  std::optional<double> (*read)(const RunMetrics&);
+  std::optional<double> (*read)(const RunMetrics&) = nullptr;
   std::string_view description;
   bool report_column = false;  ///< a column of the report's summary table
+  /// What compare's count and flag rows call it ("ticks with a non-finite
+  /// wrench"); empty: the name.
+  std::string_view counted_as;
 };
 
 /// Every metric, in the order summaries, tables and comparisons list them.
