@@ -13,9 +13,29 @@ std::string range_text(double min, double max) {
   out << "in [" << min << ", " << max << "]";
   return out.str();
 }
+
+std::string number_text(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+std::string list_text(const std::vector<double>& values) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) text += (i ? ", " : "") + number_text(values[i]);
+  return text + "]";
+}
 }  // namespace
 
+void ParamSet::declare(const std::string& key, std::string default_value,
+                       std::string accepted) const {
+  for (const ParamDeclaration& d : declared_)
+    if (d.key == key) return;  // the first accessor asked says what it is
+  declared_.push_back({key, std::move(default_value), std::move(accepted)});
+}
+
 double ParamSet::number(const std::string& key, double fallback, double min, double max) const {
+  declare(key, number_text(fallback), "number " + range_text(min, max));
   read_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
@@ -32,6 +52,8 @@ double ParamSet::number(const std::string& key, double fallback, double min, dou
 
 long long ParamSet::integer(const std::string& key, long long fallback, long long min,
                             long long max) const {
+  declare(key, std::to_string(fallback),
+          "whole number " + range_text(static_cast<double>(min), static_cast<double>(max)));
   const double value = number(key, static_cast<double>(fallback), static_cast<double>(min),
                               static_cast<double>(max));
   if (value != std::floor(value))
@@ -41,12 +63,13 @@ long long ParamSet::integer(const std::string& key, long long fallback, long lon
 
 std::string ParamSet::choice(const std::string& key, const std::string& fallback,
                              const std::vector<std::string>& allowed) const {
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
+  declare(key, "\"" + fallback + "\"", "one of " + list);
   read_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   const std::string* value = std::get_if<std::string>(&it->second);
-  std::string list;
-  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
   if (!value) throw InputError("", field(key), "expected one of " + list);
   for (const auto& a : allowed)
     if (*value == a) return *value;
@@ -54,6 +77,7 @@ std::string ParamSet::choice(const std::string& key, const std::string& fallback
 }
 
 bool ParamSet::flag(const std::string& key, bool fallback) const {
+  declare(key, fallback ? "true" : "false", "true or false");
   read_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
@@ -64,6 +88,7 @@ bool ParamSet::flag(const std::string& key, bool fallback) const {
 
 std::vector<double> ParamSet::numbers(const std::string& key, const std::vector<double>& fallback,
                                       std::size_t size) const {
+  declare(key, list_text(fallback), "list of " + std::to_string(size) + " numbers");
   read_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
@@ -78,6 +103,9 @@ std::vector<double> ParamSet::numbers(const std::string& key, const std::vector<
 std::optional<long long> ParamSet::integer_or_word(const std::string& key, long long fallback,
                                                    long long min, long long max,
                                                    const std::string& word) const {
+  declare(key, std::to_string(fallback),
+          "whole number " + range_text(static_cast<double>(min), static_cast<double>(max)) +
+              " or \"" + word + "\"");
   auto it = values_.find(key);
   if (it != values_.end()) {
     if (const std::string* text = std::get_if<std::string>(&it->second)) {

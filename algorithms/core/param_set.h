@@ -16,6 +16,14 @@ namespace hb {
 /// One parameter value: a number, a string, a flag, or a list of numbers.
 using ParamValue = std::variant<double, std::string, bool, std::vector<double>>;
 
+/// A parameter as an accessor asked for it: what `hapticbench list` prints
+/// for a generator (and docs tables are generated from).
+struct ParamDeclaration {
+  std::string key;
+  std::string default_value;  ///< the fallback, as text ("0.005", "[0, 0, 0.03]", "\"implicit\"")
+  std::string accepted;       ///< what a value must be, e.g. "number in [0, 1]"
+};
+
 class ParamSet {
  public:
   ParamSet() = default;
@@ -50,10 +58,15 @@ class ParamSet {
   /// The field name errors use for key.
   std::string field(const std::string& key) const { return prefix_ + "/" + key; }
 
+  /// Every parameter the accessors were asked for, in the order first asked.
+  const std::vector<ParamDeclaration>& declared() const { return declared_; }
+
  private:
   std::string prefix_;
   std::map<std::string, ParamValue> values_;
   mutable std::set<std::string> read_;
+  mutable std::vector<ParamDeclaration> declared_;
+  void declare(const std::string& key, std::string default_value, std::string accepted) const;
 };
 
 }  // namespace hb

@@ -1,6 +1,8 @@
 // hapticbench list [SCENARIO_DIR]: algorithms, generators and the scenarios
-// shipped in scenarios/. hapticbench list --metrics: the metric table as
-// Markdown (docs/metric-table.md is its output).
+// shipped in scenarios/. The tables the docs hold, as Markdown: list
+// --metrics (docs/metric-table.md), --generators (the generators'
+// parameters, traces/README.md), --limits (the plausible ranges,
+// docs/limits.md).
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
@@ -9,6 +11,7 @@
 #include "algorithms/registry.h"
 #include "harness/cli/commands.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/scenario/scenario.h"
 #include "harness/trace/generators.h"
 
 namespace hb {
@@ -46,11 +49,40 @@ void print_metric_table(std::ostream& out) {
   }
 }
 
+// Every generator's parameters as its code asks for them: each generator
+// runs once, for a 1 s trace, with no parameters given.
+void print_generator_parameters(std::ostream& out) {
+  out << "| generator | parameter | default (1 s trace) | accepted |\n| --- | --- | --- | --- |\n";
+  for (const GeneratorEntry& entry : generator_table()) {
+    GeneratorRequest request;
+    request.params = ParamSet("/trace/params");
+    make_generated_trace(std::string(entry.name), request, "/trace/generator");
+    for (const ParamDeclaration& p : request.params.declared())
+      out << "| `" << entry.name << "` | `" << p.key << "` | " << p.default_value << " | "
+          << p.accepted << " |\n";
+  }
+}
+
+void print_plausible_ranges(std::ostream& out) {
+  out << "| field | plausible range | unit | why |\n| --- | --- | --- | --- |\n";
+  for (const PlausibleRange& range : plausible_ranges())
+    out << "| `" << range.pointer << "` | " << range.low << " – " << range.high << " | "
+        << range.unit << " | " << range.why << " |\n";
+}
+
 }  // namespace
 
 int list_command(const std::vector<std::string>& args) {
   if (args.size() == 1 && args.front() == "--metrics") {
     print_metric_table(std::cout);
+    return kExitOk;
+  }
+  if (args.size() == 1 && args.front() == "--generators") {
+    print_generator_parameters(std::cout);
+    return kExitOk;
+  }
+  if (args.size() == 1 && args.front() == "--limits") {
+    print_plausible_ranges(std::cout);
     return kExitOk;
   }
   std::string scenario_root = "scenarios";

@@ -41,15 +41,6 @@ constexpr double kUnitQuaternionTolerance = 1e-6;
 constexpr double kMaxTraceDurationS = kMaxRunDurationS;
 constexpr double kMaxOracleSamples = 1e6;  ///< tool surface samples the oracles may test per tick
 
-// Plausible ranges of the physical settings (docs/limits.md): outside them
-// a run is allowed but warned about, since absurd settings can pass budgets.
-struct PlausibleRange {
-  const char* pointer;
-  const char* unit;
-  double low, high;
-  const char* why;
-};
-
 std::string range_warning(const PlausibleRange& range, double value) {
   std::ostringstream text;
   text << range.pointer << ": " << value << " " << range.unit << " is outside the plausible range ["
@@ -57,30 +48,34 @@ std::string range_warning(const PlausibleRange& range, double value) {
   return text.str();
 }
 
+constexpr PlausibleRange kPlausibleRanges[] = {
+    {"/coupling/k_t", "N/m", 10, 1e6, "haptic couplings render 0.1 to 10 kN/m",
+     [](const RenderContext& c) { return c.coupling.k_t; }},
+    {"/coupling/b_t", "N·s/m", 0, 1e3, "beyond it the coupling is a brake",
+     [](const RenderContext& c) { return c.coupling.b_t; }},
+    {"/coupling/k_r", "N·m/rad", 1e-3, 1e3, "devices render up to a few N·m/rad",
+     [](const RenderContext& c) { return c.coupling.k_r; }},
+    {"/coupling/b_r", "N·m·s/rad", 0, 10, "beyond it the coupling is a brake",
+     [](const RenderContext& c) { return c.coupling.b_r; }},
+    {"/device/max_force_n", "N", 0.1, 1000, "desktop devices display up to tens of N",
+     [](const RenderContext& c) { return c.device.max_force_n; }},
+    {"/device/max_torque_nm", "N·m", 1e-3, 100, "desktop devices display up to a few N·m",
+     [](const RenderContext& c) { return c.device.max_torque_nm; }},
+    {"/tool", "kg", 1e-4, 100, "the tool's mass (from its density and volume, or mass_kg)",
+     [](const RenderContext& c) { return c.tool.mass.mass_kg; }},
+    {"/gravity", "m/s²", 0, 100, "the length of the gravity vector",
+     [](const RenderContext& c) { return c.gravity.norm(); }},
+};
+
 std::vector<std::string> plausibility_warnings(const RenderContext& context) {
-  const std::pair<PlausibleRange, double> checks[] = {
-      {{"/coupling/k_t", "N/m", 10, 1e6, "haptic couplings render 0.1 to 10 kN/m"},
-       context.coupling.k_t},
-      {{"/coupling/b_t", "N·s/m", 0, 1e3, "beyond it the coupling is a brake"},
-       context.coupling.b_t},
-      {{"/coupling/k_r", "N·m/rad", 1e-3, 1e3, "devices render up to a few N·m/rad"},
-       context.coupling.k_r},
-      {{"/coupling/b_r", "N·m·s/rad", 0, 10, "beyond it the coupling is a brake"},
-       context.coupling.b_r},
-      {{"/device/max_force_n", "N", 0.1, 1000, "desktop devices display up to tens of N"},
-       context.device.max_force_n},
-      {{"/device/max_torque_nm", "N·m", 1e-3, 100, "desktop devices display up to a few N·m"},
-       context.device.max_torque_nm},
-      {{"/tool", "kg", 1e-4, 100, "the tool's mass: 0.1 g to 100 kg"}, context.tool.mass.mass_kg},
-      {{"/gravity", "m/s²", 0, 100, "the length of the gravity vector"}, context.gravity.norm()},
-  };
   // A device without limits (the default when "device" is not given) is
   // not a setting to warn about.
   const DeviceLimits unlimited;
   std::vector<std::string> warnings;
-  for (const auto& [range, value] : checks) {
+  for (const PlausibleRange& range : kPlausibleRanges) {
+    const double value = range.value(context);
     const bool unlimited_device =
-        std::string_view(range.pointer).starts_with("/device/") &&
+        range.pointer.starts_with("/device/") &&
         (value == unlimited.max_force_n || value == unlimited.max_torque_nm);
     if (!unlimited_device && !(value >= range.low && value <= range.high))
       warnings.push_back(range_warning(range, value));
@@ -736,5 +731,7 @@ Scenario load_scenario_json(const std::string& json_text, const std::string& sou
                             const std::filesystem::path& base_dir) {
   return ScenarioReader(source_path, base_dir).read(json_text);
 }
+
+std::span<const PlausibleRange> plausible_ranges() { return kPlausibleRanges; }
 
 }  // namespace hb

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/core/param_set.h"
@@ -66,6 +68,20 @@ struct Scenario {
   /// warned about by run and validate (docs/limits.md gives the ranges).
   std::vector<std::string> warnings;
 };
+
+/// A physical setting's plausible range: outside it a run is allowed but
+/// warned about, since absurd settings can pass budgets. docs/limits.md's
+/// table is `hapticbench list --limits`.
+struct PlausibleRange {
+  std::string_view pointer;  ///< the scenario field
+  std::string_view unit;
+  double low, high;  ///< in unit
+  std::string_view why;
+  double (*value)(const RenderContext& context);  ///< the setting's value in a loaded scenario
+};
+
+/// Every plausible range, in the order the warnings check them.
+std::span<const PlausibleRange> plausible_ranges();
 
 /// Budget names a scenario may use.
 const std::vector<std::string>& known_budget_names();

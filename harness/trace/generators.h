@@ -33,8 +33,8 @@ struct GeneratorEntry {
   GeneratedTrace (*generate)(const GeneratorRequest& request);
 };
 
-/// Every generator: press, slide, rub, twist, turn, peg_in_hole, path, human_like,
-/// impact, jump, rest. Every one also takes "repeat_sample_at_s" (s): the
+/// Every generator, in the order `hapticbench list` shows them (traces/README.md
+/// describes each). Every one also takes "repeat_sample_at_s" (s): the
 /// sample at that tick repeats the previous one, pose and twist (a device
 /// that reports the same sample twice).
 std::span<const GeneratorEntry> generator_table();

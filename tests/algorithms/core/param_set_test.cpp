@@ -129,4 +129,25 @@ TEST_CASE("unknown keys are rejected by name, listing the known ones", "[param_s
   CHECK_NOTHROW(params.reject_unknown());
 }
 
+TEST_CASE("the accessors declare each parameter once, with its default and what it accepts") {
+  ParamSet params("/p");
+  params.integer("count", 3, 1, 10);
+  params.number("count", 5.0, 0.0, 100.0);  // asked again: the first declaration stands
+  params.choice("mode", "fast", {"fast", "exact"});
+  params.flag("verbose", false);
+  params.numbers("start", {0, 0, 0.03}, 3);
+  params.integer_or_word("latency", 1, 1, 100, "measured");
+  const std::vector<ParamDeclaration>& d = params.declared();
+  REQUIRE(d.size() == 5);
+  CHECK(d[0].key == "count");
+  CHECK(d[0].default_value == "3");
+  CHECK(d[0].accepted == "whole number in [1, 10]");
+  CHECK(d[1].default_value == "\"fast\"");
+  CHECK(d[1].accepted == "one of \"fast\", \"exact\"");
+  CHECK(d[2].default_value == "false");
+  CHECK(d[3].default_value == "[0, 0, 0.03]");
+  CHECK(d[3].accepted == "list of 3 numbers");
+  CHECK(d[4].accepted == "whole number in [1, 100] or \"measured\"");
+}
+
 }  // namespace hb

@@ -1,0 +1,66 @@
+// End-to-end: the tables the docs repeat from the code are what `hapticbench
+// list` prints from it, so they cannot drift: the generators' parameters in
+// traces/README.md, the plausible ranges in docs/limits.md (the metric
+// table: metric_table_doc_test.cpp); and the generators' motion table names
+// every generator once.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "harness/trace/generators.h"
+#include "tests/support/cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
+
+// The doc holds `listed` verbatim, starting at its header line.
+void check_doc_holds(const fs::path& doc_path, const std::string& listed) {
+  const std::string doc = hb::test::read_text_file(doc_path);
+  const std::string header = listed.substr(0, listed.find('\n') + 1);
+  const std::size_t at = doc.find(header);
+  INFO(doc_path.string() << " should hold, from its line \"" << header
+                         << "\", the output of hapticbench list");
+  REQUIRE(at != std::string::npos);
+  CHECK(doc.substr(at, listed.size()) == listed);
+}
+
+TEST_CASE("traces/README.md holds the generators' parameters as list --generators prints them") {
+  const hb::test::ScratchDir work("e2e_generator_table");
+  const auto listed = hb::test::run_hapticbench("list --generators", work.path());
+  REQUIRE(listed.exit_code == 0);
+  check_doc_holds(kSource / "traces/README.md", listed.stdout_text);
+  // Every generator has parameters listed.
+  for (const hb::GeneratorEntry& entry : hb::generator_table())
+    CHECK(listed.stdout_text.find("| `" + std::string(entry.name) + "` |") != std::string::npos);
+}
+
+TEST_CASE("docs/limits.md holds the plausible ranges as list --limits prints them") {
+  const hb::test::ScratchDir work("e2e_limits_table");
+  const auto listed = hb::test::run_hapticbench("list --limits", work.path());
+  REQUIRE(listed.exit_code == 0);
+  CHECK(listed.stdout_text.find("`/coupling/k_t`") != std::string::npos);
+  check_doc_holds(kSource / "docs/limits.md", listed.stdout_text);
+}
+
+TEST_CASE("traces/README.md describes the motion of every generator, once") {
+  const std::string doc = hb::test::read_text_file(kSource / "traces/README.md");
+  const std::size_t table = doc.find("| generator | motion |");
+  REQUIRE(table != std::string::npos);
+  const std::size_t end = doc.find("\n\n", table);
+  const std::string rows = doc.substr(table, end - table);
+  std::set<std::string> described;
+  for (std::size_t at = rows.find("\n| `"); at != std::string::npos;
+       at = rows.find("\n| `", at + 1)) {
+    const std::size_t close = rows.find('`', at + 4);
+    CHECK(described.insert(rows.substr(at + 4, close - at - 4)).second);
+  }
+  std::set<std::string> generators;
+  for (const hb::GeneratorEntry& entry : hb::generator_table())
+    generators.insert(std::string(entry.name));
+  CHECK(described == generators);
+}
+
+}  // namespace
