@@ -5,8 +5,6 @@
 // draws the figures and writes the page under a temporary name; the page is
 // renamed into place only when complete.
 #include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -27,10 +26,9 @@
 #include "harness/cli/run_folder_search.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
+#include "harness/process/child_process.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/scenario/json_fields.h"
-
-extern char** environ;
 
 namespace hb {
 
@@ -80,39 +78,19 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
   return options;
 }
 
-/// Starts a program (looked up on PATH when the name has no slash) with
-/// `actions`, which it destroys. Returns its pid, or -1 when it could not
-/// be started.
-pid_t spawn_program(const std::vector<std::string>& argv, posix_spawn_file_actions_t& actions) {
-  std::vector<char*> pointers;
-  for (const std::string& arg : argv) pointers.push_back(const_cast<char*>(arg.c_str()));
-  pointers.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  return spawned == 0 ? pid : -1;
-}
-
-/// Waits for `pid`: its exit code, or -1 when it did not exit normally.
-int exit_code_of(pid_t pid) {
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-/// Runs a program and waits for it. quiet: its output goes to /dev/null.
-/// Returns its exit code, or -1 when it could not be started or did not
-/// exit normally.
+/// Runs a program (looked up on PATH when the name has no slash) and waits
+/// for it. quiet: its output goes to /dev/null. Returns its exit code, or
+/// -1 when it could not be started or did not exit normally.
 int run_program(const std::vector<std::string>& argv, bool quiet) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (quiet) {
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  ChildOptions options;
+  options.search_path = true;
+  if (quiet) options.stdout_path = options.stderr_path = "/dev/null";
+  try {
+    const ProcessEnd end = ChildProcess(argv, options).wait();
+    return end.exited ? end.exit_code : -1;
+  } catch (const std::runtime_error&) {
+    return -1;
   }
-  const pid_t pid = spawn_program(argv, actions);
-  return pid < 0 ? -1 : exit_code_of(pid);
 }
 
 /// The fd on which the renderer writes its progress, one line per step:
@@ -141,14 +119,17 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
                  ProgressDisplay& progress) {
   int pipe_fds[2];
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) return -1;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], kRendererProgressFd);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  const pid_t pid = spawn_program(argv, actions);
+  ChildOptions options;
+  options.search_path = true;
+  options.stderr_path = stderr_file;
+  options.inherit_fds = {{pipe_fds[1], kRendererProgressFd}};
+  std::optional<ChildProcess> renderer;
+  try {
+    renderer.emplace(argv, options);
+  } catch (const std::runtime_error&) {
+  }
   ::close(pipe_fds[1]);
-  if (pid < 0) {
+  if (!renderer) {
     ::close(pipe_fds[0]);
     return -1;
   }
@@ -167,7 +148,8 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
   }
   ::close(pipe_fds[0]);
   progress.finish_task();
-  return exit_code_of(pid);
+  const ProcessEnd end = renderer->wait();
+  return end.exited ? end.exit_code : -1;
 }
 
 /// Whether `path` is a page `hapticbench report` wrote: the renderer puts

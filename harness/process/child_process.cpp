@@ -47,19 +47,24 @@ std::string ProcessEnd::description() const {
   return "killed by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
 }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv,
-                           const std::filesystem::path& stdout_path,
-                           const std::filesystem::path& stderr_path) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const ChildOptions& options) {
   if (argv.empty()) throw std::runtime_error("cannot start a process without a program");
   SpawnFileActions actions;
   const int flags = O_WRONLY | O_CREAT | O_TRUNC;
-  posix_spawn_file_actions_addopen(actions.get(), STDOUT_FILENO, stdout_path.c_str(), flags, 0644);
-  posix_spawn_file_actions_addopen(actions.get(), STDERR_FILENO, stderr_path.c_str(), flags, 0644);
+  if (!options.stdout_path.empty())
+    posix_spawn_file_actions_addopen(actions.get(), STDOUT_FILENO, options.stdout_path.c_str(),
+                                     flags, 0644);
+  if (!options.stderr_path.empty())
+    posix_spawn_file_actions_addopen(actions.get(), STDERR_FILENO, options.stderr_path.c_str(),
+                                     flags, 0644);
+  for (const auto& [parent_fd, child_fd] : options.inherit_fds)
+    posix_spawn_file_actions_adddup2(actions.get(), parent_fd, child_fd);
   std::vector<char*> arguments;
   for (const std::string& argument : argv) arguments.push_back(const_cast<char*>(argument.c_str()));
   arguments.push_back(nullptr);
+  const auto spawn = options.search_path ? &posix_spawnp : &posix_spawn;
   const int error =
-      posix_spawn(&pid_, argv[0].c_str(), actions.get(), nullptr, arguments.data(), environ);
+      spawn(&pid_, argv[0].c_str(), actions.get(), nullptr, arguments.data(), environ);
   if (error != 0) {
     pid_ = -1;
     throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(error));

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hb {
@@ -21,13 +22,28 @@ struct ProcessEnd {
   std::string description() const;
 };
 
+/// Where a child's output goes and how it is found.
+struct ChildOptions {
+  /// Files for stdout and stderr (created or truncated; "/dev/null" to
+  /// drop it); empty: the parent's.
+  std::filesystem::path stdout_path, stderr_path;
+  /// Look argv[0] up on PATH when it has no slash (else it is a path).
+  bool search_path = false;
+  /// (parent fd, child fd): the child gets the parent's fd under that number
+  /// (a pipe's write end as the child's fd 3, say).
+  std::vector<std::pair<int, int>> inherit_fds;
+};
+
 class ChildProcess {
  public:
-  /// Starts argv[0] (a path, not searched in PATH) with the given arguments,
-  /// stdout and stderr written to the two files (created or truncated).
-  /// Throws std::runtime_error when the process cannot start.
+  /// Starts argv[0] with the given arguments as `options` say. Throws
+  /// std::runtime_error when the process cannot start.
+  ChildProcess(const std::vector<std::string>& argv, const ChildOptions& options);
+  /// Starts argv[0] (a path, not searched in PATH), stdout and stderr
+  /// written to the two files.
   ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& stdout_path,
-               const std::filesystem::path& stderr_path);
+               const std::filesystem::path& stderr_path)
+      : ChildProcess(argv, ChildOptions{stdout_path, stderr_path}) {}
   /// Kills and reaps a process still running (an interrupted caller leaves
   /// no orphan behind).
   ~ChildProcess();
