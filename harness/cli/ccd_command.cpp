@@ -52,17 +52,15 @@ CcdOptions parse_ccd_options(const std::vector<std::string>& args) {
       options.json = true;
     } else if (arg == "--time-tolerance") {
       const std::string& text = value();
-      char* end = nullptr;
-      options.settings.time_tolerance = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end != '\0')
-        throw UsageError{"--time-tolerance: expected a number, got \"" + text + "\""};
+      const std::optional<double> tolerance = parse_number(text);
+      if (!tolerance) throw UsageError{"--time-tolerance: expected a number, got \"" + text + "\""};
+      options.settings.time_tolerance = *tolerance;
     } else if (arg == "--max-evaluations") {
       const std::string& text = value();
-      char* end = nullptr;
-      const long n = std::strtol(text.c_str(), &end, 10);
-      if (text.empty() || *end != '\0' || n < 1 || n > 1'000'000'000)
+      const std::optional<long long> n = parse_whole_number(text, 1, 1'000'000'000);
+      if (!n)
         throw UsageError{"--max-evaluations: expected a positive integer, got \"" + text + "\""};
-      options.settings.max_evaluations = static_cast<int>(n);
+      options.settings.max_evaluations = static_cast<int>(*n);
     } else if (arg.rfind("--", 0) == 0) {
       throw UsageError{"unknown option " + arg};
     } else {

@@ -1,5 +1,7 @@
 #include "harness/cli/command_line.h"
 
+#include <charconv>
+#include <cmath>
 #include <iostream>
 
 #include "harness/cli/commands.h"
@@ -23,6 +25,24 @@ const std::string& option_value(const std::vector<std::string>& args, std::size_
   if (args[i + 1].rfind("--", 0) == 0)
     throw UsageError{args[i] + " needs a value, got the option " + args[i + 1]};
   return args[++i];
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  double value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+std::optional<long long> parse_whole_number(std::string_view text, long long min, long long max) {
+  long long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < min ||
+      value > max)
+    return std::nullopt;
+  return value;
 }
 
 void check_help(const std::string& arg) {

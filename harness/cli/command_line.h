@@ -30,6 +30,14 @@ int print_help(std::string_view usage);
 /// UsageError "OPTION needs a value" when there is none.
 const std::string& option_value(const std::vector<std::string>& args, std::size_t& i);
 
+/// The whole text as a finite number, in C locale notation ("0.5", "1e-6";
+/// no spaces, no sign "+", no "inf"); nullopt otherwise. Every command
+/// reads its numeric options with this or parse_whole_number.
+std::optional<double> parse_number(std::string_view text);
+
+/// The whole text as a whole number in [min, max]; nullopt otherwise.
+std::optional<long long> parse_whole_number(std::string_view text, long long min, long long max);
+
 /// Throws HelpRequested when `arg` is -h or --help.
 void check_help(const std::string& arg);
 

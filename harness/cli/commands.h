@@ -10,15 +10,15 @@ namespace hb {
 
 enum ExitCode : int { kExitOk = 0, kExitBudgetFailed = 1, kExitBadInput = 2, kExitInternal = 3 };
 
-int run_command(const std::vector<std::string>& args);       ///< hapticbench run
-int validate_command(const std::vector<std::string>& args);  ///< hapticbench validate
-int list_command(const std::vector<std::string>& args);      ///< hapticbench list
-int generate_command(const std::vector<std::string>& args);  ///< hapticbench generate
-int report_command(const std::vector<std::string>& args);    ///< hapticbench report
-int compare_command(const std::vector<std::string>& args);   ///< hapticbench compare
-int sweep_command(const std::vector<std::string>& args);     ///< hapticbench sweep
-int ccd_command(const std::vector<std::string>& args);       ///< hapticbench ccd
-int export_command(const std::vector<std::string>& args);    ///< hapticbench export
+int run_command(const std::vector<std::string>& args);        ///< hapticbench run
+int validate_command(const std::vector<std::string>& args);   ///< hapticbench validate
+int list_command(const std::vector<std::string>& args);       ///< hapticbench list
+int generate_command(const std::vector<std::string>& args);   ///< hapticbench generate
+int report_command(const std::vector<std::string>& args);     ///< hapticbench report
+int compare_command(const std::vector<std::string>& args);    ///< hapticbench compare
+int sweep_command(const std::vector<std::string>& args);      ///< hapticbench sweep
+int ccd_command(const std::vector<std::string>& args);        ///< hapticbench ccd
+int export_command(const std::vector<std::string>& args);     ///< hapticbench export
 int stability_command(const std::vector<std::string>& args);  ///< hapticbench stability
 int zwidth_command(const std::vector<std::string>& args);     ///< hapticbench zwidth
 /// hapticbench count-instructions (internal: the child of run --instructions)

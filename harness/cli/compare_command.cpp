@@ -48,20 +48,6 @@ struct CompareArguments {
   std::optional<ProgressStyle> progress;
 };
 
-// A finite number in [min, max]; nullopt when the text is not one.
-std::optional<double> number_in(const std::string& text, double min, double max) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (used != text.size() || !std::isfinite(value) || value < min || value > max)
-    return std::nullopt;
-  return value;
-}
-
 // Throws UsageError or HelpRequested.
 CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
   CompareArguments parsed;
@@ -90,7 +76,8 @@ CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
       // regression; alpha is a probability.
       const double min = a == "--timing-ratio" ? 1 : 0;
       const double max = a == "--alpha" ? 1 : HUGE_VAL;
-      const std::optional<double> number = number_in(value, min, max);
+      std::optional<double> number = parse_number(value);
+      if (number && !(*number >= min && *number <= max)) number.reset();
       if (!number || (a == "--alpha" && *number == 0))
         throw UsageError{a + " expects " +
                          (a == "--rel-tol" || a == "--instructions-tol" ? "a number >= 0"

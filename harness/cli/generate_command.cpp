@@ -5,6 +5,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,18 +27,11 @@ constexpr const char* kGenerateUsage =
     "FILE.csv\n"
     "  value: a number, comma-separated numbers (e.g. 0,0,0.03), true/false, or a string\n";
 
-bool parse_double(std::string_view text, double& value) {
-  if (text.empty()) return false;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  return error == std::errc() && end == text.data() + text.size();
-}
-
 /// "0.5" -> number, "0,0,0.03" -> list, "true"/"false" -> flag, else string.
 ParamValue parse_param_value(const std::string& text) {
   if (text == "true") return true;
   if (text == "false") return false;
-  double number = 0;
-  if (parse_double(text, number)) return number;
+  if (const std::optional<double> number = parse_number(text)) return *number;
   if (text.find(',') != std::string::npos) {
     std::vector<double> list;
     std::size_t start = 0;
@@ -45,8 +39,9 @@ ParamValue parse_param_value(const std::string& text) {
       const std::size_t end = text.find(',', start);
       const std::string_view item = std::string_view(text).substr(
           start, end == std::string::npos ? std::string::npos : end - start);
-      if (!parse_double(item, number)) return text;
-      list.push_back(number);
+      const std::optional<double> number = parse_number(item);
+      if (!number) return text;
+      list.push_back(*number);
       if (end == std::string::npos) return list;
       start = end + 1;
     }
@@ -69,15 +64,17 @@ GenerateOptions parse_generate_options(const std::vector<std::string>& args) {
     auto value = [&]() -> const std::string& { return option_value(args, i); };
     if (arg == "--duration") {
       const std::string& text = value();
-      if (!parse_double(text, options.request.duration_s) || !(options.request.duration_s > 0))
+      const std::optional<double> duration = parse_number(text);
+      if (!duration || !(*duration > 0))
         throw UsageError{"--duration: expected a positive number of seconds, got \"" + text + "\""};
+      options.request.duration_s = *duration;
       options.has_duration = true;
     } else if (arg == "--seed") {
       const std::string& text = value();
-      const auto [end, error] =
-          std::from_chars(text.data(), text.data() + text.size(), options.request.seed);
-      if (text.empty() || error != std::errc() || end != text.data() + text.size())
-        throw UsageError{"--seed: expected a whole number >= 0, got \"" + text + "\""};
+      const std::optional<long long> seed =
+          parse_whole_number(text, 0, std::numeric_limits<long long>::max());
+      if (!seed) throw UsageError{"--seed: expected a whole number >= 0, got \"" + text + "\""};
+      options.request.seed = static_cast<uint64_t>(*seed);
     } else if (arg == "--param") {
       const std::string& text = value();
       const std::size_t equals = text.find('=');

@@ -1,17 +1,18 @@
 // hapticbench: benchmarks and validates 6-DOF haptic rendering algorithms.
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "algorithms/core/build_progress.h"
 #include "algorithms/core/input_error.h"
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/process/interrupt.h"
 #include "harness/process/memory_limit.h"
@@ -44,17 +45,15 @@ constexpr const char* kUsage =
 std::uint64_t take_memory_limit(std::vector<std::string>& args) {
   const auto at = std::find(args.begin(), args.end(), "--memory-limit");
   if (at == args.end()) return hb::default_memory_limit_mb();
-  std::uint64_t mb = 0;
   const std::string value = at + 1 != args.end() ? *(at + 1) : "";
-  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), mb);
-  if (error != std::errc() || end != value.data() + value.size() || mb < 64 ||
-      mb > (std::uint64_t{1} << 40)) {
+  const std::optional<long long> mb = hb::parse_whole_number(value, 64, 1LL << 40);
+  if (!mb) {
     std::cerr << "error: --memory-limit expects a whole number of MB in [64, 2^40], got \"" << value
               << "\"\n";
     return 0;
   }
   args.erase(at, at + 2);
-  return mb;
+  return static_cast<std::uint64_t>(*mb);
 }
 }  // namespace
 

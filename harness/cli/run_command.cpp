@@ -55,12 +55,11 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
     if (a == "--algo" || a == "--out" || a == "--schedule" || a == "--repeat") {
       const std::string& value = option_value(args, i);
       if (a == "--repeat") {
-        const bool digits = !value.empty() && value.size() <= 4 &&
-                            value.find_first_not_of("0123456789") == std::string::npos;
-        if (!digits || std::stoi(value) < 1 || std::stoi(value) > kMaxRepeat)
+        const std::optional<long long> repeat = parse_whole_number(value, 1, kMaxRepeat);
+        if (!repeat)
           throw UsageError{"--repeat: expected a whole number in [1, " +
                            std::to_string(kMaxRepeat) + "], got \"" + value + "\""};
-        parsed.options.repeat = std::stoi(value);
+        parsed.options.repeat = static_cast<int>(*repeat);
       } else {
         (a == "--algo" ? parsed.algo : a == "--out" ? parsed.out : parsed.schedule) = value;
       }

@@ -17,14 +17,8 @@ const char* const kStabilitySearchUsage =
     "  --epsilon J      passivity allowance, J (default 1e-6)\n";
 
 double finite_number_option(const std::string& option, const std::string& text, bool positive) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(value) || !(positive ? value > 0 : value >= 0))
+  const double value = parse_number(text).value_or(-1);
+  if (!(positive ? value > 0 : value >= 0))
     throw UsageError{option + ": expected a finite number " + (positive ? "> 0" : ">= 0") +
                      ", got \"" + text + "\""};
   return value;
