@@ -9,6 +9,7 @@
 
 #include "harness/compare/timing_checks.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/output/formatted_number.h"
 
 namespace hb {
 
@@ -16,22 +17,16 @@ namespace {
 
 using nlohmann::json;
 
-std::string printf_text(const char* format, double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
 std::string quantity(double value, const std::string& unit) {
-  return printf_text("%.3g", value) + " " + unit;
+  return formatted("%.3g", value) + " " + unit;
 }
 
 // "+20.0%" against a non-zero baseline, else the difference with its unit.
 std::string change_text(double baseline, double candidate, const std::string& unit) {
   const double difference = candidate - baseline;
   if (difference == 0) return "0";
-  if (baseline != 0) return printf_text("%+.1f%%", 100 * difference / std::abs(baseline));
-  return printf_text("%+.3g", difference) + " " + unit;
+  if (baseline != 0) return formatted("%+.1f%%", 100 * difference / std::abs(baseline));
+  return formatted("%+.3g", difference) + " " + unit;
 }
 
 // A metric compared against a tolerance of max(abs_tol, rel_tol |baseline|).

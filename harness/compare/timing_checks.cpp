@@ -7,6 +7,7 @@
 
 #include "harness/compare/mann_whitney.h"
 #include "harness/compare/step_times.h"
+#include "harness/output/formatted_number.h"
 
 namespace hb {
 
@@ -14,15 +15,9 @@ namespace {
 
 using nlohmann::json;
 
-std::string printf_text(const char* format, double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
 // A p-value for people: tiny ones underflow to 0 in double, which would
 // read as certainty.
-std::string p_text(double p) { return p < 1e-300 ? "<1e-300" : printf_text("%.2g", p); }
+std::string p_text(double p) { return p < 1e-300 ? "<1e-300" : formatted("%.2g", p); }
 
 struct StepTimeSamples {
   std::vector<double> baseline;
@@ -57,8 +52,8 @@ CheckRow ratio_row(CheckRow row, std::optional<double> baseline, std::optional<d
     return row;
   }
   const double ratio = *candidate / *baseline;
-  const std::string limit = printf_text("x%.2f", options.timing_ratio);
-  row.change = printf_text("x%.2f", ratio);
+  const std::string limit = formatted("x%.2f", options.timing_ratio);
+  row.change = formatted("x%.2f", ratio);
   row.detail = {{"ratio", ratio}, {"timing_ratio", options.timing_ratio}};
   if (slower) row.detail["p_value_slower"] = slower->p_value;
   if (faster) row.detail["p_value_faster"] = faster->p_value;
@@ -71,15 +66,15 @@ CheckRow ratio_row(CheckRow row, std::optional<double> baseline, std::optional<d
       row.verdict = Verdict::kRegression;
       row.note = "slower than " + limit +
                  " and significant (one-sided Mann-Whitney p = " + p_text(slower->p_value) + " < " +
-                 printf_text("%g", options.alpha) + ")";
+                 formatted("%g", options.alpha) + ")";
     } else {
       row.verdict = Verdict::kInfo;
       row.note = "slower than " + limit + " but not significant (p = " + p_text(slower->p_value) +
-                 " >= " + printf_text("%g", options.alpha) + "): likely noise";
+                 " >= " + formatted("%g", options.alpha) + "): likely noise";
     }
   } else if (ratio < 1 / options.timing_ratio && faster && faster->p_value < options.alpha) {
     row.verdict = Verdict::kImproved;
-    row.note = "faster than " + printf_text("x%.2f", 1 / options.timing_ratio) +
+    row.note = "faster than " + formatted("x%.2f", 1 / options.timing_ratio) +
                " and significant (p = " + p_text(faster->p_value) + ")";
   } else {
     row.note = "within " + limit;
@@ -115,8 +110,8 @@ CheckRow rank_test_row(CheckRow row, const StepTimeSamples& samples,
                              samples.source;
   if (slower->p_value < options.alpha) {
     row.verdict = Verdict::kInfo;
-    row.note = "candidate significantly slower (one-sided, p < " +
-               printf_text("%g", options.alpha) + "); " + counts + machines;
+    row.note = "candidate significantly slower (one-sided, p < " + formatted("%g", options.alpha) +
+               "); " + counts + machines;
   } else {
     row.note = "no significant slowdown; " + counts + machines;
   }
@@ -133,7 +128,7 @@ std::string wall_clock_ungated_reason(const RunSummary& baseline, const RunSumma
   if (baseline.calibration_ns && candidate.calibration_ns && *baseline.calibration_ns > 0) {
     const double ratio = *candidate.calibration_ns / *baseline.calibration_ns;
     if (std::abs(ratio - 1) > kCalibrationMatch)
-      return "the calibration workload took " + printf_text("x%.2f", ratio) +
+      return "the calibration workload took " + formatted("x%.2f", ratio) +
              " the baseline's time: the machines run at different speeds";
   }
   return "";
@@ -152,9 +147,9 @@ CheckRow instructions_row(CheckRow row, std::optional<double> baseline,
     return row;
   }
   const double ratio = *baseline > 0 ? *candidate / *baseline : 1.0;
-  row.change = printf_text("%+.2f%%", 100 * (ratio - 1));
+  row.change = formatted("%+.2f%%", 100 * (ratio - 1));
   row.detail = {{"ratio", ratio}, {"rel_tol", options.instructions_rel_tol}};
-  const std::string tolerance = printf_text("%.1f%%", 100 * options.instructions_rel_tol);
+  const std::string tolerance = formatted("%.1f%%", 100 * options.instructions_rel_tol);
   const bool comparable = baseline_context.compiler == candidate_context.compiler &&
                           baseline_context.build_type == candidate_context.build_type;
   if (ratio > 1 + options.instructions_rel_tol) {

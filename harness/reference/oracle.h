@@ -33,6 +33,14 @@ struct PointQueryResult {
   std::vector<Vec3> closest;     ///< m, the nearest point on the scene surface
   std::vector<Vec3> normal;      ///< unit outward normal of the nearest triangle
   std::vector<int32_t> object;   ///< index of the scene object the nearest triangle is in
+
+  /// Sizes the closest-point vectors for n points (each backend's first step).
+  void resize_closest(std::size_t n) {
+    distance.resize(n);
+    closest.resize(n);
+    normal.resize(n);
+    object.resize(n);
+  }
 };
 
 /// Penetration of a set of points (e.g. tool surface samples at a pose).

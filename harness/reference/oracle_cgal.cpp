@@ -259,10 +259,7 @@ class CgalOracle final : public Oracle {
       }
     }
     if (request.want_closest) {
-      result.distance.resize(n);
-      result.closest.resize(n);
-      result.normal.resize(n);
-      result.object.resize(n);
+      result.resize_closest(n);
       for (std::size_t k = 0; k < n; ++k) {
         const Vec3& p = request.points[k];
         if (soup_.empty() || !p.allFinite()) {  // nothing to be close to, or no point

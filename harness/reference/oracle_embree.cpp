@@ -303,10 +303,7 @@ class EmbreeOracle final : public Oracle {
       for (std::size_t k = 0; k < n; ++k) result.inside[k] = is_inside(request.points[k], state);
     }
     if (request.want_closest) {
-      result.distance.resize(n);
-      result.closest.resize(n);
-      result.normal.resize(n);
-      result.object.resize(n);
+      result.resize_closest(n);
       for (std::size_t k = 0; k < n; ++k) {
         const Vec3& p = request.points[k];
         if (!has_triangles_ || !p.allFinite()) {  // nothing to be close to, or no point

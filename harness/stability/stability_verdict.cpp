@@ -1,19 +1,8 @@
 #include "harness/stability/stability_verdict.h"
 
-#include <cstdio>
+#include "harness/output/formatted_number.h"
 
 namespace hb {
-
-namespace {
-
-// printf-style text of one figure.
-std::string figure(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-}  // namespace
 
 std::optional<StabilityCriterion> stability_criterion_named(std::string_view name) {
   if (name == "all") return StabilityCriterion::kAll;
@@ -102,22 +91,22 @@ StabilityResult judge_stability(const RunMetrics& metrics, const StabilityReques
     return fail(StabilityCheck::kTunnelled, "tunnelled " + std::to_string(*s.tunnelled) + "×");
   if (passivity && energy_min_j < -request.epsilon_j)
     return fail(StabilityCheck::kPassivity,
-                "passivity " + figure("%.3g", energy_min_j * 1e3) + " mJ");
+                "passivity " + formatted("%.3g", energy_min_j * 1e3) + " mJ");
   if (oscillation && s.chatters)
     return fail(StabilityCheck::kChatter,
-                "chatters " + figure("%.2g", s.proxy_chatter_m * 1e6) + " µm");
+                "chatters " + formatted("%.2g", s.proxy_chatter_m * 1e6) + " µm");
   if (oscillation && metrics.closed_loop && metrics.closed_loop->limit_cycles.limit_cycle) {
     const auto& cycles = metrics.closed_loop->limit_cycles;
     std::string reason = "limit cycle";
-    if (cycles.amplitude_m) reason += " " + figure("%.2g", *cycles.amplitude_m * 1e6) + " µm";
-    if (cycles.frequency_hz) reason += " at " + figure("%.3g", *cycles.frequency_hz) + " Hz";
+    if (cycles.amplitude_m) reason += " " + formatted("%.2g", *cycles.amplitude_m * 1e6) + " µm";
+    if (cycles.frequency_hz) reason += " at " + formatted("%.3g", *cycles.frequency_hz) + " Hz";
     return fail(StabilityCheck::kLimitCycle, reason);
   }
   result.stable = true;
   if (metrics.accuracy.penetration_max_m)
-    result.reason = "pen " + figure("%.2g", *metrics.accuracy.penetration_max_m * 1e3) + " mm";
+    result.reason = "pen " + formatted("%.2g", *metrics.accuracy.penetration_max_m * 1e3) + " mm";
   else
-    result.reason = "E_min " + figure("%.2g", energy_min_j * 1e3) + " mJ";
+    result.reason = "E_min " + formatted("%.2g", energy_min_j * 1e3) + " mJ";
   return result;
 }
 
