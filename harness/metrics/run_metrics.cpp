@@ -114,8 +114,42 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
   const bool reported_contact = !result.contacts.empty();
   const bool in_contact = reported_contact || evaluation.reference_contact.value_or(false);
   add_timing(record, in_contact);
+  add_accuracy(display, evaluation);
 
-  // Accuracy against the reference (analytic, else the mesh force reference).
+  if (add_stability(record, device_at, display))
+    add_chatter(result.proxy.p, device.pose.p);
+  else
+    positions_seen_ = 0;  // a reset proxy starts afresh
+  if (last_force_) {
+    partial_.stability.force_jump_max_n =
+        std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
+  }
+  last_force_ = display.force;
+  forces_.push_back({display.force.x(), display.force.y(), display.force.z()});
+
+  // Transparency: what the user feels when nothing is touched.
+  if (!in_contact) {
+    ++partial_.transparency.free_space_ticks;
+    const double f = display.force.norm();
+    free_force_sq_ += f * f;
+    partial_.transparency.free_space_force_max_n =
+        std::max(partial_.transparency.free_space_force_max_n.value_or(0.0), f);
+  }
+
+  if (reported_contact) {
+    ++partial_.contacts.contact_ticks;
+    const auto n = static_cast<int64_t>(result.contacts.size());
+    contacts_sum_ += n;
+    partial_.contacts.max_contacts = std::max(partial_.contacts.max_contacts, n);
+  }
+  add_work(result.work);
+  if (evaluation.oracle) add_oracle(*evaluation.oracle);
+  if (limit_cycles_)
+    add_closed_loop(record, evaluation, display.force, in_contact, port_energy_.energy_j());
+}
+
+// Accuracy against the reference (analytic, else the mesh force reference).
+void MetricsAccumulator::add_accuracy(const Wrench& display, const TickEvaluation& evaluation) {
   if (evaluation.ideal_display) {
     ++ideal_ticks_;
     const Wrench& ideal = *evaluation.ideal_display;
@@ -141,8 +175,12 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
       ++pen_ticks_;
     }
   }
+}
 
-  // Stability and passivity (the port energy: passivity_energy.h).
+// Stability and passivity (the port energy: passivity_energy.h).
+bool MetricsAccumulator::add_stability(const TickRecord& record, const Pose& device_at,
+                                       const Wrench& display) {
+  const TickResult& result = record.result;
   // A finite proxy far enough away overflows the distance: that counts as non-finite too.
   const double raw_separation_m = (result.proxy.p - device_at.p).norm();
   const bool proxy_finite = is_finite(result.proxy) && std::isfinite(raw_separation_m);
@@ -154,84 +192,68 @@ void MetricsAccumulator::add(const TickRecord& record, const TickEvaluation& eva
       (!proxy_finite || separation_m > settings_.divergence_distance_m ||
        (result.flags & kFlagProxyReset))) {
     partial_.stability.diverged = true;
-    partial_.stability.diverged_at_tick = device.tick;
+    partial_.stability.diverged_at_tick = record.device->tick;
   }
   const double energy = port_energy_.add(display, device_at);
   partial_.stability.passivity_energy_min_j =
       std::min(partial_.stability.passivity_energy_min_j, energy);
   partial_.stability.passivity_energy_final_j = energy;
-  {
-    const double t = 1e-9 * static_cast<double>(device.t_ns);
-    ++energy_fit_n_;
-    const double n = static_cast<double>(energy_fit_n_);
-    const double dt_mean = t - energy_fit_mean_t_;
-    energy_fit_mean_t_ += dt_mean / n;
-    energy_fit_mean_e_ += (energy - energy_fit_mean_e_) / n;
-    energy_fit_cov_ += dt_mean * (energy - energy_fit_mean_e_);
-    energy_fit_var_t_ += dt_mean * (t - energy_fit_mean_t_);
-  }
-  if (proxy_finite) {
-    if (positions_seen_ >= 2) {
-      if (chatter_blocks_.empty() || chatter_blocks_.back().ticks == chatter_block_ticks_) {
-        if (chatter_blocks_.size() == kMaxChatterBlocks) {
-          for (std::size_t i = 0; i < kMaxChatterBlocks / 2; ++i) {
-            const ChatterBlock& a = chatter_blocks_[2 * i];
-            const ChatterBlock& b = chatter_blocks_[2 * i + 1];
-            chatter_blocks_[i] = {a.proxy_sq + b.proxy_sq, a.device_sq + b.device_sq,
-                                  a.ticks + b.ticks};
-          }
-          chatter_blocks_.resize(kMaxChatterBlocks / 2);
-          chatter_block_ticks_ *= 2;
+  add_energy_fit(record.device->t_ns, energy);
+  return proxy_finite;
+}
+
+// Running sums of the least-squares line of the port energy against time.
+void MetricsAccumulator::add_energy_fit(int64_t t_ns, double energy_j) {
+  const double t = 1e-9 * static_cast<double>(t_ns);
+  ++energy_fit_n_;
+  const double n = static_cast<double>(energy_fit_n_);
+  const double dt_mean = t - energy_fit_mean_t_;
+  energy_fit_mean_t_ += dt_mean / n;
+  energy_fit_mean_e_ += (energy_j - energy_fit_mean_e_) / n;
+  energy_fit_cov_ += dt_mean * (energy_j - energy_fit_mean_e_);
+  energy_fit_var_t_ += dt_mean * (t - energy_fit_mean_t_);
+}
+
+// The second differences of the proxy's and the device's positions, summed
+// in blocks (merged pairwise when there are too many, so memory stays
+// bounded over any run).
+void MetricsAccumulator::add_chatter(const Vec3& proxy_p, const Vec3& device_p) {
+  if (positions_seen_ >= 2) {
+    if (chatter_blocks_.empty() || chatter_blocks_.back().ticks == chatter_block_ticks_) {
+      if (chatter_blocks_.size() == kMaxChatterBlocks) {
+        for (std::size_t i = 0; i < kMaxChatterBlocks / 2; ++i) {
+          const ChatterBlock& a = chatter_blocks_[2 * i];
+          const ChatterBlock& b = chatter_blocks_[2 * i + 1];
+          chatter_blocks_[i] = {a.proxy_sq + b.proxy_sq, a.device_sq + b.device_sq,
+                                a.ticks + b.ticks};
         }
-        chatter_blocks_.emplace_back();
+        chatter_blocks_.resize(kMaxChatterBlocks / 2);
+        chatter_block_ticks_ *= 2;
       }
-      ChatterBlock& block = chatter_blocks_.back();
-      block.proxy_sq += (result.proxy.p - 2 * last_proxy_p_[1] + last_proxy_p_[0]).squaredNorm();
-      block.device_sq += (device.pose.p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
-      ++block.ticks;
+      chatter_blocks_.emplace_back();
     }
-    last_proxy_p_ = {last_proxy_p_[1], result.proxy.p};
-    last_device_p_ = {last_device_p_[1], device.pose.p};
-    ++positions_seen_;
-  } else {
-    positions_seen_ = 0;  // a reset proxy starts afresh
+    ChatterBlock& block = chatter_blocks_.back();
+    block.proxy_sq += (proxy_p - 2 * last_proxy_p_[1] + last_proxy_p_[0]).squaredNorm();
+    block.device_sq += (device_p - 2 * last_device_p_[1] + last_device_p_[0]).squaredNorm();
+    ++block.ticks;
   }
-  if (last_force_) {
-    partial_.stability.force_jump_max_n =
-        std::max(partial_.stability.force_jump_max_n, (display.force - *last_force_).norm());
-  }
-  last_force_ = display.force;
-  forces_.push_back({display.force.x(), display.force.y(), display.force.z()});
+  last_proxy_p_ = {last_proxy_p_[1], proxy_p};
+  last_device_p_ = {last_device_p_[1], device_p};
+  ++positions_seen_;
+}
 
-  // Transparency: what the user feels when nothing is touched.
-  if (!in_contact) {
-    ++partial_.transparency.free_space_ticks;
-    const double f = display.force.norm();
-    free_force_sq_ += f * f;
-    partial_.transparency.free_space_force_max_n =
-        std::max(partial_.transparency.free_space_force_max_n.value_or(0.0), f);
+// The renderer's work counters, summed by name over the run.
+void MetricsAccumulator::add_work(const WorkCounters& work) {
+  if (!work.names) return;
+  for (std::size_t i = 0; i < WorkCounters::kSlots; ++i) {
+    const std::string_view name = (*work.names)[i];
+    if (name.empty()) continue;
+    auto& totals = partial_.contacts.total_work;
+    auto it = std::find_if(totals.begin(), totals.end(),
+                           [&](const auto& entry) { return entry.first == name; });
+    if (it == totals.end()) it = totals.emplace(totals.end(), std::string(name), 0);
+    it->second += work.counts[i];
   }
-
-  if (reported_contact) {
-    ++partial_.contacts.contact_ticks;
-    const auto n = static_cast<int64_t>(result.contacts.size());
-    contacts_sum_ += n;
-    partial_.contacts.max_contacts = std::max(partial_.contacts.max_contacts, n);
-  }
-  if (result.work.names) {
-    for (std::size_t i = 0; i < WorkCounters::kSlots; ++i) {
-      const std::string_view name = (*result.work.names)[i];
-      if (name.empty()) continue;
-      auto& totals = partial_.contacts.total_work;
-      auto it = std::find_if(totals.begin(), totals.end(),
-                             [&](const auto& entry) { return entry.first == name; });
-      if (it == totals.end()) it = totals.emplace(totals.end(), std::string(name), 0);
-      it->second += result.work.counts[i];
-    }
-  }
-  if (evaluation.oracle) add_oracle(*evaluation.oracle);
-  if (limit_cycles_)
-    add_closed_loop(record, evaluation, display.force, in_contact, port_energy_.energy_j());
 }
 
 namespace {

@@ -239,6 +239,12 @@ class MetricsAccumulator {
 
  private:
   void add_timing(const TickRecord& record, bool in_contact);
+  void add_accuracy(const Wrench& display, const TickEvaluation& evaluation);
+  /// Divergence, separation and the port energy; returns whether the proxy was finite.
+  bool add_stability(const TickRecord& record, const Pose& device_at, const Wrench& display);
+  void add_energy_fit(int64_t t_ns, double energy_j);
+  void add_chatter(const Vec3& proxy_p, const Vec3& device_p);
+  void add_work(const WorkCounters& work);
   void add_oracle(const OracleTickEvaluation& oracle);
   void add_closed_loop(const TickRecord& record, const TickEvaluation& evaluation,
                        const Vec3& force, bool in_contact, double port_energy_j);

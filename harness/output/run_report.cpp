@@ -120,11 +120,9 @@ json oracle_backends_json() {
   return out;
 }
 
-json run_json(const AlgorithmRun& run) {
-  const RunMetrics& m = run.metrics;
-  json params = json::parse(run.params_json.empty() ? "{}" : run.params_json);
+json budgets_json(const std::vector<BudgetVerdict>& verdicts) {
   json budgets = json::array();
-  for (const BudgetVerdict& b : run.budgets) {
+  for (const BudgetVerdict& b : verdicts) {
     budgets.push_back({{"name", b.name},
                        {"limit", b.limit},
                        {"value", or_null(b.value)},
@@ -132,89 +130,110 @@ json run_json(const AlgorithmRun& run) {
                        {"lower_bound", budget_is_lower_bound(b.name)},
                        {"message", b.message}});
   }
-  json preprocess_details = json::object();
-  for (const auto& [name, value] : run.preprocess.details)
-    preprocess_details[name] = std::isfinite(value) ? json(value) : json(nullptr);
-  json slow = nullptr;
-  if (m.timing.slow_update_ns) {
-    const std::string& latency = run.slow_loop_latency;
-    slow = {{"latency_ticks", latency},
-            {"schedule", latency == "measured" || latency == "replayed" ? latency : "fixed"},
-            {"schedule_file", run.schedule_file.empty() ? json(nullptr) : json(run.schedule_file)},
-            {"schedule_source",
-             run.schedule_source.empty() ? json(nullptr) : json(run.schedule_source)},
-            {"update_ns", percentiles_json(m.timing.slow_update_ns)},
-            {"updates_over_1ms", or_null(m.timing.slow_updates_over_tick)},
-            {"data_age_mean_ticks", or_null(m.timing.slow_data_age_mean_ticks)},
-            {"data_age_max_ticks", or_null(m.timing.slow_data_age_max_ticks)}};
-  }
-  const NoiseFloor& n = run.noise;
-  const json noise = {{"quiet", n.quiet},
-                      {"cpu_share", n.cpu_share},
-                      {"calibration_before_ns", n.calibration_before_ns},
-                      {"calibration_after_ns", n.calibration_after_ns},
-                      {"calibration_spread", n.calibration_spread},
-                      {"calibration_drift", n.calibration_drift},
-                      {"load_average_1m", n.load_average_1m},
-                      {"logical_cores", n.logical_cores},
-                      {"other_runnable", n.other_runnable},
-                      {"rule",
-                       "quiet: cpu_share >= 0.97, calibration spread and drift <= 0.10, "
-                       "load average <= cores - 0.5, other runnable tasks <= max(0, cores - 2)"}};
-  json repeats = nullptr;
-  if (run.repeats) {
-    auto spread = [](const Spread& s) {
-      return json{{"min", s.min}, {"median", s.median}, {"max", s.max}};
-    };
-    repeats = {{"count", run.repeats->count},
-               {"step_p50_ns", spread(run.repeats->step_p50_ns)},
-               {"step_p99_ns", spread(run.repeats->step_p99_ns)}};
-  }
-  json instructions = nullptr;
-  if (const std::optional<InstructionCounts>& c = run.instructions) {
-    auto mean = [](int64_t total, int64_t count) {
-      return count > 0 ? json(static_cast<double>(total) / static_cast<double>(count))
-                       : json(nullptr);
-    };
-    instructions = {
-        {"tool", "valgrind callgrind, user-space instructions (Ir) inside the measured calls"},
-        {"step_per_tick_mean", mean(c->step_total, c->ticks)},
-        {"step_total", c->step_total},
-        {"slow_update_per_call_mean",
-         c->has_slow_loop ? mean(c->slow_update_total, c->slow_updates) : json(nullptr)},
-        {"slow_update_total", c->has_slow_loop ? json(c->slow_update_total) : json(nullptr)},
-        {"slow_updates", c->has_slow_loop ? json(c->slow_updates) : json(nullptr)}};
-  }
-  const CpuPerTick& cpu = m.timing.cpu_per_tick_ns;
-  // p99 and mean are the metric table's.
+  return budgets;
+}
+
+json preprocess_json(const PreprocessInfo& preprocess) {
+  json details = json::object();
+  for (const auto& [name, value] : preprocess.details)
+    details[name] = std::isfinite(value) ? json(value) : json(nullptr);
+  return {{"seconds", preprocess.seconds},
+          {"memory_bytes", preprocess.memory_bytes},
+          {"cache_hit", preprocess.cache_hit},
+          {"details", details}};
+}
+
+// The slow loop's block; null without a slow loop.
+json slow_loop_json(const AlgorithmRun& run) {
+  const TimingMetrics& t = run.metrics.timing;
+  if (!t.slow_update_ns) return nullptr;
+  const std::string& latency = run.slow_loop_latency;
+  return {
+      {"latency_ticks", latency},
+      {"schedule", latency == "measured" || latency == "replayed" ? latency : "fixed"},
+      {"schedule_file", run.schedule_file.empty() ? json(nullptr) : json(run.schedule_file)},
+      {"schedule_source", run.schedule_source.empty() ? json(nullptr) : json(run.schedule_source)},
+      {"update_ns", percentiles_json(t.slow_update_ns)},
+      {"updates_over_1ms", or_null(t.slow_updates_over_tick)},
+      {"data_age_mean_ticks", or_null(t.slow_data_age_mean_ticks)},
+      {"data_age_max_ticks", or_null(t.slow_data_age_max_ticks)}};
+}
+
+json noise_json(const NoiseFloor& n) {
+  return {{"quiet", n.quiet},
+          {"cpu_share", n.cpu_share},
+          {"calibration_before_ns", n.calibration_before_ns},
+          {"calibration_after_ns", n.calibration_after_ns},
+          {"calibration_spread", n.calibration_spread},
+          {"calibration_drift", n.calibration_drift},
+          {"load_average_1m", n.load_average_1m},
+          {"logical_cores", n.logical_cores},
+          {"other_runnable", n.other_runnable},
+          {"rule",
+           "quiet: cpu_share >= 0.97, calibration spread and drift <= 0.10, "
+           "load average <= cores - 0.5, other runnable tasks <= max(0, cores - 2)"}};
+}
+
+// The spread of the timing passes' percentiles; null with one pass.
+json repeats_json(const std::optional<TimingRepeats>& repeats) {
+  if (!repeats) return nullptr;
+  auto spread = [](const Spread& s) {
+    return json{{"min", s.min}, {"median", s.median}, {"max", s.max}};
+  };
+  return {{"count", repeats->count},
+          {"step_p50_ns", spread(repeats->step_p50_ns)},
+          {"step_p99_ns", spread(repeats->step_p99_ns)}};
+}
+
+// Callgrind's counts; null when not asked for.
+json instructions_json(const std::optional<InstructionCounts>& c) {
+  if (!c) return nullptr;
+  auto mean = [](int64_t total, int64_t count) {
+    return count > 0 ? json(static_cast<double>(total) / static_cast<double>(count))
+                     : json(nullptr);
+  };
+  return {{"tool", "valgrind callgrind, user-space instructions (Ir) inside the measured calls"},
+          {"step_per_tick_mean", mean(c->step_total, c->ticks)},
+          {"step_total", c->step_total},
+          {"slow_update_per_call_mean",
+           c->has_slow_loop ? mean(c->slow_update_total, c->slow_updates) : json(nullptr)},
+          {"slow_update_total", c->has_slow_loop ? json(c->slow_update_total) : json(nullptr)},
+          {"slow_updates", c->has_slow_loop ? json(c->slow_updates) : json(nullptr)}};
+}
+
+json timing_json(const AlgorithmRun& run) {
+  const TimingMetrics& t = run.metrics.timing;
+  // The CPU per tick's p99 and mean are the metric table's.
   const json cpu_per_tick = {
-      {"p50", cpu.percentiles.p50},
-      {"max", cpu.percentiles.max},
+      {"p50", t.cpu_per_tick_ns.percentiles.p50},
+      {"max", t.cpu_per_tick_ns.percentiles.max},
       {"attribution",
        "step() of the tick plus, for each slow update, its time spread evenly over the ticks "
        "from its start to its installation"}};
+  return {{"ticks", t.ticks},
+          {"step_ns", percentiles_json(t.step_ns)},
+          {"step_ns_sample", t.step_ns_sample},
+          {"free_space_step_ns", percentiles_json(t.free_space_step_ns)},
+          {"contact_step_ns", percentiles_json(t.contact_step_ns)},
+          {"slow_loop", slow_loop_json(run)},
+          {"cpu_per_tick_ns", cpu_per_tick},
+          {"noise", noise_json(run.noise)},
+          {"repeats", repeats_json(run.repeats)},
+          {"instructions", instructions_json(run.instructions)}};
+}
+
+// One run of summary.json: the blocks written here, then every metric of
+// the table at its place.
+json run_json(const AlgorithmRun& run) {
+  const RunMetrics& m = run.metrics;
   json out = {
       {"algorithm", run.name},
       {"label", run.label},
       {"renders_friction", run.renders_friction},
-      {"params", params},
+      {"params", json::parse(run.params_json.empty() ? "{}" : run.params_json)},
       {"ticks_file", run.ticks_file},
-      {"preprocess",
-       {{"seconds", run.preprocess.seconds},
-        {"memory_bytes", run.preprocess.memory_bytes},
-        {"cache_hit", run.preprocess.cache_hit},
-        {"details", preprocess_details}}},
-      {"timing",
-       {{"ticks", m.timing.ticks},
-        {"step_ns", percentiles_json(m.timing.step_ns)},
-        {"step_ns_sample", m.timing.step_ns_sample},
-        {"free_space_step_ns", percentiles_json(m.timing.free_space_step_ns)},
-        {"contact_step_ns", percentiles_json(m.timing.contact_step_ns)},
-        {"slow_loop", slow},
-        {"cpu_per_tick_ns", cpu_per_tick},
-        {"noise", noise},
-        {"repeats", repeats},
-        {"instructions", instructions}}},
+      {"preprocess", preprocess_json(run.preprocess)},
+      {"timing", timing_json(run)},
       {"accuracy",
        {{"reference",
          run.analytic_reference.empty() ? json(nullptr) : json(run.analytic_reference)},
@@ -247,7 +266,7 @@ json run_json(const AlgorithmRun& run) {
        {{"ticks_hash", run.ticks_hash},
         {"timing_pass", run.timing_pass},
         {"passes_agree", or_null(run.passes_agree)}}},
-      {"budgets", budgets},
+      {"budgets", budgets_json(run.budgets)},
   };
   write_table_metrics(out, m);
   return out;
