@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/proximity_certifier.h"
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/constrained_step.h"
 #include "algorithms/god_object/god_object.h"
-#include "algorithms/god_object/proximity_certifier.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/integrator.h"
 #include "algorithms/proxy/proxy_settings.h"

@@ -38,10 +38,10 @@
 
 #include <memory>
 
+#include "algorithms/contact/frictional_contact_solver.h"
 #include "algorithms/core/param_set.h"
 #include "algorithms/core/scene.h"
 #include "algorithms/god_object/god_object_update.h"
-#include "algorithms/proxy/frictional_contact_solver.h"
 #include "algorithms/proxy/renderer.h"
 
 namespace hb {

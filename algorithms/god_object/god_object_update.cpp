@@ -4,7 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "algorithms/god_object/proxy_motion.h"
+#include "algorithms/contact/proxy_motion.h"
+#include "algorithms/god_object/coupling_metric.h"
 
 namespace hb {
 

@@ -34,48 +34,20 @@
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/contact_settings.h"
+#include "algorithms/contact/proximity_certifier.h"
+#include "algorithms/contact/proxy_motion.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/constrained_step.h"
-#include "algorithms/god_object/proxy_motion.h"
 
 namespace hb {
 
-struct GodObjectSettings {
-  MeshCcdSettings ccd;
-  /// Separation (m) the proxy keeps from the surfaces it touches, > 0: the
-  /// CCD's answer "no contact before t" holds for the path, so the proxy
-  /// stops this far short of the touching point and later sliding motions
-  /// start from a configuration the CCD can prove contact-free.
-  double standoff_m = 1e-5;
-  /// A kept contact is dropped when its features are farther apart (m).
-  double contact_distance_m = 1e-4;
+/// The god-object's settings: its contact handling, as for constrained
+/// dynamics (contact_settings.h), and its slow loop's moves.
+struct GodObjectSettings : ContactSettings {
   /// Most CCD-limited moves per update, ≥ 1.
   int max_iterations = 8;
-  /// The 3-DOF god-object: the tool is the point at its frame's origin.
-  bool point_tool = false;
-  /// Contact discovery for the haptic-rate solve (haptic_proxy.h): feature
-  /// pairs within the band (m) of the proxy are listed, and the proxy may
-  /// move up to about this far between slow updates. The band is six times
-  /// how far the device moved between the last two slow updates (the
-  /// certificate must last until the next one is installed, up to two such
-  /// intervals, with a margin of three), within [haptic_band_min_m,
-  /// haptic_band_m].
-  double haptic_band_m = 5e-3;
-  double haptic_band_min_m = 5e-4;
-  /// At most this many pairs are listed (the nearest); the band shrinks to
-  /// the nearest pair left out.
-  int haptic_max_pairs = 64;
-};
-
-/// What a proximity query certifies around an anchor pose: within reach
-/// clearance_m − standoff of the anchor (point_reach of the displacement
-/// from it), only the listed pairs can come closer than the standoff.
-struct ProximityCertificate {
-  Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
-  std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
-  std::vector<double> distances;       ///< per pair, its distance at the anchor (m), ascending
-  double clearance_m = 0;              ///< every other pair is at least this far apart there
 };
 
 /// A contact the proxy keeps between iterations and updates.
