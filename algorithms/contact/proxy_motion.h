@@ -5,6 +5,7 @@
 // with how far they move the tool's points.
 #pragma once
 
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/pose.h"
 
 namespace hb {
@@ -34,6 +35,11 @@ inline Vec6 displacement(const Pose& from, const Pose& to) {
 /// The pose `from` moved by the displacement d.
 inline Pose displaced(const Pose& from, const Vec6& d) {
   return Pose{from.p + d.head<3>(), (quat_from_rotation_vector(d.tail<3>()) * from.q).normalized()};
+}
+
+/// The pose at time t (unitless, in [0, 1]) of the frame `motion` moves.
+inline Pose pose_on(const ScrewMotion& motion, double t) {
+  return Pose{motion.point_at(Vec3::Zero(), t), Quat(motion.rotation_at(t)).normalized()};
 }
 
 /// Bound (m) on how far any point within `radius` of the centre of mass

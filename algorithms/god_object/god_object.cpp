@@ -31,16 +31,16 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
         limits_(context.device),
         dt_s_(context.dt_s),
         solver_(context, settings),
-        haptic_(solver_.ccd(), context.coupling, settings, solver_.centre_of_mass(),
-                solver_.friction()) {
-    body_.centre_of_mass = solver_.centre_of_mass();
+        haptic_(solver_.geometry().ccd(), context.coupling, settings,
+                solver_.geometry().centre_of_mass(), solver_.geometry().friction()) {
+    body_.centre_of_mass = solver_.geometry().centre_of_mass();
   }
 
   // A start inside the scene (or within the standoff of it) is moved out
-  // the shortest way found (GodObjectSolver::escape); the first tick
+  // the shortest way found (ContactGeometry::escape); the first tick
   // reports it in the work counters start_escapes and start_escape_um.
   void reset(const Pose& start) override {
-    escape_ = solver_.escape(start);
+    escape_ = solver_.geometry().escape(start);
     escape_reported_ = false;
     solver_.reset(escape_.pose);
     haptic_.reset(escape_.pose);
@@ -84,8 +84,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
 
   BuildReport build_report() const override {
     BuildReport report;
-    report.cache_hit = solver_.ccd().cache_hit();
-    report.memory_bytes = static_cast<int64_t>(solver_.ccd().memory_bytes());
+    report.cache_hit = solver_.geometry().ccd().cache_hit();
+    report.memory_bytes = static_cast<int64_t>(solver_.geometry().ccd().memory_bytes());
     return report;
   }
 
