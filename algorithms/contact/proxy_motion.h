@@ -11,7 +11,7 @@
 namespace hb {
 
 /// The tool frame and the frame at its centre of mass (same axes), in
-/// which the god-object moves its proxy and the CCD sees the tool.
+/// which a constrained-contact proxy moves and the CCD sees the tool.
 struct ProxyFrames {
   Vec3 centre_of_mass = Vec3::Zero();  ///< tool coordinates, m
 
