@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/contact_geometry.h"
+#include "algorithms/contact/proximity_certifier.h"
 #include "algorithms/core/input_error.h"
-#include "algorithms/god_object/constrained_step.h"
-#include "algorithms/god_object/god_object.h"
-#include "algorithms/god_object/proximity_certifier.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/integrator.h"
 #include "algorithms/proxy/proxy_settings.h"
@@ -36,7 +36,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
         limits_(context.device),
         dt_s_(context.dt_s),
         body_(proxy_body(context.tool, settings.proxy_mass_kg, context.gravity)),
-        geometry_(context, settings.contacts),
+        geometry_(context.tool, context.scene, settings.contacts),
         certifier_(geometry_.ccd(), settings.contacts, geometry_.centre_of_mass()),
         solver_(settings.solver) {}
 
@@ -252,7 +252,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   DeviceLimits limits_;
   double dt_s_;
   RigidBody body_;
-  GodObjectSolver geometry_;  ///< the mesh CCD, the scene's friction and the start escape
+  ContactGeometry geometry_;  ///< the mesh CCD, the scene's friction and the start escape
   ProximityCertifier certifier_;
   RigidBodyState state_;
   Pose target_;  ///< the latest finite device pose, read by the slow loop
@@ -279,13 +279,16 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
 ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& params,
                                                                const Tool& tool) {
   ConstrainedDynamicsSettings settings;
-  GodObjectSettings contact_defaults;
+  ContactSettings contact_defaults;
   contact_defaults.haptic_max_pairs = 256;
   if (params.has("max_iterations"))
     throw InputError("", params.field("max_iterations"),
                      "constrained_dynamics makes no slow-loop moves; its solver's limit is "
                      "\"solver_sweeps\"");
-  settings.contacts = read_god_object_settings(params, false, contact_defaults);
+  // Absent here, but named among the known keys when another key is unknown
+  // (ParamSet::reject_unknown), as the god-object's reader names it.
+  params.integer("max_iterations", 0, 0, 0);
+  settings.contacts = read_contact_settings(params, false, contact_defaults);
   settings.solver.max_sweeps =
       static_cast<int>(params.integer("solver_sweeps", settings.solver.max_sweeps, 1, 100000));
   settings.solver.tolerance = params.number("solver_tolerance", 1e-6, 0, 1.0);

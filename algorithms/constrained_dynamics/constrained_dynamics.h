@@ -38,10 +38,10 @@
 
 #include <memory>
 
+#include "algorithms/contact/contact_settings.h"
+#include "algorithms/contact/frictional_contact_solver.h"
 #include "algorithms/core/param_set.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/god_object_update.h"
-#include "algorithms/proxy/frictional_contact_solver.h"
 #include "algorithms/proxy/renderer.h"
 
 namespace hb {
@@ -49,15 +49,16 @@ namespace hb {
 struct ConstrainedDynamicsSettings {
   /// Contact discovery: standoff, contact distance, certificate bands and
   /// pair limit, as for the god-object (haptic_max_pairs defaults to 256).
-  GodObjectSettings contacts;
+  ContactSettings contacts;
   FrictionalContactOptions solver;   ///< "solver_sweeps", "solver_tolerance" (m/s)
   double stabilisation = 0.2;        ///< "stabilisation": β in (0, 1]
   double max_correction_mps = 0.05;  ///< "max_correction_speed": v_max (m/s)
   double proxy_mass_kg = 0;          ///< "proxy_mass_kg" (proxy_settings.h)
 };
 
-/// Reads the god-object's contact keys (standoff, contact_distance,
-/// haptic_band, haptic_band_min, haptic_max_pairs default 256, ccd_*),
+/// Reads the contact keys shared with the god-object (contact_settings.h:
+/// standoff, contact_distance, haptic_band, haptic_band_min,
+/// haptic_max_pairs default 256, ccd_*, contact_window),
 /// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-6: a
 /// nanometre of slip per tick; the normal constraints are solved exactly
 /// whatever it is, constrained_step.h),

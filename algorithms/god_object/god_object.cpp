@@ -3,10 +3,9 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
-#include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "algorithms/contact/contact_settings.h"
 #include "algorithms/god_object/haptic_proxy.h"
 #include "algorithms/proxy/device_output.h"
 #include "algorithms/proxy/slow_loop_mailbox.h"
@@ -32,16 +31,16 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
         limits_(context.device),
         dt_s_(context.dt_s),
         solver_(context, settings),
-        haptic_(solver_.ccd(), context.coupling, settings, solver_.centre_of_mass(),
-                solver_.friction()) {
-    body_.centre_of_mass = solver_.centre_of_mass();
+        haptic_(solver_.geometry().ccd(), context.coupling, settings,
+                solver_.geometry().centre_of_mass(), solver_.geometry().friction()) {
+    body_.centre_of_mass = solver_.geometry().centre_of_mass();
   }
 
   // A start inside the scene (or within the standoff of it) is moved out
-  // the shortest way found (GodObjectSolver::escape); the first tick
+  // the shortest way found (ContactGeometry::escape); the first tick
   // reports it in the work counters start_escapes and start_escape_um.
   void reset(const Pose& start) override {
-    escape_ = solver_.escape(start);
+    escape_ = solver_.geometry().escape(start);
     escape_reported_ = false;
     solver_.reset(escape_.pose);
     haptic_.reset(escape_.pose);
@@ -85,8 +84,8 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
 
   BuildReport build_report() const override {
     BuildReport report;
-    report.cache_hit = solver_.ccd().cache_hit();
-    report.memory_bytes = static_cast<int64_t>(solver_.ccd().memory_bytes());
+    report.cache_hit = solver_.geometry().ccd().cache_hit();
+    report.memory_bytes = static_cast<int64_t>(solver_.geometry().ccd().memory_bytes());
     return report;
   }
 
@@ -173,31 +172,10 @@ GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_to
                                            const GodObjectSettings& defaults) {
   GodObjectSettings settings = defaults;
   settings.point_tool = point_tool;
-  settings.standoff_m = params.number("standoff", settings.standoff_m, 1e-9, 1e-2);
-  // A distance that must exceed the standoff (the proxy keeps that much).
-  const auto beyond_standoff = [&](const char* key, double fallback, double low, double high) {
-    const double value = params.number(key, fallback, low, high);
-    if (!(value > settings.standoff_m))
-      throw InputError("", params.field(key),
-                       "expected a distance larger than standoff (" +
-                           std::to_string(settings.standoff_m) + " m)");
-    return value;
-  };
-  settings.contact_distance_m =
-      beyond_standoff("contact_distance", settings.contact_distance_m, 1e-9, 1.0);
+  read_contact_distances(params, settings);
   settings.max_iterations =
       static_cast<int>(params.integer("max_iterations", settings.max_iterations, 1, 1000));
-  settings.ccd.primitive.time_tolerance =
-      params.number("ccd_time_tolerance", settings.ccd.primitive.time_tolerance, 1e-12, 0.1);
-  settings.ccd.primitive.max_evaluations = static_cast<int>(
-      params.integer("ccd_max_evaluations", settings.ccd.primitive.max_evaluations, 1, 1000000));
-  settings.ccd.contact_window =
-      params.number("contact_window", settings.ccd.contact_window, 0.0, 1.0);
-  settings.haptic_band_m = beyond_standoff("haptic_band", settings.haptic_band_m, 1e-6, 1.0);
-  settings.haptic_band_min_m =
-      beyond_standoff("haptic_band_min", settings.haptic_band_min_m, 1e-6, settings.haptic_band_m);
-  settings.haptic_max_pairs =
-      static_cast<int>(params.integer("haptic_max_pairs", settings.haptic_max_pairs, 1, 100000));
+  read_contact_discovery(params, settings);
   return settings;
 }
 

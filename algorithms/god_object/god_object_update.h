@@ -34,48 +34,21 @@
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/contact_geometry.h"
+#include "algorithms/contact/contact_settings.h"
+#include "algorithms/contact/proximity_certifier.h"
+#include "algorithms/contact/proxy_motion.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/constrained_step.h"
-#include "algorithms/god_object/proxy_motion.h"
 
 namespace hb {
 
-struct GodObjectSettings {
-  MeshCcdSettings ccd;
-  /// Separation (m) the proxy keeps from the surfaces it touches, > 0: the
-  /// CCD's answer "no contact before t" holds for the path, so the proxy
-  /// stops this far short of the touching point and later sliding motions
-  /// start from a configuration the CCD can prove contact-free.
-  double standoff_m = 1e-5;
-  /// A kept contact is dropped when its features are farther apart (m).
-  double contact_distance_m = 1e-4;
+/// The god-object's settings: its contact handling, as for constrained
+/// dynamics (contact_settings.h), and its slow loop's moves.
+struct GodObjectSettings : ContactSettings {
   /// Most CCD-limited moves per update, ≥ 1.
   int max_iterations = 8;
-  /// The 3-DOF god-object: the tool is the point at its frame's origin.
-  bool point_tool = false;
-  /// Contact discovery for the haptic-rate solve (haptic_proxy.h): feature
-  /// pairs within the band (m) of the proxy are listed, and the proxy may
-  /// move up to about this far between slow updates. The band is six times
-  /// how far the device moved between the last two slow updates (the
-  /// certificate must last until the next one is installed, up to two such
-  /// intervals, with a margin of three), within [haptic_band_min_m,
-  /// haptic_band_m].
-  double haptic_band_m = 5e-3;
-  double haptic_band_min_m = 5e-4;
-  /// At most this many pairs are listed (the nearest); the band shrinks to
-  /// the nearest pair left out.
-  int haptic_max_pairs = 64;
-};
-
-/// What a proximity query certifies around an anchor pose: within reach
-/// clearance_m − standoff of the anchor (point_reach of the displacement
-/// from it), only the listed pairs can come closer than the standoff.
-struct ProximityCertificate {
-  Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
-  std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
-  std::vector<double> distances;       ///< per pair, its distance at the anchor (m), ascending
-  double clearance_m = 0;              ///< every other pair is at least this far apart there
 };
 
 /// A contact the proxy keeps between iterations and updates.
@@ -99,32 +72,11 @@ struct GodObjectUpdateStats {
   bool solver_failed = false;   ///< the least-constraint solve did not converge (the proxy stayed)
 };
 
-/// Where a start pose that is not free of the scene is moved.
-struct StartEscape {
-  Pose pose;              ///< tool frame, world: free of the scene (the start when it was)
-  double distance_m = 0;  ///< how far the tool was moved, m
-  /// The start touched the scene and was moved (a start within the
-  /// standoff but touching nothing is free, and kept).
-  bool escaped = false;
-};
-
 /// The god-object's proxy and contacts, and the update that moves them.
 class GodObjectSolver {
  public:
   /// Settings as read by read_god_object_settings (god_object.h).
   GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings);
-
-  /// The nearest free pose to the tool-frame pose `start` along 26
-  /// directions (the faces, edges and corners of a cube, world frame; gaps
-  /// of up to 27.6° between them, so a way out up to 12.8 % longer than the
-  /// shortest straight one),
-  /// orientation kept: for each, the tool is brought back from outside the
-  /// scene's bounding sphere toward `start` and stopped by the mesh CCD
-  /// `standoff` short of its first contact. A path that reaches `start`
-  /// proves it free (returned unchanged); otherwise the shortest way out
-  /// wins. A start that is free but enclosed, with every path from outside
-  /// blocked, would be moved out too.
-  StartEscape escape(const Pose& start) const;
 
   /// Puts the proxy at the tool-frame pose `start` with no contacts.
   void reset(const Pose& start);
@@ -140,24 +92,19 @@ class GodObjectSolver {
   const Pose& proxy_pose() const { return proxy_; }
   const std::vector<KeptContact>& contacts() const { return contacts_; }
 
-  /// The tool's centre of mass in tool coordinates (m); zero for a point tool.
-  const Vec3& centre_of_mass() const { return frames_.centre_of_mass; }
   /// Moves the proxy to the tool-frame pose `pose` (known to be free), keeping
   /// its contacts, which the next update refreshes there.
   void move_proxy(const Pose& pose) { proxy_ = pose; }
-  /// Coulomb μ per scene object (the scene's "friction"), in MeshCcd's order.
-  const std::vector<double>& friction() const { return friction_; }
-  /// The CCD structures (for the build report).
-  const MeshCcd& ccd() const { return ccd_; }
+  /// The CCD structures, the tool's frames, the scene's friction and the
+  /// start escape (contact_geometry.h), which the haptic proxy uses too.
+  const ContactGeometry& geometry() const { return geometry_; }
 
  private:
   void refresh_contacts();
 
   GodObjectSettings settings_;
   CouplingGains gains_;
-  ProxyFrames frames_;
-  MeshCcd ccd_;
-  std::vector<double> friction_;  ///< Coulomb μ per scene object
+  ContactGeometry geometry_;
   ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> constraints_;
   std::vector<double> constraint_friction_;  ///< μ per constraint

@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "algorithms/god_object/coupling_metric.h"
+
 namespace hb {
 
 HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,

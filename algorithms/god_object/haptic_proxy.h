@@ -34,12 +34,12 @@
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/proximity_certifier.h"
+#include "algorithms/contact/proxy_motion.h"
 #include "algorithms/core/pose.h"
 #include "algorithms/core/scene.h"
-#include "algorithms/god_object/constrained_step.h"
 #include "algorithms/god_object/god_object_update.h"
-#include "algorithms/god_object/proximity_certifier.h"
-#include "algorithms/god_object/proxy_motion.h"
 #include "algorithms/proxy/renderer.h"
 
 namespace hb {

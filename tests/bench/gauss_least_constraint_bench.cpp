@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/contact/gauss_least_constraint.h"
 
 namespace hb {
 namespace {

@@ -172,51 +172,6 @@ TEST_CASE("the 3-DOF god-object keeps a point on the face and in the corner of t
   }
 }
 
-TEST_CASE("a start inside the scene is moved out the shortest way, a free one is kept") {
-  const RenderContext context = slab_context(cube_tool());
-  GodObjectSettings settings;
-  const double above = 0.5 * kCube;  // tool-frame height when resting on z = 0
-  // The paths come from half a metre away: the CCD's time tolerance (1e-6
-  // of the path) leaves up to 0.5 µm beyond the standoff.
-  const double farthest = settings.standoff_m + 1e-6;
-
-  SECTION("a cube sunk 3 mm into the face comes up onto it") {
-    const GodObjectSolver solver(context, settings);
-    const StartEscape escape = solver.escape(at(Vec3(0.01, 0.02, above - 0.003)));
-    CHECK(escape.escaped);
-    const double gap = lowest_vertex_z(context.tool, escape.pose);
-    CHECK(gap >= 0.0);
-    CHECK(gap <= farthest);
-    CHECK(escape.distance_m == Approx(0.003 + gap).margin(1e-9));
-    CHECK(escape.pose.p.x() == Approx(0.01).margin(1e-12));
-    CHECK(escape.pose.p.y() == Approx(0.02).margin(1e-12));
-  }
-  SECTION("a point inside the slab leaves through the nearer face") {
-    settings.point_tool = true;
-    const GodObjectSolver solver(context, settings);
-    // 4 mm below the top face (z = 0), 16 mm above the bottom (z = −0.02).
-    const StartEscape up = solver.escape(at(Vec3(0.05, -0.03, -0.004)));
-    CHECK(up.escaped);
-    CHECK(up.pose.p.z() >= 0.0);
-    CHECK(up.pose.p.z() <= farthest);
-    CHECK(up.distance_m == Approx(0.004 + up.pose.p.z()).margin(1e-9));
-    // 3 mm above the bottom face.
-    const StartEscape down = solver.escape(at(Vec3(0.05, -0.03, -0.017)));
-    CHECK(down.escaped);
-    CHECK(down.pose.p.z() <= -0.02);
-    CHECK(down.pose.p.z() >= -0.02 - farthest);
-    CHECK(down.pose.p.x() == Approx(0.05).margin(1e-12));
-  }
-  SECTION("a free start stays where it is") {
-    const GodObjectSolver solver(context, settings);
-    const Pose start = at(Vec3(0.01, 0.02, above + 0.001));
-    const StartEscape escape = solver.escape(start);
-    CHECK_FALSE(escape.escaped);
-    CHECK(escape.distance_m == 0.0);
-    CHECK(escape.pose.p == start.p);
-  }
-}
-
 TEST_CASE("the god-object renderer started inside reports the escape and pushes the device out") {
   const RenderContext context = slab_context(cube_tool());
   const std::unique_ptr<Renderer> renderer =
@@ -291,6 +246,13 @@ TEST_CASE("god-object settings are read with their field names") {
   negative.set("max_iterations", 0.0);
   CHECK_THROWS_WITH(read_god_object_settings(negative, false),
                     Catch::Contains("/algorithms/0/params/max_iterations"));
+  // max_iterations is checked after the contact distances, before the rest.
+  negative.set("haptic_band", 1e-6);
+  CHECK_THROWS_WITH(read_god_object_settings(negative, false),
+                    Catch::Contains("/algorithms/0/params/max_iterations"));
+  negative.set("contact_distance", 1e-6);
+  CHECK_THROWS_WITH(read_god_object_settings(negative, false),
+                    Catch::Contains("/algorithms/0/params/contact_distance"));
   ParamSet bands("/algorithms/0/params");
   bands.set("haptic_band", 2e-3);
   bands.set("haptic_band_min", 1e-3);

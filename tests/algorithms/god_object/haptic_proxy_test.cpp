@@ -43,7 +43,8 @@ struct ProxyRig {
   explicit ProxyRig(RenderContext scene)
       : context(std::move(scene)),
         solver(context, settings),
-        proxy(solver.ccd(), context.coupling, settings, context.tool.mass.centre_of_mass) {}
+        proxy(solver.geometry().ccd(), context.coupling, settings,
+              context.tool.mass.centre_of_mass) {}
 };
 
 struct CubeOnSlab : ProxyRig {
@@ -80,7 +81,7 @@ TEST_CASE("in free space the proxy is the device's pose until it would leave the
     const HapticSolveStats stats = rig.proxy.step(target);
     const double moved = point_reach(
         displacement(rig.proxy.certificate().anchor, Pose{rig.proxy.pose().p, rig.proxy.pose().q}),
-        rig.solver.ccd().tool_radius());
+        rig.solver.geometry().ccd().tool_radius());
     INFO("tick " << tick);
     CHECK(moved <= reach * (1 + 1e-9));
     if (!stats.bounded) {
@@ -244,7 +245,7 @@ TEST_CASE(
     "by mu times the depth") {
   const double mu = 0.4, depth = 0.003;
   CubeOnSlab rig;
-  HapticProxy proxy(rig.solver.ccd(), rig.context.coupling, rig.settings,
+  HapticProxy proxy(rig.solver.geometry().ccd(), rig.context.coupling, rig.settings,
                     rig.context.tool.mass.centre_of_mass, {mu});
   proxy.reset(at(Vec3(0, 0, 0.021)));
   auto step_to = [&](const Pose& target, int tick) {

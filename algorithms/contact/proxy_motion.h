@@ -1,18 +1,17 @@
-// Motions of the god-object's proxy, shared by its slow-loop update and its
-// haptic-rate solve: poses of the frame at the tool's centre of mass,
-// generalised displacements (centre-of-mass displacement, rotation vector)
-// between them, and the coupling energy's metric on those displacements.
+// Motions of a constrained-contact proxy (the god-object's, in its
+// slow-loop update and its haptic-rate solve, and constrained dynamics'):
+// poses of the frame at the tool's centre of mass, and generalised
+// displacements (centre-of-mass displacement, rotation vector) between them
+// with how far they move the tool's points.
 #pragma once
 
-#include <algorithm>
-
+#include "algorithms/ccd/screw_motion.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
 
 namespace hb {
 
 /// The tool frame and the frame at its centre of mass (same axes), in
-/// which the god-object moves its proxy and the CCD sees the tool.
+/// which a constrained-contact proxy moves and the CCD sees the tool.
 struct ProxyFrames {
   Vec3 centre_of_mass = Vec3::Zero();  ///< tool coordinates, m
 
@@ -38,6 +37,11 @@ inline Pose displaced(const Pose& from, const Vec6& d) {
   return Pose{from.p + d.head<3>(), (quat_from_rotation_vector(d.tail<3>()) * from.q).normalized()};
 }
 
+/// The pose at time t (unitless, in [0, 1]) of the frame `motion` moves.
+inline Pose pose_on(const ScrewMotion& motion, double t) {
+  return Pose{motion.point_at(Vec3::Zero(), t), Quat(motion.rotation_at(t)).normalized()};
+}
+
 /// Bound (m) on how far any point within `radius` of the centre of mass
 /// moves under d: |Δc| + |φ| radius.
 inline double point_reach(const Vec6& d, double radius) {
@@ -61,24 +65,6 @@ inline double fraction_within_reach(const Pose& anchor, const Pose& start, const
     (within(mid) ? lo : hi) = mid;
   }
   return lo;
-}
-
-/// The coupling energy's Hessian in (centre-of-mass displacement, rotation
-/// vector) for a tool whose centre of mass is at `centre_of_mass` (tool
-/// coordinates) with orientation q: the tool-frame origin moves by
-/// δc − [a]× δφ with a = origin − COM, so K = Jᵀ diag(k_t I, k_r I) J,
-/// J = [[I, −[a]×], [0, I]]. A zero rotational stiffness is replaced by a
-/// tiny one (relative to k_t radius²) so K stays positive definite.
-inline Mat6 coupling_metric(const CouplingGains& gains, const Vec3& centre_of_mass, const Quat& q,
-                            double radius) {
-  const Vec3 arm = -(q * centre_of_mass);
-  const double r = std::max(radius, 1e-3);
-  const double k_r = std::max(gains.k_r, 1e-6 * gains.k_t * r * r);
-  Mat6 jacobian = Mat6::Identity();
-  jacobian.block<3, 3>(0, 3) = -skew(arm);
-  Vec6 stiffness;
-  stiffness << Vec3::Constant(gains.k_t), Vec3::Constant(k_r);
-  return jacobian.transpose() * stiffness.asDiagonal() * jacobian;
 }
 
 }  // namespace hb

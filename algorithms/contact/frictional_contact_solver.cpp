@@ -1,4 +1,4 @@
-#include "algorithms/proxy/frictional_contact_solver.h"
+#include "algorithms/contact/frictional_contact_solver.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -3,7 +3,7 @@
 // planar contact of many points and when its sweeps are cut short,
 // friction stays in Coulomb's cone and the residual says how close the step
 // is to Coulomb's law.
-#include "algorithms/god_object/constrained_step.h"
+#include "algorithms/contact/constrained_step.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

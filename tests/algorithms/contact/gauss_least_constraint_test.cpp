@@ -1,6 +1,6 @@
 // Gauss' least-constraint solver: closed forms, KKT conditions, and agreement
 // with CGAL's exact quadratic-programming solver on random instances.
-#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/contact/gauss_least_constraint.h"
 
 #include <CGAL/Gmpzf.h>
 #include <CGAL/QP_functions.h>

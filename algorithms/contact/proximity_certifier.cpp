@@ -1,4 +1,4 @@
-#include "algorithms/god_object/proximity_certifier.h"
+#include "algorithms/contact/proximity_certifier.h"
 
 #include <algorithm>
 
@@ -20,7 +20,7 @@ void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3>
   }
 }
 
-ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const GodObjectSettings& settings,
+ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const ContactSettings& settings,
                                        const Vec3& centre_of_mass)
     : ccd_(ccd),
       settings_(settings),

@@ -3,19 +3,30 @@
 // loop's proximity query around an anchor pose (a certificate listing every
 // feature pair within a band), how wide the band should be, whether a pose
 // is still within the certificate's reach, and a listed pair's closest
-// points re-evaluated at the current pose (haptic_proxy.h explains why a
-// proxy that stays within reach cannot pass a pair that is not listed).
+// points re-evaluated at the current pose (the god-object's haptic_proxy.h
+// explains why a proxy that stays within reach cannot pass a pair that is
+// not listed).
 #pragma once
 
 #include <span>
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
+#include "algorithms/contact/contact_settings.h"
+#include "algorithms/contact/proxy_motion.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/god_object_update.h"
-#include "algorithms/god_object/proxy_motion.h"
 
 namespace hb {
+
+/// What a proximity query certifies around an anchor pose: within reach
+/// clearance_m − standoff of the anchor (point_reach of the displacement
+/// from it), only the listed pairs can come closer than the standoff.
+struct ProximityCertificate {
+  Pose anchor;  ///< the tool's centre-of-mass frame (world) the pairs were found at
+  std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
+  std::vector<double> distances;       ///< per pair, its distance at the anchor (m), ascending
+  double clearance_m = 0;              ///< every other pair is at least this far apart there
+};
 
 /// A listed pair at one pose.
 struct PairContact {
@@ -37,8 +48,8 @@ void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3>
 class ProximityCertifier {
  public:
   /// `ccd` must outlive the certifier. Settings as read by
-  /// read_god_object_settings; centre_of_mass in tool coordinates (m).
-  ProximityCertifier(const MeshCcd& ccd, const GodObjectSettings& settings,
+  /// read_contact_settings; centre_of_mass in tool coordinates (m).
+  ProximityCertifier(const MeshCcd& ccd, const ContactSettings& settings,
                      const Vec3& centre_of_mass);
 
   /// The proximity query at `tool_pose`, listing pairs within `band_m` (at
@@ -67,7 +78,7 @@ class ProximityCertifier {
 
  private:
   const MeshCcd& ccd_;
-  GodObjectSettings settings_;
+  ContactSettings settings_;
   ProxyFrames frames_;
   double radius_;
 };

@@ -1,4 +1,4 @@
-#include "algorithms/god_object/gauss_least_constraint.h"
+#include "algorithms/contact/gauss_least_constraint.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

@@ -2,7 +2,7 @@
 // block pushed along a plane, a box on a slope that holds or slides as μ is
 // above or below tan(angle), the complementarity conditions on random
 // problems, and determinism.
-#include "algorithms/proxy/frictional_contact_solver.h"
+#include "algorithms/contact/frictional_contact_solver.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

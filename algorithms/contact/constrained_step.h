@@ -41,9 +41,9 @@
 #include <span>
 #include <vector>
 
+#include "algorithms/contact/frictional_contact_solver.h"
+#include "algorithms/contact/gauss_least_constraint.h"
 #include "algorithms/core/pose.h"
-#include "algorithms/god_object/gauss_least_constraint.h"
-#include "algorithms/proxy/frictional_contact_solver.h"
 
 namespace hb {
 

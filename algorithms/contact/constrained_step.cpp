@@ -1,4 +1,4 @@
-#include "algorithms/god_object/constrained_step.h"
+#include "algorithms/contact/constrained_step.h"
 
 #include <algorithm>
 #include <cmath>
