@@ -27,7 +27,7 @@ constexpr AlgorithmEntry kAlgorithms[] = {
      &create_god_object_3dof, true},
     {"constrained_dynamics",
      "Duriez et al. 2006: rigid proxy with mass, hard contacts and Coulomb friction as impulses "
-     "(projected Gauss-Seidel), implicit coupling, contacts from the god-object's proximity "
+     "(projected Gauss-Seidel), implicit coupling, contacts from the shared proximity "
      "certificates",
      &create_constrained_dynamics, true},
     {"voxmap_pointshell",
