@@ -27,6 +27,27 @@ struct Certification {
   ProximityCertificate certificate;
 };
 
+// Constrained dynamics' work counters (WorkCounters slots and names).
+struct ConstrainedDynamicsWork {
+  enum Slot : std::size_t {
+    kPairsEvaluated,
+    kSolverIterations,
+    kUnconverged,
+    kActiveContacts,
+    kReachBounded,
+    kCertificatesTaken,
+    kCertificatesKept,
+    kStartEscapes,
+    kStartEscapeUm,
+    kCoulombViolations,
+    kSkewResolves,
+  };
+  static constexpr WorkCounters::Names kNames = {
+      "pairs_evaluated", "solver_iterations",  "solver_unconverged", "active_contacts",
+      "reach_bounded",   "certificates_taken", "certificates_kept",  "start_escapes",
+      "start_escape_um", "coulomb_violations", "skew_resolves"};
+};
+
 class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
  public:
   ConstrainedDynamicsRenderer(const RenderContext& context,
@@ -56,7 +77,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
 
   TickResult step(const DeviceSample& device) override {
     TickResult result;
-    result.work.names = &kWorkNames;
+    result.work.names = &ConstrainedDynamicsWork::kNames;
     if (!is_finite(device)) {
       result.flags |= kFlagNonFiniteZeroed;
       result.proxy = tool_pose(body_, state_);
@@ -75,14 +96,15 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
         std::all_of(warm.begin(), warm.end(), [](const Vec3& i) { return i.isZero(); })
             ? std::span<const Vec3>()
             : warm);
-    result.work.add(kSolverIterations, solved.iterations);
-    result.work.add(kUnconverged, solved.converged ? 0 : 1);
-    result.work.add(kCoulombViolations, solved.coulomb_residual > kCoulombResidualTolerance);
-    result.work.add(kSkewResolves, solved.skew_passes - 1);
+    result.work.add(ConstrainedDynamicsWork::kSolverIterations, solved.iterations);
+    result.work.add(ConstrainedDynamicsWork::kUnconverged, solved.converged ? 0 : 1);
+    result.work.add(ConstrainedDynamicsWork::kCoulombViolations,
+                    solved.coulomb_residual > kCoulombResidualTolerance);
+    result.work.add(ConstrainedDynamicsWork::kSkewResolves, solved.skew_passes - 1);
     std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
     for (std::size_t k = 0; k < rows_.size(); ++k) {
       impulses_[k] = solved.impulses[k];
-      result.work.add(kActiveContacts, solved.impulses[k].x() > 0);
+      result.work.add(ConstrainedDynamicsWork::kActiveContacts, solved.impulses[k].x() > 0);
     }
     advance(start, solved.step, reach_limit, result.work);
 
@@ -98,8 +120,9 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     result.proxy = tool_pose(body_, state_);
     report_contacts(result);
     if (!escape_reported_ && escape_.escaped) {
-      result.work.add(kStartEscapes);
-      result.work.add(kStartEscapeUm, std::llround(escape_.distance_m * 1e6));
+      result.work.add(ConstrainedDynamicsWork::kStartEscapes);
+      result.work.add(ConstrainedDynamicsWork::kStartEscapeUm,
+                      std::llround(escape_.distance_m * 1e6));
     }
     escape_reported_ = true;
     return result;
@@ -136,32 +159,14 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   }
 
  private:
-  enum Slot : std::size_t {
-    kPairsEvaluated,
-    kSolverIterations,
-    kUnconverged,
-    kActiveContacts,
-    kReachBounded,
-    kCertificatesTaken,
-    kCertificatesKept,
-    kStartEscapes,
-    kStartEscapeUm,
-    kCoulombViolations,
-    kSkewResolves,
-  };
-  static constexpr WorkCounters::Names kWorkNames = {
-      "pairs_evaluated", "solver_iterations",  "solver_unconverged", "active_contacts",
-      "reach_bounded",   "certificates_taken", "certificates_kept",  "start_escapes",
-      "start_escape_um", "coulomb_violations", "skew_resolves"};
-
   // Takes the new certificate when the proxy lies within its reach, and
   // carries each pair's impulse over to it for the warm start.
   void install(Certification& update, WorkCounters& work) {
     if (!certifier_.within_reach(update.certificate, tool_pose(body_, state_))) {
-      work.add(kCertificatesKept);
+      work.add(ConstrainedDynamicsWork::kCertificatesKept);
       return;
     }
-    work.add(kCertificatesTaken);
+    work.add(ConstrainedDynamicsWork::kCertificatesTaken);
     carry_impulses(certificate_.pairs, impulses_, update.certificate.pairs, carried_);
     impulses_.swap(carried_);
     std::swap(certificate_, update.certificate);
@@ -193,7 +198,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
       }
       const ContactFeatures& pair = certificate_.pairs[k];
       const PairContact contact = certifier_.evaluate(pair, start);
-      work.add(kPairsEvaluated);
+      work.add(ConstrainedDynamicsWork::kPairsEvaluated);
       const double gap = contact.distance - standoff;
       const double bound =
           gap >= 0 ? -gap / dt_s_
@@ -223,7 +228,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     const Vec6 step = dt_s_ * velocity;
     const double fraction =
         fraction_within_reach(certificate_.anchor, start, step, certifier_.radius(), reach_limit);
-    if (fraction < 1) work.add(kReachBounded);
+    if (fraction < 1) work.add(ConstrainedDynamicsWork::kReachBounded);
     moved_ = fraction * step;
     const Pose end = displaced(start, moved_);
     state_.x = end.p;

@@ -23,6 +23,27 @@ struct GodObjectUpdate {
   GodObjectUpdateStats stats;
 };
 
+// The god-object's work counters (WorkCounters slots and names).
+struct GodObjectWork {
+  enum Slot : std::size_t {
+    kCcdBoundTests,
+    kCcdPrimitiveQueries,
+    kQpIterations,
+    kCcdMoves,
+    kPairsEvaluated,
+    kCcdBudgetHits,
+    kCcdCertifiedMoves,
+    kProximityQueries,
+    kStartEscapes,
+    kStartEscapeUm,
+    kCoulombViolations,
+  };
+  static constexpr WorkCounters::Names kNames = {
+      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
+      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
+      "start_escapes",   "start_escape_um",       "coulomb_violations"};
+};
+
 class GodObjectRenderer : public Renderer, public SlowLoop {
  public:
   GodObjectRenderer(const RenderContext& context, const GodObjectSettings& settings)
@@ -68,13 +89,13 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     result.display = device_output(raw, limits_, result.flags);
     result.proxy = tool_pose(body_, proxy_);
     result.contacts = haptic_.contacts();
-    result.work.names = &kWorkNames;
-    result.work.counts[4] += haptic.pairs_evaluated;
-    result.work.counts[2] += haptic.qp_iterations;
-    result.work.counts[10] += haptic.coulomb_violations;
+    result.work.names = &GodObjectWork::kNames;
+    result.work.add(GodObjectWork::kPairsEvaluated, haptic.pairs_evaluated);
+    result.work.add(GodObjectWork::kQpIterations, haptic.qp_iterations);
+    result.work.add(GodObjectWork::kCoulombViolations, haptic.coulomb_violations);
     if (!escape_reported_ && escape_.escaped) {
-      result.work.counts[8] = 1;
-      result.work.counts[9] = std::llround(escape_.distance_m * 1e6);
+      result.work.add(GodObjectWork::kStartEscapes);
+      result.work.add(GodObjectWork::kStartEscapeUm, std::llround(escape_.distance_m * 1e6));
     }
     escape_reported_ = true;
     return result;
@@ -120,11 +141,6 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   }
 
  private:
-  static constexpr WorkCounters::Names kWorkNames = {
-      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
-      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
-      "start_escapes",   "start_escape_um",       "coulomb_violations"};
-
   // Hands the update's certificate (and, when the haptic proxy has fallen
   // behind it, its pose) to the haptic proxy; counts the update's work.
   void install_update(GodObjectUpdate& update, TickResult& result) {
@@ -137,18 +153,16 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
       proxy_.x = jumped.x;
       proxy_.q = jumped.q;
     }
-    result.work.names = &kWorkNames;
-    result.work.counts = {update.stats.bv_tests,
-                          update.stats.primitive_queries,
-                          update.stats.qp_iterations,
-                          update.stats.iterations,
-                          0,
-                          update.stats.budget_hits,
-                          update.stats.certified_moves,
-                          update.stats.certificates,
-                          0,
-                          0,
-                          update.stats.coulomb_violations};
+    // The slow update's work, counted on the tick that installs it.
+    result.work.names = &GodObjectWork::kNames;
+    result.work.add(GodObjectWork::kCcdBoundTests, update.stats.bv_tests);
+    result.work.add(GodObjectWork::kCcdPrimitiveQueries, update.stats.primitive_queries);
+    result.work.add(GodObjectWork::kQpIterations, update.stats.qp_iterations);
+    result.work.add(GodObjectWork::kCcdMoves, update.stats.iterations);
+    result.work.add(GodObjectWork::kCcdBudgetHits, update.stats.budget_hits);
+    result.work.add(GodObjectWork::kCcdCertifiedMoves, update.stats.certified_moves);
+    result.work.add(GodObjectWork::kProximityQueries, update.stats.certificates);
+    result.work.add(GodObjectWork::kCoulombViolations, update.stats.coulomb_violations);
   }
 
   bool point_tool_;

@@ -25,10 +25,12 @@ struct PrimitiveContact {
 
 /// Work counters of penalty rendering on primitives (WorkCounters slots).
 struct PrimitiveWork {
-  static constexpr std::size_t kObstacleBoundTests = 0;  ///< broad phase, per scene shape
-  static constexpr std::size_t kToolPointsTested = 1;    ///< tool points against a shape
-  static constexpr std::size_t kPlanesEvaluated = 2;     ///< slow-loop planes a tick used
-  static constexpr std::size_t kNewtonSteps = 3;         ///< quasi-static solver steps
+  enum Slot : std::size_t {
+    kObstacleBoundTests,  ///< broad phase, per scene shape
+    kToolPointsTested,    ///< tool points against a shape
+    kPlanesEvaluated,     ///< slow-loop planes a tick used
+    kNewtonSteps,         ///< quasi-static solver steps
+  };
   static constexpr WorkCounters::Names kNames = {"obstacle_bound_tests", "tool_points_tested",
                                                  "planes_evaluated", "newton_steps"};
 };

@@ -48,6 +48,17 @@ struct ClusterPlanes {
   int raw_contacts = 0;
 };
 
+// Sensation-preserving's work counters (WorkCounters slots and names): the
+// slow loop's contact query, counted on the tick that installs it.
+struct SensationPreservingWork {
+  enum Slot : std::size_t {
+    kNodePairsTested,
+    kPieceTests,
+    kGjkCalls,
+  };
+  static constexpr WorkCounters::Names kNames = {"node_pairs_tested", "piece_tests", "gjk_calls"};
+};
+
 class SensationPreservingRenderer : public Renderer, public SlowLoop {
  public:
   SensationPreservingRenderer(const RenderContext& context,
@@ -100,11 +111,11 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
     TickResult result;
     if (ClusterPlanes* installed = mailbox_.take(result.flags)) {
       planes_.swap(installed->planes);
-      static constexpr WorkCounters::Names kWorkNames = {"node_pairs_tested", "piece_tests",
-                                                         "gjk_calls"};
-      result.work.names = &kWorkNames;
-      result.work.counts = {installed->stats.node_pairs_tested, installed->stats.piece_tests,
-                            installed->stats.gjk_calls, 0, 0};
+      result.work.names = &SensationPreservingWork::kNames;
+      result.work.add(SensationPreservingWork::kNodePairsTested,
+                      installed->stats.node_pairs_tested);
+      result.work.add(SensationPreservingWork::kPieceTests, installed->stats.piece_tests);
+      result.work.add(SensationPreservingWork::kGjkCalls, installed->stats.gjk_calls);
     }
     // The installed planes' penalty forces, clamped over the implicit step.
     contact_forces_.use(planes_, settings_.gains);

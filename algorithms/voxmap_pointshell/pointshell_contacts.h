@@ -158,10 +158,12 @@ double signed_distance_divisor(std::size_t shell_points);
 
 /// The Voxmap PointShell's work counters (WorkCounters slots and names).
 struct PointShellWork {
-  static constexpr std::size_t kSphereTests = 0;     ///< bounding spheres of tree nodes
-  static constexpr std::size_t kPointsLookedUp = 1;  ///< points whose voxel was read
-  static constexpr std::size_t kFrontEntries = 2;    ///< front entries carried between searches
-  static constexpr std::size_t kBrakingPoints = 3;   ///< points found in proximity voxels
+  enum Slot : std::size_t {
+    kSphereTests,     ///< bounding spheres of tree nodes
+    kPointsLookedUp,  ///< points whose voxel was read
+    kFrontEntries,    ///< front entries carried between searches
+    kBrakingPoints,   ///< points found in proximity voxels
+  };
   static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up",
                                                  "front_entries", "braking_points"};
 };
