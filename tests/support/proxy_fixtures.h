@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "algorithms/core/scene.h"
+#include "algorithms/core/shapes.h"
 #include "algorithms/proxy/force_model.h"
 #include "algorithms/proxy/rigid_body.h"
 
@@ -52,6 +53,21 @@ inline Tool box_tool(const Vec3& size, double density_kg_m3 = 1000) {
   tool.mass.inertia_about_com =
       (mass / 12.0 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
   return tool;
+}
+
+/// box_tool with the mesh the scenarios give a box shape (shape_mesh).
+inline Tool meshed_box_tool(const Vec3& size) {
+  Tool tool = box_tool(size);
+  tool.mesh = shape_mesh(*tool.shape);
+  return tool;
+}
+
+/// Lowest z (m, world) of the mesh's vertices placed at `pose`.
+inline double lowest_vertex_z(const TriangleMesh& mesh, const Pose& pose) {
+  double lowest = 1e300;
+  for (const Vec3& vertex : mesh.vertices)
+    lowest = std::min(lowest, pose.transform_point(vertex).z());
+  return lowest;
 }
 
 /// An L-shaped hook (a 1 × 2 × 11 cm stem, a 7 cm arm at its top) in the

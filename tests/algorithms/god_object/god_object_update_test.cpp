@@ -31,18 +31,11 @@ RenderContext slab_context(const Tool& tool) {
   return context;
 }
 
-Tool cube_tool() {
-  Tool tool = test::box_tool(Vec3::Constant(kCube));
-  tool.mesh = shape_mesh(*tool.shape);
-  return tool;
-}
+Tool cube_tool() { return test::meshed_box_tool(Vec3::Constant(kCube)); }
 
 // Lowest z of the tool's vertices at a tool-frame pose (m).
 double lowest_vertex_z(const Tool& tool, const Pose& pose) {
-  double lowest = 1e300;
-  for (const Vec3& vertex : tool.mesh.vertices)
-    lowest = std::min(lowest, pose.transform_point(vertex).z());
-  return lowest;
+  return test::lowest_vertex_z(tool.mesh, pose);
 }
 
 Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
