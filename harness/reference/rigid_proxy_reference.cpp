@@ -204,7 +204,7 @@ void RigidProxyReference::collect_rows(double band) {
       least = std::min(least, t.distance);
       if (t.distance > 0)
         add_row((p - t.closest) / t.distance, t.closest, t.distance,
-                object_friction_[static_cast<std::size_t>(t.object)]);
+                t.object >= 0 ? object_friction_[static_cast<std::size_t>(t.object)] : 0.0);
     }
     sample_distance_[i] = least;
     sample_motion_at_[i] = motion_m_;
