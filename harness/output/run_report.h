@@ -78,7 +78,7 @@ struct AlgorithmRun {
 
 /// How the scenario's oracles were set up (shared by its runs).
 struct OracleDescription {
-  std::string backends;  ///< "embree", "cgal" or "both"
+  std::string backends;  ///< as the scenario says: a backend's name, "all" or "both" (all)
   int64_t exact_every = 0;
   int64_t tool_samples = 0;
   double sample_spacing_m = 0;

@@ -669,10 +669,13 @@ class ScenarioReader {
       std::vector<std::string_view> choices = {"none"};
       for (const OracleBackendEntry& backend : hb::oracle_backends())
         choices.push_back(backend.name);
+      // "all": every backend; "both", its name from when there were two, still reads so.
+      choices.push_back("all");
       choices.push_back("both");
       reference.oracle = field.existing_member("oracle").choice(choices);
+      const bool all = reference.oracle == "all" || reference.oracle == "both";
       for (const OracleBackendEntry& backend : hb::oracle_backends())
-        if (reference.oracle == "both" || reference.oracle == backend.name)
+        if (all || reference.oracle == backend.name)
           reference.oracle_backends.emplace_back(backend.name);
     }
     if (field.has("exact_every"))

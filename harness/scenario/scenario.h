@@ -26,7 +26,7 @@ struct AlgorithmSpec {
 };
 
 struct ReferenceSpec {
-  std::string oracle = "none";  ///< none, a backend's name (oracle_backends()), or both (all)
+  std::string oracle = "none";  ///< none, a backend's name (oracle_backends()), all (or both)
   std::vector<std::string> oracle_backends;  ///< what `oracle` names, in oracle_backends() order
   int64_t exact_every = 10;                  ///< evaluation period of exact backends (CGAL), ticks
   std::string analytic = "auto";             ///< auto or none

@@ -20,6 +20,8 @@
 
 #include "algorithms/core/input_error.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/reference/oracle.h"
+#include "harness/reference/oracle.h"
 #include "harness/scenario/json_params.h"
 
 namespace hb {
@@ -533,6 +535,22 @@ TEST_CASE("settings outside their plausible range are warned about, defaults are
   CHECK(warnings[0].find("/coupling/k_t: 1e+30 N/m is outside the plausible range [10, 1e+06]") ==
         0);
   CHECK(warnings[1].find("/device/max_force_n: 100000 N is outside") == 0);
+}
+
+TEST_CASE("the oracle \"all\" asks for every backend, and \"both\" means the same") {
+  ScratchDir dir;
+  Json scenario = valid_generated_scenario();
+  std::vector<std::string> every;
+  for (const OracleBackendEntry& backend : oracle_backends()) every.emplace_back(backend.name);
+  REQUIRE(every.size() >= 2);
+  for (const char* name : {"all", "both"}) {
+    scenario["reference"] = {{"oracle", name}};
+    const Scenario loaded = load_scenario(dir.write(std::string(name) + ".json", scenario.dump(2)));
+    CHECK(loaded.reference.oracle_backends == every);
+  }
+  scenario["reference"] = {{"oracle", every.front()}};
+  CHECK(load_scenario(dir.write("one.json", scenario.dump(2))).reference.oracle_backends ==
+        std::vector<std::string>{every.front()});
 }
 
 TEST_CASE("a scene object's friction coefficient is read, frictionless by default") {
