@@ -182,11 +182,11 @@ std::string penetration_source(const GroundTruth& truth) {
 
 }  // namespace
 
-ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& options) {
-  const Scenario& scenario = *prepared.scenario;
-  GroundTruth& truth = prepared.truth;
-  ScenarioOutcome outcome;
-  ScenarioRun& report = outcome.report;
+namespace {
+
+// What summary.json says of the scenario and its ground truth, before any run.
+ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) {
+  ScenarioRun report;
   report.scenario_name = scenario.name;
   report.scenario_path = scenario.path;
   report.scenario_hash = scenario.content_hash;
@@ -204,53 +204,87 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     d.build_seconds = truth.oracle_build_seconds;
   }
   if (truth.force) report.force_reference = truth.force->description;
+  return report;
+}
 
-  MetricsSettings metrics_settings;
+MetricsSettings metrics_settings_for(const Scenario& scenario) {
+  MetricsSettings settings;
   const Tool& tool = scenario.context.tool;
   const double tool_radius = tool.mesh.radius_about(tool.mass.centre_of_mass);
-  metrics_settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
-  metrics_settings.expected_ticks = scenario.trajectory.ticks();
-  metrics_settings.coupling_k_t = scenario.context.coupling.k_t;
-  metrics_settings.coupling_k_r = scenario.context.coupling.k_r;
+  settings.divergence_distance_m = std::max(0.1, 5.0 * tool_radius);
+  settings.expected_ticks = scenario.trajectory.ticks();
+  settings.coupling_k_t = scenario.context.coupling.k_t;
+  settings.coupling_k_r = scenario.context.coupling.k_r;
   if (scenario.closed_loop) {
-    metrics_settings.closed_loop = true;
+    settings.closed_loop = true;
     // An encoder's quantization alone dithers by about its resolution.
-    metrics_settings.limit_cycle_floor_m =
+    settings.limit_cycle_floor_m =
         std::max(LimitCycleDetector::kDefaultFloorM, 2 * scenario.closed_loop->device.encoder_m);
   }
+  return settings;
+}
+
+// Timing passes: step() with nothing else between the ticks. The first
+// one's times and schedule are the run's; repetitions give the spread.
+std::vector<std::unique_ptr<TimingObserver>> run_timing_passes(PreparedAlgorithm& algorithm,
+                                                               const Scenario& scenario, int repeat,
+                                                               ProgressDisplay* progress) {
+  ReplaySettings timing_settings = algorithm.replay;
+  if (algorithm.replayed_schedule) {
+    timing_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
+    timing_settings.replayed_schedule = algorithm.replayed_schedule.get();
+  }
+  std::vector<std::unique_ptr<TimingObserver>> passes;
+  for (int i = 0; i < std::max(1, repeat); ++i)
+    passes.push_back(std::make_unique<TimingObserver>(i == 0, progress));
+  for (std::size_t i = 0; i < passes.size(); ++i) {
+    TimingObserver& pass = *passes[i];
+    if (progress)
+      progress->phase(passes.size() == 1 ? std::string("timing pass")
+                                         : "timing pass " + std::to_string(i + 1) + "/" +
+                                               std::to_string(passes.size()),
+                      scenario.trajectory.ticks(), true);
+    const NoiseFloorProbe probe;
+    try {
+      pass.schedule = replay(*algorithm.renderer, scenario.trajectory, timing_settings, pass);
+    } catch (const ScheduleMismatch& mismatch) {
+      throw InputError(algorithm.schedule_source, "",
+                       std::string("the schedule does not fit ") + algorithm.spec->label + " of " +
+                           scenario.path + ": " + mismatch.what());
+    }
+    pass.noise = probe.finish();
+  }
+  return passes;
+}
+
+// The spread of the timing passes' step-time percentiles; none with one pass.
+std::optional<TimingRepeats> timing_repeats(
+    const std::vector<std::unique_ptr<TimingObserver>>& passes) {
+  if (passes.size() < 2) return std::nullopt;
+  std::vector<double> p50, p99;
+  for (const std::unique_ptr<TimingObserver>& pass : passes) {
+    const Percentiles p = pass->step_ns.result();
+    p50.push_back(p.p50);
+    p99.push_back(p.p99);
+  }
+  return TimingRepeats{static_cast<int>(passes.size()), spread_of(p50), spread_of(p99)};
+}
+
+}  // namespace
+
+ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& options) {
+  const Scenario& scenario = *prepared.scenario;
+  GroundTruth& truth = prepared.truth;
+  ScenarioOutcome outcome;
+  outcome.report = scenario_report(scenario, truth);
+  const MetricsSettings metrics_settings = metrics_settings_for(scenario);
   outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 
   ProgressDisplay* const progress = options.progress;
-  const int64_t ticks = scenario.trajectory.ticks();
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
     if (progress) progress->task(scenario.name + " / " + algorithm.spec->label);
-    ReplaySettings timing_settings = algorithm.replay;
-    if (algorithm.replayed_schedule) {
-      timing_settings.slow_loop_timing = SlowLoopTiming::kReplayed;
-      timing_settings.replayed_schedule = algorithm.replayed_schedule.get();
-    }
-    // Timing passes: step() with nothing else between the ticks. The first
-    // one's times and schedule are the run's; repetitions give the spread.
-    std::vector<std::unique_ptr<TimingObserver>> passes;
-    for (int i = 0; i < std::max(1, options.repeat); ++i)
-      passes.push_back(std::make_unique<TimingObserver>(i == 0, progress));
-    for (std::size_t i = 0; i < passes.size(); ++i) {
-      TimingObserver& pass = *passes[i];
-      if (progress)
-        progress->phase(passes.size() == 1 ? std::string("timing pass")
-                                           : "timing pass " + std::to_string(i + 1) + "/" +
-                                                 std::to_string(passes.size()),
-                        ticks, true);
-      const NoiseFloorProbe probe;
-      try {
-        pass.schedule = replay(*algorithm.renderer, scenario.trajectory, timing_settings, pass);
-      } catch (const ScheduleMismatch& mismatch) {
-        throw InputError(algorithm.schedule_source, "",
-                         std::string("the schedule does not fit ") + algorithm.spec->label +
-                             " of " + scenario.path + ": " + mismatch.what());
-      }
-      pass.noise = probe.finish();
-    }
+    const std::vector<std::unique_ptr<TimingObserver>> passes =
+        run_timing_passes(algorithm, scenario, options.repeat, progress);
     const TimingObserver& timing = *passes.front();
     // The evaluation pass follows the first timing pass's schedule, so both
     // compute the same forces whatever the slow loop's timing.
@@ -261,8 +295,10 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     const std::filesystem::path ticks_path = outcome.scratch->path() / ticks_file;
     std::ofstream ticks_out(ticks_path, std::ios::binary | std::ios::trunc);
     if (progress)
-      progress->phase(truth.oracle ? "evaluation pass + oracle" : "evaluation pass", ticks);
-    EvaluatingObserver observer(truth, tool.mesh, metrics_settings, &timing, ticks_out, progress);
+      progress->phase(truth.oracle ? "evaluation pass + oracle" : "evaluation pass",
+                      scenario.trajectory.ticks());
+    EvaluatingObserver observer(truth, scenario.context.tool.mesh, metrics_settings, &timing,
+                                ticks_out, progress);
     replay(*algorithm.renderer, scenario.trajectory, evaluation_settings, observer);
     errno = 0;
     if (!observer.ticks().finish())
@@ -279,15 +315,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.preprocess = algorithm.preprocess;
     run.metrics = observer.metrics();
     run.noise = timing.noise;
-    if (passes.size() > 1) {
-      std::vector<double> p50, p99;
-      for (const std::unique_ptr<TimingObserver>& pass : passes) {
-        const Percentiles p = pass->step_ns.result();
-        p50.push_back(p.p50);
-        p99.push_back(p.p99);
-      }
-      run.repeats = TimingRepeats{static_cast<int>(passes.size()), spread_of(p50), spread_of(p99)};
-    }
+    run.repeats = timing_repeats(passes);
     std::string schedule_text;
     if (algorithm.has_slow_loop()) {
       run.slow_loop_latency =
@@ -305,7 +333,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.analytic_reference = truth.analytic_name;
     run.reference_note = truth.analytic_note;
     run.penetration_source = penetration_source(truth);
-    report.runs.push_back(std::move(run));
+    outcome.report.runs.push_back(std::move(run));
     outcome.ticks_files.push_back(ticks_path);
     outcome.schedule_csv.push_back(std::move(schedule_text));
     if (progress) progress->finish_task();
