@@ -170,7 +170,7 @@ TEST_CASE("report on a terminal draws only in place, and writes the page") {
   CHECK(contains(report.stdout_text, "report: report.html (1 run folder)"));
   // Whatever was drawn (a report of one folder may take less than the
   // quiet second) was drawn in place and erased; the renderer's own
-  // progress lines are checked by tests/reports/render_report_test.py.
+  // progress lines are checked by tests/reports/hapticbench_report/inputs_test.py.
   CHECK_FALSE(contains(report.terminal, "\n"));
   if (!report.terminal.empty()) {
     CHECK(report.terminal.rfind("\r\033[Kreport: ", 0) == 0);

@@ -1,67 +1,15 @@
-"""The report's accuracy-cost figure: one front per scenario, over runs that stayed stable,
-with cost = CPU time per tick of both loops. Run by CTest with Debian's python3."""
+"""The report's tables: numbers as text, work counters, the stress matrix (the
+runs' stability verdicts), stability margins, Z-width results and friction. Run by CTest with
+Debian's python3."""
 import json
 import os
 import sys
 import tempfile
 import unittest
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "reports"))
-from hapticbench_report import figures, inputs, tables  # noqa: E402
-
-
-class Folder:
-    def __init__(self, scenario):
-        self.scenario = scenario
-
-
-class FakeRun(inputs.Run):
-    """A run built from a summary entry alone (no folder on disk)."""
-
-    def __init__(self, scenario, label, error, step_p99_ns, cpu_p99_ns=None, diverged=False,
-                 nonfinite=0):
-        self.folder = Folder(scenario)
-        self.label = label
-        self.ticks = None
-        timing = {"step_ns": {"p99": step_p99_ns}}
-        if cpu_p99_ns is not None:
-            timing["cpu_per_tick_ns"] = {"p99": cpu_p99_ns}
-        self.summary = {"label": label, "timing": timing,
-                        "accuracy": {"force_err_rms_n": error},
-                        "stability": {"diverged": diverged, "nonfinite": nonfinite}}
-
-
-class ParetoTest(unittest.TestCase):
-    def setUp(self):
-        self.runs = [
-            FakeRun("press", "fast_rough", 2.0, 1000),
-            FakeRun("press", "slow_exact", 0.1, 5000),
-            # Cheapest and most accurate on paper, but it diverged.
-            FakeRun("press", "explicit", 0.01, 500, diverged=True),
-            FakeRun("press", "nan", 0.02, 400, nonfinite=3),
-            # Its haptic step is tiny; its slow loop is not.
-            FakeRun("press", "god_object", 0.5, 200, cpu_p99_ns=20000),
-            FakeRun("rub", "only", 9.0, 800),
-        ]
-
-    def test_diverged_and_nonfinite_runs_are_never_on_a_front(self):
-        uri, fronts, left_out, failed = figures.pareto_figure(self.runs)
-        self.assertIsNotNone(uri)
-        self.assertEqual(left_out, [])
-        self.assertNotIn("explicit", fronts["press"])
-        self.assertNotIn("nan", fronts["press"])
-        self.assertEqual(sorted(r.label for r, _ in failed), ["explicit", "nan"])
-        self.assertEqual(dict((r.label, why) for r, why in failed),
-                         {"explicit": "diverged", "nan": "non-finite"})
-
-    def test_one_front_per_scenario_on_cpu_per_tick(self):
-        _, fronts, _, _ = figures.pareto_figure(self.runs)
-        self.assertEqual(set(fronts), {"press", "rub"})
-        self.assertEqual(fronts["rub"], ["only"])
-        # god_object costs 20 µs per tick with its slow loop: more than slow_exact's 5 µs
-        # and less accurate, so it is not on the front despite its 0.2 µs step.
-        self.assertEqual(fronts["press"], ["fast_rough", "slow_exact"])
-        self.assertEqual(figures.cost_us(self.runs[4]), 20.0)
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
+from hapticbench_report import inputs, tables  # noqa: E402
+from fake_runs import FakeRun  # noqa: E402
 
 
 class NumberTextTest(unittest.TestCase):
@@ -231,26 +179,6 @@ class FrictionTest(unittest.TestCase):
         self.assertEqual(tables.friction_html([smooth]), "")
         # Summaries written before scenes had friction have no field: no section.
         self.assertEqual(tables.friction_html([FrictionFolder("old", None, [])]), "")
-
-
-class ProgressTest(unittest.TestCase):
-    def test_steps_are_lines_of_done_total_unit_and_phase_on_the_descriptor(self):
-        read_fd, write_fd = os.pipe()
-        progress = inputs.Progress(write_fd)
-        progress.step("reading run folders", 2, 5, "folders")
-        progress.step("drawing the summary figures")
-        progress.out.close()
-        with os.fdopen(read_fd) as lines:
-            self.assertEqual(lines.read(), "2 5 folders reading run folders\n"
-                                           "0 0 - drawing the summary figures\n")
-
-    def test_without_a_descriptor_or_once_the_reader_is_gone_nothing_fails(self):
-        inputs.Progress().step("anything", 1, 2, "units")
-        read_fd, write_fd = os.pipe()
-        progress = inputs.Progress(write_fd)
-        os.close(read_fd)
-        progress.step("after the reader left", 1, 2, "units")  # EPIPE is swallowed
-        self.assertIsNone(progress.out)
 
 
 if __name__ == "__main__":
