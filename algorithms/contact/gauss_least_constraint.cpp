@@ -169,29 +169,9 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
   const Mat6 lower_inverse = cholesky.matrixL().solve(Mat6::Identity());
   const int count = static_cast<int>(constraints.size());
 
-  // z = Lᵀ(a − a^u) turns the kinetic metric into the Euclidean one: the
-  // problem becomes the projection of z = 0 onto {z : ĝ_k · z ≥ ĥ_k}. Unit
-  // rows make every violation a distance, so one tolerance fits all rows
-  // whatever their lever arms.
-  unit_rows_.resize(count);
-  unit_rhs_.resize(count);
-  row_scale_.resize(count);
-  unit_multipliers_.assign(count, 0.0);
-  in_active_set_.assign(count, 0);
-  set_aside_.assign(count, 0);
-  working_set_.clear();
-  double scale = (lower.transpose() * unconstrained).norm();
   bool known_feasible = true;  // a = 0 satisfies every constraint when all rhs ≤ 0
-  for (int k = 0; k < count; ++k) {
-    const Vec6 row = constraint_row(constraints[k]);
-    const Vec6 metric_row = lower_inverse * row;
-    row_scale_[k] = metric_row.norm();
-    const double inverse_scale = 1 / row_scale_[k];
-    unit_rows_[k] = inverse_scale * metric_row;
-    unit_rhs_[k] = inverse_scale * (constraints[k].rhs - row.dot(unconstrained));
-    scale = std::max(scale, std::abs(unit_rhs_[k]));
-    known_feasible = known_feasible && constraints[k].rhs <= 0;
-  }
+  const double scale =
+      prepare_rows(lower, lower_inverse, unconstrained, constraints, known_feasible);
   const double violation_tolerance = options_.feasibility_tolerance * scale;
 
   GaussSolution& solution = solution_;
@@ -328,7 +308,44 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
     }
   }
 
-  // Back to accelerations: a = a^u + L⁻ᵀ z, λ_k = λ̂_k / |L⁻¹ J_kᵀ|.
+  finish(unconstrained, lower_inverse, z, count);
+  return solution;
+}
+
+// z = Lᵀ(a − a^u) turns the kinetic metric into the Euclidean one: the
+// problem becomes the projection of z = 0 onto {z : ĝ_k · z ≥ ĥ_k}. Unit
+// rows make every violation a distance, so one tolerance fits all rows
+// whatever their lever arms.
+double GaussLeastConstraintSolver::prepare_rows(const Mat6& lower, const Mat6& lower_inverse,
+                                                const Vec6& unconstrained,
+                                                std::span<const GaussConstraint> constraints,
+                                                bool& known_feasible) {
+  const int count = static_cast<int>(constraints.size());
+  unit_rows_.resize(count);
+  unit_rhs_.resize(count);
+  row_scale_.resize(count);
+  unit_multipliers_.assign(count, 0.0);
+  in_active_set_.assign(count, 0);
+  set_aside_.assign(count, 0);
+  working_set_.clear();
+  double scale = (lower.transpose() * unconstrained).norm();
+  for (int k = 0; k < count; ++k) {
+    const Vec6 row = constraint_row(constraints[k]);
+    const Vec6 metric_row = lower_inverse * row;
+    row_scale_[k] = metric_row.norm();
+    const double inverse_scale = 1 / row_scale_[k];
+    unit_rows_[k] = inverse_scale * metric_row;
+    unit_rhs_[k] = inverse_scale * (constraints[k].rhs - row.dot(unconstrained));
+    scale = std::max(scale, std::abs(unit_rhs_[k]));
+    known_feasible = known_feasible && constraints[k].rhs <= 0;
+  }
+  return scale;
+}
+
+// Back to accelerations: a = a^u + L⁻ᵀ z, λ_k = λ̂_k / |L⁻¹ J_kᵀ|.
+void GaussLeastConstraintSolver::finish(const Vec6& unconstrained, const Mat6& lower_inverse,
+                                        const Vec6& z, int count) {
+  GaussSolution& solution = solution_;
   solution.acceleration = unconstrained + lower_inverse.transpose() * z;
   solution.active.assign(working_set_.begin(), working_set_.end());
   std::sort(solution.active.begin(), solution.active.end());
@@ -336,7 +353,6 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
   for (const int index : solution.active) {
     solution.multipliers[index] = std::max(unit_multipliers_[index], 0.0) / row_scale_[index];
   }
-  return solution;
 }
 
 GaussSolution solve_least_constraint(const Mat6& mass, const Vec6& unconstrained,

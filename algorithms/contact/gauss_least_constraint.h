@@ -114,6 +114,14 @@ class GaussLeastConstraintSolver {
   std::vector<char> set_aside_;
   std::vector<int> working_set_;
   GaussSolution solution_;
+
+  /// Fills the per-constraint buffers for a solve; returns the problem's
+  /// scale (the largest bound, or |Lᵀ a^u|) and clears known_feasible when
+  /// some rhs > 0.
+  double prepare_rows(const Mat6& lower, const Mat6& lower_inverse, const Vec6& unconstrained,
+                      std::span<const GaussConstraint> constraints, bool& known_feasible);
+  /// The solution from the final z and working set.
+  void finish(const Vec6& unconstrained, const Mat6& lower_inverse, const Vec6& z, int count);
 };
 
 /// One-shot form of GaussLeastConstraintSolver::solve.
