@@ -40,18 +40,18 @@ def scenario_section(folder):
                                    "this scenario" if len(missing) == len(runs)
                                    else "these labels")))
     if len(missing) < len(runs):
-        uri, has_reference = wrench_figure(runs, "force")
-        parts.append(figure_html(
-            "fig-force-" + folder.slug, uri, "force against time, " + folder.scenario,
-            "Displayed force (world frame) per label"
-            + (", dashed: the analytic reference (ideal rigid contact)." if has_reference
-               else "; no analytic reference for this scene.")))
-        uri, has_reference = wrench_figure(runs, "torque")
-        parts.append(figure_html(
-            "fig-torque-" + folder.slug, uri, "torque against time, " + folder.scenario,
-            "Displayed torque about the tool frame's origin (world frame)"
-            + (", dashed: the analytic reference." if has_reference
-               else "; no analytic reference for this scene.")))
+        for kind, shown in (("force", "Displayed force (world frame) per label"),
+                            ("torque", "Displayed torque about the tool frame's origin "
+                                       "(world frame)")):
+            uri, has_reference = wrench_figure(runs, kind)
+            # The ticks' ref_* columns: the analytic reference where its
+            # closed forms cover the scene, else the mesh force reference.
+            parts.append(figure_html(
+                "fig-%s-%s" % (kind, folder.slug), uri, "%s against time, %s"
+                % (kind, folder.scenario),
+                shown + (", dashed: the ideal rigid contact (the analytic reference, else the "
+                         "mesh force reference)." if has_reference
+                         else "; no force reference for this scene.")))
         uri = penetration_figure(runs)
         if uri:
             parts.append(figure_html(
