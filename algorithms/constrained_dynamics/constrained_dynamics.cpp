@@ -290,9 +290,6 @@ ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& p
     throw InputError("", params.field("max_iterations"),
                      "constrained_dynamics makes no slow-loop moves; its solver's limit is "
                      "\"solver_sweeps\"");
-  // Absent here, but named among the known keys when another key is unknown
-  // (ParamSet::reject_unknown), as the god-object's reader names it.
-  params.integer("max_iterations", 0, 0, 0);
   settings.contacts = read_contact_settings(params, false, contact_defaults);
   settings.solver.max_sweeps =
       static_cast<int>(params.integer("solver_sweeps", settings.solver.max_sweeps, 1, 100000));

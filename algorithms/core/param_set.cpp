@@ -1,6 +1,7 @@
 #include "algorithms/core/param_set.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "algorithms/core/input_error.h"
@@ -10,7 +11,10 @@ namespace hb {
 namespace {
 std::string range_text(double min, double max) {
   std::ostringstream out;
-  out << "in [" << min << ", " << max << "]";
+  if (max == std::numeric_limits<double>::max())
+    out << ">= " << min;  // no upper bound
+  else
+    out << "in [" << min << ", " << max << "]";
   return out.str();
 }
 

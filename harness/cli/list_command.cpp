@@ -1,7 +1,8 @@
 // hapticbench list [SCENARIO_DIR]: algorithms, generators and the scenarios
 // shipped in scenarios/. The tables the docs hold, as Markdown: list
 // --metrics (docs/metric-table.md), --generators (the generators'
-// parameters, traces/README.md), --limits (the plausible ranges,
+// parameters, traces/README.md), --params (the algorithms' parameters,
+// docs/algorithms/README.md), --limits (the plausible ranges,
 // docs/limits.md).
 #include <algorithm>
 #include <filesystem>
@@ -63,6 +64,34 @@ void print_generator_parameters(std::ostream& out) {
   }
 }
 
+// The scene every algorithm is built on to list its parameters: defaults that
+// depend on the tool (the proxy mass is the tool's mass) are this tool's.
+constexpr const char* kParameterProbeScenario = R"({
+  "name": "parameter_probe",
+  "scene": [{ "shape": { "type": "box", "size": [0.1, 0.1, 0.02] },
+              "pose": { "p": [0, 0, -0.01], "q": [1, 0, 0, 0] } }],
+  "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 2 }, "density": 1000 },
+  "trace": { "generator": "rest", "duration_s": 0.01, "params": { "p": [0, 0, 0.03] } },
+  "algorithms": [{ "name": "coupling_only" }]
+})";
+
+// Every algorithm's parameters as its code asks for them: each algorithm is
+// built once on the probe scene with no parameters given. A parameter read
+// only under another parameter's non-default value is not listed.
+void print_algorithm_parameters(std::ostream& out) {
+  const Scenario probe =
+      load_scenario_json(kParameterProbeScenario, "parameter probe scenario", fs::path());
+  out << "| algorithm | parameter | default (a 2 cm sphere tool, 1000 kg/m³) | accepted |\n"
+         "| --- | --- | --- | --- |\n";
+  for (const AlgorithmEntry& entry : algorithm_table()) {
+    const ParamSet params("/algorithms/0/params");
+    entry.create(probe.context, params);
+    for (const ParamDeclaration& p : params.declared())
+      out << "| `" << entry.name << "` | `" << p.key << "` | " << p.default_value << " | "
+          << p.accepted << " |\n";
+  }
+}
+
 void print_plausible_ranges(std::ostream& out) {
   out << "| field | plausible range | unit | why |\n| --- | --- | --- | --- |\n";
   for (const PlausibleRange& range : plausible_ranges())
@@ -79,6 +108,10 @@ int list_command(const std::vector<std::string>& args) {
   }
   if (args.size() == 1 && args.front() == "--generators") {
     print_generator_parameters(std::cout);
+    return kExitOk;
+  }
+  if (args.size() == 1 && args.front() == "--params") {
+    print_algorithm_parameters(std::cout);
     return kExitOk;
   }
   if (args.size() == 1 && args.front() == "--limits") {

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/core/scene.h"
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
@@ -113,6 +114,8 @@ struct ScenarioRun {
   std::string scenario_hash;
   std::string trace_description;
   std::vector<double> scene_friction;  ///< Coulomb μ of each scene object, in scene order
+  std::vector<std::string> tags;       ///< the scenario's tags
+  CouplingGains coupling;              ///< the scenario's virtual coupling
   RunContext context;
   std::optional<OracleDescription> oracle;
   std::optional<ForceReferenceDescription> force_reference;  ///< the mesh force reference

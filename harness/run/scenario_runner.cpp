@@ -193,6 +193,8 @@ ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) 
   report.trace_description = scenario.trace_description;
   for (const SceneObject& object : scenario.context.scene)
     report.scene_friction.push_back(object.friction);
+  report.tags = scenario.tags;
+  report.coupling = scenario.context.coupling;
   report.context = current_run_context();
   if (truth.oracle) {
     OracleDescription& d = report.oracle.emplace();

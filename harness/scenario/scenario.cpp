@@ -5,6 +5,7 @@
 #include "harness/scenario/scenario.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -153,7 +154,7 @@ class ScenarioReader {
     const Json document = parse_json_document(bytes, path_);
     const JsonField root(document, path_, "");
     root.require_object("expected a JSON object with the scenario's keys");
-    root.reject_unknown_keys({"name", "description", "scene", "tool", "trace", "algorithms",
+    root.reject_unknown_keys({"name", "description", "tags", "scene", "tool", "trace", "algorithms",
                               "coupling", "device", "gravity", "reference", "budgets",
                               "closed_loop"});
 
@@ -164,6 +165,7 @@ class ScenarioReader {
       root.existing_member("name").fail(std::string(kSafeNameExpected) +
                                         " (it names the run folder)");
     if (root.has("description")) root.existing_member("description").string("expected a string");
+    if (root.has("tags")) scenario.tags = read_tags(root.existing_member("tags"));
 
     // Cheap checks first, so that a typo is reported before meshes load.
     scenario.algorithms = read_algorithms(
@@ -429,6 +431,21 @@ class ScenarioReader {
     tool.shape = geometry.shape;
     tool.content_hash = hash.hex();
     return tool;
+  }
+
+  static std::vector<std::string> read_tags(const JsonField& field) {
+    const char* const expected = "expected an array of distinct tags (e.g. [\"stress\"])";
+    const std::size_t count = field.array_size(expected);
+    std::vector<std::string> tags;
+    for (std::size_t i = 0; i < count; ++i) {
+      const JsonField tag = field.element(i);
+      std::string text = tag.string(kSafeNameExpected);
+      if (!is_file_name_safe(text)) tag.fail(kSafeNameExpected);
+      if (std::find(tags.begin(), tags.end(), text) != tags.end())
+        tag.fail("the tag \"" + text + "\" is given twice");
+      tags.push_back(std::move(text));
+    }
+    return tags;
   }
 
   CouplingGains read_coupling(const JsonField& field) const {

@@ -52,8 +52,11 @@ struct Budget {
 
 struct Scenario {
   std::string name;
-  std::string path;               ///< the file it came from
-  std::string content_hash;       ///< hash of the file bytes and of every file it names
+  std::string path;          ///< the file it came from
+  std::string content_hash;  ///< hash of the file bytes and of every file it names
+  /// What kind of scenario it is, for reports: "stress" puts its runs in the
+  /// stress matrix (docs/stress.md). Names of letters, digits, '_', '.', '-', '='.
+  std::vector<std::string> tags;
   RenderContext context;          ///< scene, tool (with mass properties), coupling, device, gravity
   DeviceTrajectory trajectory;    ///< the trace on the 1 kHz clock, computed on demand
   std::string trace_description;  ///< "generator press (seed 1)" or the trace file path

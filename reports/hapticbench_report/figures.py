@@ -2,10 +2,11 @@
 against time, step times, the error-against-cost Pareto panels,
 passivity, the coupling-stiffness sweeps and the Z-width maps."""
 import base64
+import functools
 import io
+import json
 import math
 import os
-import re
 
 import matplotlib
 
@@ -50,14 +51,8 @@ TORQUE_PANEL_FLOOR_NM = 1e-5
 BACKEND_STYLES = [dict(ls=":"), dict(ls="none", marker="x"), dict(ls="-."), dict(ls="--")]
 
 
-# Run folders of one scene at several coupling stiffnesses k_t (N/m), by name:
-# scripts/stability-sweep writes "<scene>_k<k_t>", `hapticbench sweep` writes
-# "<scene>__k_t=<k_t>__<other grid keys>".
-NUMBER = r"[0-9]+(?:\.[0-9]+)?(?:[eE][+-]?[0-9]+)?"
-
-
-STIFFNESS_NAMES = [re.compile(r"^(?P<head>.+)_k(?P<k>%s)(?P<tail>)$" % NUMBER),
-                   re.compile(r"^(?P<head>.+)__k_t=(?P<k>%s)(?P<tail>(?:__.*)?)$" % NUMBER)]
+# The grid key of a coupling stiffness sweep (a JSON pointer into the scenario).
+COUPLING_STIFFNESS_KEY = "/coupling/k_t"
 
 
 def png_data_uri(fig):
@@ -453,19 +448,39 @@ def integrator_of(run):
     return integrator if isinstance(integrator, str) else run.label
 
 
+@functools.lru_cache(maxsize=None)
+def sweep_index(parent):
+    """The sweep.json `hapticbench sweep` wrote into a folder: (its grid, {job name: job}),
+    or None without one."""
+    index = read_json_or_none(os.path.join(parent, "sweep.json"))
+    if not isinstance(index, dict) or not isinstance(index.get("grid"), dict):
+        return None
+    jobs = {job.get("name"): job for job in index.get("jobs") or [] if isinstance(job, dict)}
+    return index["grid"], jobs
+
+
 def coupling_stiffness(folder):
-    """(scene, k_t) when the folder is one point of a coupling stiffness sweep, else None.
-    The scene is the name without its stiffness; k_t comes from the scenario.json a sweep
-    keeps in the run folder, else from the name."""
-    for name in (folder.scenario, os.path.basename(os.path.normpath(folder.path))):
-        for pattern in STIFFNESS_NAMES:
-            match = pattern.match(name)
-            if match:
-                k = dig(read_json_or_none(os.path.join(folder.path, "scenario.json")) or {},
-                        "coupling", "k_t")
-                return (match.group("head") + match.group("tail"),
-                        float(k) if finite_number(k) else float(match.group("k")))
-    return None
+    """(scene, k_t) when the folder is one job of a sweep over the coupling stiffness (the
+    sweep.json beside it has /coupling/k_t in its grid), else None. k_t (N/m) is the one the
+    run's summary.json gives; the scene is the job's scenario file and its values of the
+    sweep's other varied keys."""
+    parent, name = os.path.split(os.path.normpath(os.path.abspath(folder.path)))
+    index = sweep_index(parent)
+    if index is None:
+        return None
+    grid, jobs = index
+    job = jobs.get(name)
+    k = dig(folder.summary, "scenario", "coupling", "k_t")
+    if job is None or COUPLING_STIFFNESS_KEY not in grid or not finite_number(k):
+        return None
+    scene = os.path.splitext(os.path.basename(str(job.get("scenario") or name)))[0]
+    varied = [key for key, values in sorted(grid.items())
+              if key != COUPLING_STIFFNESS_KEY and isinstance(values, list) and len(values) > 1]
+    values = job.get("grid") if isinstance(job.get("grid"), dict) else {}
+    if varied:
+        scene += " (%s)" % ", ".join("%s=%s" % (key, json.dumps(values.get(key)))
+                                     for key in varied)
+    return scene, float(k)
 
 
 def stiffness_sweeps(folders):

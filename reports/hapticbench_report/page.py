@@ -123,9 +123,9 @@ def stability_html(folders, runs):
                    stiffness_text(dig(data, name, "smallest_unstable_n_per_m")))
                 for name in sorted(by_integrator) if isinstance(data.get(name), dict))
             if verdicts:
-                parts.append(note("<code>%s</code> (written by scripts/stability-sweep, which also "
-                                  "counts growth of the proxy's separation beyond the exciting "
-                                  "jump as unstable): %s." % (esc(path), verdicts)))
+                parts.append(note("<code>%s</code> (written by scripts/stability-sweep from the "
+                                  "same verdicts, with explicit Euler's closed-form bound): %s."
+                                  % (esc(path), verdicts)))
         parts.append(figure_html(
             "fig-stiffness-sweep-%d" % index, sweep_figure(by_integrator, bound),
             "stability against coupling stiffness, " + base,

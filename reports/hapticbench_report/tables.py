@@ -211,19 +211,19 @@ def work_counters_html(folder):
 
 
 def sweep_file_verdict(runs):
-    """scripts/stability-sweep's stability.json beside the run folders, if there is one."""
+    """scripts/stability-sweep's stiffness-limits.json beside the run folders, if there is one."""
     parents = {os.path.dirname(os.path.normpath(run.folder.path)) for _, run in runs}
     if len(parents) != 1:
         return None
-    path = os.path.join(parents.pop(), "stability.json")
+    path = os.path.join(parents.pop(), "stiffness-limits.json")
     data = read_json_or_none(path)
     return (path, data) if isinstance(data, dict) else None
 
 
 def is_stress_folder(folder):
-    """A run of a scenario kept in a folder named stress (scenarios/stress/)."""
-    path = str(dig(folder.summary, "scenario", "path") or "")
-    return os.path.basename(os.path.dirname(path)) == "stress"
+    """A run of a scenario tagged "stress" (summary.json scenario.tags; scenarios/stress/)."""
+    tags = dig(folder.summary, "scenario", "tags")
+    return isinstance(tags, list) and "stress" in tags
 
 
 def stress_verdict(run):
@@ -267,7 +267,7 @@ def stress_matrix_html(folders):
                             "✓" if passed else "✗", esc(text)))
         rows.append('<tr><td class="text">%s</td>%s</tr>' % (esc(label), "".join(cells)))
     return ("<h3 id='stress-matrix'>Stress matrix</h3>"
-            + note("Each run of a scenario in a <code>stress/</code> folder, by algorithm label: "
+            + note("Each run of a scenario tagged <code>stress</code>, by algorithm label: "
                    "the run's stability verdict (<code>stability.verdict</code>, the same that "
                    "<code>hapticbench stability</code> applies). A cell fails on the first of: "
                    "a non-finite wrench, divergence, tunnelling, an energy minimum below −ε, "

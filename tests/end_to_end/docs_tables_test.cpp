@@ -1,6 +1,7 @@
 // End-to-end: the tables the docs repeat from the code are what `hapticbench
 // list` prints from it, so they cannot drift: the generators' parameters in
-// traces/README.md, the plausible ranges in docs/limits.md (the metric
+// traces/README.md, the algorithms' parameters in docs/algorithms/README.md,
+// the plausible ranges in docs/limits.md (the metric
 // table: metric_table_doc_test.cpp); and the generators' motion table names
 // every generator once.
 #include <catch2/catch.hpp>
@@ -35,6 +36,24 @@ TEST_CASE("traces/README.md holds the generators' parameters as list --generator
   // Every generator has parameters listed.
   for (const hb::GeneratorEntry& entry : hb::generator_table())
     CHECK(listed.stdout_text.find("| `" + std::string(entry.name) + "` |") != std::string::npos);
+}
+
+TEST_CASE("docs/algorithms/README.md holds the algorithms' parameters as list --params prints") {
+  const hb::test::ScratchDir work("e2e_parameter_table");
+  const auto listed = hb::test::run_hapticbench("list --params", work.path());
+  REQUIRE(listed.exit_code == 0);
+  check_doc_holds(kSource / "docs/algorithms/README.md", listed.stdout_text);
+  // Every algorithm `list` names ("  <name>  -  <summary>" lines up to
+  // "generators:") has parameters listed.
+  const std::string names = hb::test::run_hapticbench("list", work.path()).stdout_text;
+  const std::size_t end = names.find("generators:");
+  int algorithms = 0;
+  for (std::size_t at = names.find("\n  "); at < end; at = names.find("\n  ", at + 1)) {
+    const std::string name = names.substr(at + 3, names.find("  -  ", at) - at - 3);
+    CHECK(listed.stdout_text.find("| `" + name + "` |") != std::string::npos);
+    ++algorithms;
+  }
+  CHECK(algorithms >= 7);
 }
 
 TEST_CASE("docs/limits.md holds the plausible ranges as list --limits prints them") {

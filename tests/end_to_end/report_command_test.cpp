@@ -235,7 +235,7 @@ json sweep_summary(double k_t) {
                     {"reason", diverged ? "diverged at tick 40" : "E_min 0 mJ"}}}}},
                 {"budgets", json::array()}};
   };
-  const std::string name = "stability_k" + std::to_string(static_cast<int>(k_t));
+  const std::string name = "stiff__k_t=" + std::to_string(static_cast<int>(k_t));
   return json{{"schema_version", 1},
               {"context",
                {{"commit", "abc"},
@@ -243,19 +243,36 @@ json sweep_summary(double k_t) {
                 {"compiler", "g++"},
                 {"cpu", "cpu"},
                 {"date", "2026-01-01T00:00:00Z"}}},
-              {"scenario", {{"name", name}, {"hash", "0"}}},
+              {"scenario",
+               {{"name", name},
+                {"hash", "0"},
+                {"coupling", {{"k_t", k_t}, {"b_t", 5}, {"k_r", 5}, {"b_r", 0.05}}}}},
               {"runs", {run("explicit_euler", k_t > 5000), run("implicit_euler", false)}}};
 }
 
 TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t") {
   const hb::test::ScratchDir work_dir("e2e_report_sweep");
   const fs::path& work = work_dir.path();
-  for (double k_t : {1000.0, 3000.0, 4950.0, 5050.0, 8000.0}) {
+  // The folders of a sweep over /coupling/k_t, with the sweep.json that
+  // `hapticbench sweep` writes beside them; k_t is read from the summaries.
+  const std::vector<double> stiffnesses = {1000.0, 3000.0, 4950.0, 5050.0, 8000.0};
+  json jobs = json::array();
+  for (double k_t : stiffnesses) {
     const json summary = sweep_summary(k_t);
-    const fs::path folder = work / "sweep" / summary.at("scenario").at("name").get<std::string>();
-    fs::create_directories(folder);
-    std::ofstream(folder / "summary.json") << summary.dump(2);
+    const std::string name = summary.at("scenario").at("name").get<std::string>();
+    fs::create_directories(work / "sweep" / name);
+    std::ofstream(work / "sweep" / name / "summary.json") << summary.dump(2);
+    jobs.push_back({{"index", jobs.size()},
+                    {"name", name},
+                    {"scenario", "../smoke/stiff.json"},
+                    {"grid", {{"/coupling/k_t", k_t}, {"/trace/duration_s", 5}}},
+                    {"status", "ok"}});
   }
+  std::ofstream(work / "sweep" / "sweep.json") << json{
+      {"name", "stiff"},
+      {"scenarios", {"../smoke/stiff.json"}},
+      {"grid", {{"/coupling/k_t", stiffnesses}, {"/trace/duration_s", {5}}}},
+      {"jobs", jobs}}.dump(2);
   const CommandResult report = hapticbench("report sweep --out pages/sweep.html", work);
   INFO(report.stderr_text);
   REQUIRE(report.exit_code == 0);
@@ -272,11 +289,18 @@ TEST_CASE("a coupling stiffness sweep gives each integrator's largest stable k_t
   // Summary-only folders: no time series, said on the page; step times from the sample.
   CHECK(html.find("id=\"fig-force-") == std::string::npos);
   CHECK(html.find("No ticks CSV") != std::string::npos);
-  CHECK(html.find("id=\"fig-timing-scenario-stability_k5050\"") != std::string::npos);
+  CHECK(html.find("data-sweep=\"stiff\"") != std::string::npos);
+  CHECK(html.find("id=\"fig-timing-scenario-stiff__k_t-5050\"") != std::string::npos);
   for (const char* k : {"1000", "3000", "4950", "5050", "8000"})
     for (const char* label : {"explicit_euler", "implicit_euler"})
-      CHECK(html.find(std::string("data-scenario=\"stability_k") + k + "\" data-label=\"" + label +
+      CHECK(html.find(std::string("data-scenario=\"stiff__k_t=") + k + "\" data-label=\"" + label +
                       "\"") != std::string::npos);
+
+  // Without the sweep's index the folders are separate scenarios: no sweep.
+  fs::remove(work / "sweep" / "sweep.json");
+  REQUIRE(hapticbench("report sweep --out pages/alone.html", work).exit_code == 0);
+  CHECK(hb::test::read_text_file(work / "pages/alone.html").find("fig-stiffness-sweep") ==
+        std::string::npos);
 }
 
 TEST_CASE("stress runs and stability results make the stress matrix and the margin table") {
@@ -284,7 +308,7 @@ TEST_CASE("stress runs and stability results make the stress matrix and the marg
   const fs::path& work = work_dir.path();
   json summary = sweep_summary(8000);  // explicit Euler diverged, implicit did not
   summary["scenario"]["name"] = "thin_wall";
-  summary["scenario"]["path"] = "/somewhere/scenarios/stress/thin_wall.json";
+  summary["scenario"]["tags"] = {"stress"};
   summary["runs"][1]["stability"]["tunnelled"] = 0;
   fs::create_directories(work / "stress/runs/thin_wall");
   std::ofstream(work / "stress/runs/thin_wall/summary.json") << summary.dump(2);

@@ -21,7 +21,6 @@
 #include "algorithms/core/input_error.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/reference/oracle.h"
-#include "harness/reference/oracle.h"
 #include "harness/scenario/json_params.h"
 
 namespace hb {
@@ -561,6 +560,24 @@ TEST_CASE("a scene object's friction coefficient is read, frictionless by defaul
   scenario["scene"][0]["friction"] = 0.8;
   CHECK(load_scenario(dir.write("rough.json", scenario.dump(2))).context.scene.front().friction ==
         0.8);
+}
+
+TEST_CASE("tags are read in order, each a safe name given once") {
+  ScratchDir dir;
+  Json scenario = valid_generated_scenario();
+  CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).tags.empty());
+  scenario["tags"] = {"stress", "friction"};
+  CHECK(load_scenario(dir.write("tagged.json", scenario.dump(2))).tags ==
+        std::vector<std::string>{"stress", "friction"});
+  for (const auto& [tags, expected] : std::vector<std::pair<Json, std::string>>{
+           {Json("stress"), "/tags: expected an array of distinct tags"},
+           {Json::array({"stress", "stress"}), "/tags/1: the tag \"stress\" is given twice"},
+           {Json::array({"a b"}), "/tags/0: expected a non-empty string of letters"},
+           {Json::array({1}), "/tags/0: expected a non-empty string of letters"}}) {
+    const Rejection r = rejection_of([&](Json& s) { s["tags"] = tags; });
+    INFO(r.what);
+    CHECK(r.what.find(r.scenario_path + ": " + expected) == 0);
+  }
 }
 
 TEST_CASE("closed loop: an empty block takes the desk device and hand, keys override them") {
