@@ -1,12 +1,15 @@
 #include "algorithms/registry.h"
 
+#include <iterator>
+#include <vector>
+
 #include "algorithms/constrained_dynamics/constrained_dynamics.h"
-#include "algorithms/core/input_error.h"
 #include "algorithms/coupling_only/coupling_only.h"
 #include "algorithms/god_object/god_object.h"
 #include "algorithms/penalty_analytic/penalty_analytic.h"
 #include "algorithms/sensation_preserving/sensation_preserving.h"
 #include "algorithms/voxmap_pointshell/voxmap_pointshell.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 
@@ -39,14 +42,57 @@ constexpr AlgorithmEntry kAlgorithms[] = {
      "k-means contact clusters, penalty proxy with implicit Euler",
      &create_sensation_preserving},
 };
+
+// The table as the process sees it: the built-in rows, then registered ones
+// with their origins. Plugins register before any run starts.
+struct Table {
+  std::vector<AlgorithmEntry> rows{std::begin(kAlgorithms), std::end(kAlgorithms)};
+  std::vector<std::string> origins = std::vector<std::string>(std::size(kAlgorithms));
+};
+
+Table& table() {
+  static Table instance;
+  return instance;
+}
 }  // namespace
 
-std::span<const AlgorithmEntry> algorithm_table() { return kAlgorithms; }
+std::span<const AlgorithmEntry> algorithm_table() { return table().rows; }
 
 const AlgorithmEntry* find_algorithm(std::string_view name) {
-  for (const AlgorithmEntry& entry : kAlgorithms)
+  for (const AlgorithmEntry& entry : table().rows)
     if (entry.name == name) return &entry;
   return nullptr;
+}
+
+std::string algorithm_origin(std::string_view name) {
+  const Table& t = table();
+  for (std::size_t i = 0; i < t.rows.size(); ++i)
+    if (t.rows[i].name == name) return t.origins[i];
+  return "";
+}
+
+void register_algorithms(std::span<const AlgorithmEntry> rows, const std::string& origin) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const AlgorithmEntry& row = rows[i];
+    if (row.name.empty() || row.create == nullptr)
+      throw InputError(origin, "",
+                       "algorithm row " + std::to_string(i) + " has no name or no create function");
+    if (find_algorithm(row.name)) {
+      const std::string owner = algorithm_origin(row.name);
+      throw InputError(origin, "",
+                       "the algorithm name \"" + std::string(row.name) + "\" is taken by " +
+                           (owner.empty() ? std::string("a built-in algorithm") : owner));
+    }
+    for (std::size_t j = 0; j < i; ++j)
+      if (rows[j].name == row.name)
+        throw InputError(origin, "",
+                         "the algorithm name \"" + std::string(row.name) + "\" is given twice");
+  }
+  Table& t = table();
+  for (const AlgorithmEntry& row : rows) {
+    t.rows.push_back(row);
+    t.origins.push_back(origin);
+  }
 }
 
 std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderContext& context,
@@ -57,7 +103,7 @@ std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderC
     return renderer;
   }
   std::string known;
-  for (const AlgorithmEntry& entry : kAlgorithms)
+  for (const AlgorithmEntry& entry : table().rows)
     known += (known.empty() ? "" : ", ") + std::string(entry.name);
   throw InputError("", field, "unknown algorithm \"" + name + "\" (known: " + known + ")");
 }

@@ -1,4 +1,5 @@
-// The one table that names and builds every rendering algorithm.
+// The one table that names and builds every rendering algorithm: the
+// built-in rows of registry.cpp, then the rows plugins register.
 #pragma once
 
 #include <memory>
@@ -6,26 +7,29 @@
 #include <string>
 #include <string_view>
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/algorithm_entry.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 
-struct AlgorithmEntry {
-  std::string_view name;     ///< the `name` in a scenario's algorithms[]
-  std::string_view summary;  ///< one line for `hapticbench list`
-  std::unique_ptr<Renderer> (*create)(const RenderContext& context, const ParamSet& params);
-  /// Its contacts carry the scene objects' Coulomb friction ("friction");
-  /// the others are frictionless whatever the scene says.
-  bool renders_friction = false;
-};
-
-/// Every algorithm, in the order `hapticbench list` shows them.
+/// Every algorithm, in the order `hapticbench list` shows them: built-in
+/// rows first, then plugins' rows in the order they were registered.
 std::span<const AlgorithmEntry> algorithm_table();
 
 /// The entry named `name`, or nullptr.
 const AlgorithmEntry* find_algorithm(std::string_view name);
+
+/// Where an algorithm comes from: "" for a built-in one, else the plugin's
+/// origin as given to register_algorithms.
+std::string algorithm_origin(std::string_view name);
+
+/// Adds rows to the table (a plugin's). Throws InputError naming `origin`
+/// when a name is empty or already taken (by a built-in algorithm, another
+/// plugin or another row of the same plugin); nothing is added then. The
+/// rows' strings and functions must outlive the process's use of them.
+void register_algorithms(std::span<const AlgorithmEntry> rows, const std::string& origin);
 
 /// Builds a renderer by name. Throws InputError naming `field` for an
 /// unknown name, and the parameter's field for bad or unknown parameters.

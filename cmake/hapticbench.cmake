@@ -20,17 +20,29 @@ endif()
 
 # hb_library(NAME SOURCES ... DEPENDS ...): a static library for one source folder.
 function(hb_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS;PRIVATE_DEPENDS" ${ARGN})
+  cmake_parse_arguments(ARG "POSITION_INDEPENDENT" "" "SOURCES;DEPENDS;PRIVATE_DEPENDS" ${ARGN})
   if(NOT ARG_SOURCES)  # a folder of headers only
     add_library(${name} INTERFACE)
-    target_include_directories(${name} INTERFACE ${PROJECT_SOURCE_DIR})
+    target_include_directories(${name} INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+                                                 $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>)
     target_link_libraries(${name} INTERFACE ${ARG_DEPENDS})
     return()
   endif()
   add_library(${name} STATIC ${ARG_SOURCES})
-  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  # The public headers (include/hapticbench/) and, inside the build only,
+  # the source tree.
+  target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+                                            $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>)
   target_compile_options(${name} PRIVATE ${HAPTICBENCH_WARNINGS})
-  hb_precompile(${name} library)
+  if(ARG_POSITION_INDEPENDENT)
+    # Linked into plugin modules too (cmake/install.cmake). Calls inside the
+    # library stay direct and inlinable as in the other libraries; the shared
+    # precompiled header, built without -fPIC, would not apply.
+    set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    target_compile_options(${name} PRIVATE -fno-semantic-interposition)
+  else()
+    hb_precompile(${name} library)
+  endif()
   target_link_libraries(${name} PUBLIC ${ARG_DEPENDS} PRIVATE ${ARG_PRIVATE_DEPENDS})
 endfunction()
 

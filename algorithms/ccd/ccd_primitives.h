@@ -7,7 +7,7 @@
 #include <array>
 
 #include "algorithms/ccd/ccd_settings.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -22,7 +22,7 @@
 
 #include "algorithms/ccd/interval.h"
 #include "algorithms/ccd/screw_motion.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb::ccd_detail {
 

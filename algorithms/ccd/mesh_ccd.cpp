@@ -9,8 +9,8 @@
 #include "algorithms/ccd/mesh_features.h"
 #include "algorithms/ccd/mesh_proximity.h"
 #include "algorithms/ccd/screw_ccd.h"
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

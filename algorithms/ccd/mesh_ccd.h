@@ -26,9 +26,9 @@
 
 #include "algorithms/ccd/ccd_settings.h"
 #include "algorithms/ccd/screw_motion.h"
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

@@ -8,7 +8,7 @@
 #include "algorithms/ccd/ccd_settings.h"
 #include "algorithms/ccd/interval.h"
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb::ccd_detail {
 

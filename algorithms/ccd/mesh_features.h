@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "algorithms/ccd/sphere_tree.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb::ccd_detail {
 

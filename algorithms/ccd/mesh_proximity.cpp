@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/core/closest_points.h"
+#include "hapticbench/closest_points.h"
 
 namespace hb::ccd_detail {
 

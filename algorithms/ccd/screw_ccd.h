@@ -12,7 +12,7 @@
 
 #include "algorithms/ccd/ccd_settings.h"
 #include "algorithms/ccd/screw_motion.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

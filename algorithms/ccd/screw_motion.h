@@ -10,7 +10,7 @@
 #pragma once
 
 #include "algorithms/ccd/interval.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -10,13 +10,13 @@
 #include "algorithms/contact/constrained_step.h"
 #include "algorithms/contact/contact_geometry.h"
 #include "algorithms/contact/proximity_certifier.h"
-#include "algorithms/core/input_error.h"
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/integrator.h"
-#include "algorithms/proxy/proxy_settings.h"
-#include "algorithms/proxy/rigid_body.h"
-#include "algorithms/proxy/slow_loop_mailbox.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/integrator.h"
+#include "hapticbench/proxy/proxy_settings.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/proxy/slow_loop_mailbox.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 
 namespace hb {
 

@@ -40,9 +40,9 @@
 
 #include "algorithms/contact/contact_settings.h"
 #include "algorithms/contact/frictional_contact_solver.h"
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -43,7 +43,7 @@
 
 #include "algorithms/contact/frictional_contact_solver.h"
 #include "algorithms/contact/gauss_least_constraint.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "algorithms/ccd/mesh_ccd.h"
-#include "algorithms/core/param_set.h"
+#include "hapticbench/param_set.h"
 
 namespace hb {
 

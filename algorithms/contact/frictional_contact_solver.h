@@ -41,7 +41,7 @@
 #include <span>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

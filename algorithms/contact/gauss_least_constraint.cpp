@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 namespace {

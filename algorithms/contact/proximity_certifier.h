@@ -14,7 +14,7 @@
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/contact/contact_settings.h"
 #include "algorithms/contact/proxy_motion.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "algorithms/ccd/screw_motion.h"
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

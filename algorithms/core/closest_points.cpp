@@ -1,4 +1,4 @@
-#include "algorithms/core/closest_points.h"
+#include "hapticbench/closest_points.h"
 
 namespace hb {
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

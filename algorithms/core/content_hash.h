@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <system_error>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

@@ -1,9 +1,9 @@
-#include "algorithms/core/mass_properties.h"
+#include "hapticbench/mass_properties.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

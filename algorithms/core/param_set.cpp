@@ -1,10 +1,10 @@
-#include "algorithms/core/param_set.h"
+#include "hapticbench/param_set.h"
 
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

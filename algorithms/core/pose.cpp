@@ -1,4 +1,4 @@
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 #include <cmath>
 

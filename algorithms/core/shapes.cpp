@@ -1,4 +1,4 @@
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 
 #include <algorithm>
 #include <array>
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

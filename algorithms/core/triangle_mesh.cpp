@@ -1,11 +1,11 @@
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/triangle_mesh.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

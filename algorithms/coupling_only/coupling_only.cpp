@@ -1,8 +1,8 @@
 #include "algorithms/coupling_only/coupling_only.h"
 
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/dynamic_proxy.h"
-#include "algorithms/proxy/proxy_settings.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/proxy_settings.h"
 
 namespace hb {
 

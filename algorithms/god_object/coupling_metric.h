@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

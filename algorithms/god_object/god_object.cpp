@@ -7,9 +7,9 @@
 
 #include "algorithms/contact/contact_settings.h"
 #include "algorithms/god_object/haptic_proxy.h"
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/slow_loop_mailbox.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/slow_loop_mailbox.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 
 namespace hb {
 

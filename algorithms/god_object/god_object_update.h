@@ -39,8 +39,8 @@
 #include "algorithms/contact/contact_settings.h"
 #include "algorithms/contact/proximity_certifier.h"
 #include "algorithms/contact/proxy_motion.h"
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

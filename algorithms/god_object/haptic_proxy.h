@@ -37,10 +37,10 @@
 #include "algorithms/contact/constrained_step.h"
 #include "algorithms/contact/proximity_certifier.h"
 #include "algorithms/contact/proxy_motion.h"
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
 #include "algorithms/god_object/god_object_update.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "algorithms/penalty_analytic/primitive_contacts.h"
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/dynamic_proxy.h"
-#include "algorithms/proxy/proxy_settings.h"
-#include "algorithms/proxy/quasi_static.h"
-#include "algorithms/proxy/slow_loop_mailbox.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/proxy_settings.h"
+#include "hapticbench/proxy/quasi_static.h"
+#include "hapticbench/proxy/slow_loop_mailbox.h"
 
 namespace hb {
 

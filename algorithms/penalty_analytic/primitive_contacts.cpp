@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 
 namespace hb {
 

@@ -8,10 +8,10 @@
 
 #include <vector>
 
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/penalty_contact.h"
-#include "algorithms/proxy/renderer.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/proxy/penalty_contact.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -1,4 +1,4 @@
-#include "algorithms/proxy/device_output.h"
+#include "hapticbench/proxy/device_output.h"
 
 namespace hb {
 

@@ -1,7 +1,7 @@
-#include "algorithms/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
 
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 
 namespace hb {
 

@@ -1,4 +1,4 @@
-#include "algorithms/proxy/integrator.h"
+#include "hapticbench/proxy/integrator.h"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "algorithms/proxy/penalty_contact.h"
+#include "hapticbench/proxy/penalty_contact.h"
 
 namespace hb {
 

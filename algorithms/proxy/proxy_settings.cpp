@@ -1,9 +1,9 @@
-#include "algorithms/proxy/proxy_settings.h"
+#include "hapticbench/proxy/proxy_settings.h"
 
 #include <Eigen/Eigenvalues>
 #include <limits>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

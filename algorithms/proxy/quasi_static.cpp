@@ -1,9 +1,9 @@
-#include "algorithms/proxy/quasi_static.h"
+#include "hapticbench/proxy/quasi_static.h"
 
 #include <Eigen/Dense>
 
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 
 namespace hb {
 

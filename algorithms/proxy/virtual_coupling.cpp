@@ -1,4 +1,4 @@
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 
 namespace hb {
 

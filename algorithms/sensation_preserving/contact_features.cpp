@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "algorithms/core/closest_points.h"
+#include "hapticbench/closest_points.h"
 
 namespace hb::convex_detail {
 

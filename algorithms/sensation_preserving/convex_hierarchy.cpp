@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/convex_decomposition.h"
 #include "algorithms/sensation_preserving/convex_hull.h"
 #include "algorithms/sensation_preserving/hull_simplification.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

@@ -9,11 +9,11 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/contact_features.h"
 #include "algorithms/sensation_preserving/convex_body.h"
 #include "algorithms/sensation_preserving/epa_penetration.h"
 #include "algorithms/sensation_preserving/gjk.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

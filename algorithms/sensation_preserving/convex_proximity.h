@@ -6,7 +6,7 @@
 
 #include <span>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

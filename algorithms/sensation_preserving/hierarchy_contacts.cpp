@@ -7,8 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/convex_proximity.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

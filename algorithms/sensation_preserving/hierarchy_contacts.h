@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "algorithms/core/pose.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

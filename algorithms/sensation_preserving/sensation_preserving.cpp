@@ -6,13 +6,13 @@
 #include <vector>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/dynamic_proxy.h"
-#include "algorithms/proxy/penalty_contact.h"
-#include "algorithms/proxy/proxy_settings.h"
-#include "algorithms/proxy/slow_loop_mailbox.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
 #include "algorithms/sensation_preserving/hierarchy_contacts.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/penalty_contact.h"
+#include "hapticbench/proxy/proxy_settings.h"
+#include "hapticbench/proxy/slow_loop_mailbox.h"
 
 namespace hb {
 

@@ -7,14 +7,14 @@
 // haptic loop integrates, at 1 kHz with implicit Euler, a proxy with mass
 // on the virtual coupling against the viscoelastic penalty of each cluster
 //   F_p = −kN(x + Rr − p₀) − kdn − bN(v + ω × r),   T_p = (Rr) × F_p
-// linearised at the latest query (algorithms/proxy/penalty_contact.h).
+// linearised at the latest query (hapticbench/proxy/penalty_contact.h).
 #pragma once
 
 #include <memory>
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -34,11 +34,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/renderer.h"
-#include "algorithms/proxy/rigid_body.h"
 #include "algorithms/voxmap_pointshell/voxel_lookup.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/renderer.h"
 
 namespace hb {
 

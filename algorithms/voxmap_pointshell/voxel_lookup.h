@@ -14,7 +14,7 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/core/triangle_mesh.h"
 #include "algorithms/voxmap_pointshell/voxel_lookup.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

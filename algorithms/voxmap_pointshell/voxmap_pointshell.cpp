@@ -7,12 +7,12 @@
 
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/disk_cache.h"
-#include "algorithms/core/input_error.h"
-#include "algorithms/proxy/device_output.h"
-#include "algorithms/proxy/dynamic_proxy.h"
-#include "algorithms/proxy/proxy_settings.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/proxy_settings.h"
 
 namespace hb {
 

@@ -9,9 +9,9 @@
 
 #include <memory>
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "algorithms/ccd/ccd_primitives.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/ccd_query_file.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/core/replacing_file.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/param_set.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/param_set.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/output/output_ownership.h"

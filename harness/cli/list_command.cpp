@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/commands.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/scenario/scenario.h"
@@ -128,8 +128,11 @@ int list_command(const std::vector<std::string>& args) {
   }
 
   std::cout << "algorithms:\n";
-  for (const AlgorithmEntry& entry : algorithm_table())
-    std::cout << "  " << entry.name << "  -  " << entry.summary << "\n";
+  for (const AlgorithmEntry& entry : algorithm_table()) {
+    const std::string plugin = algorithm_origin(entry.name);
+    std::cout << "  " << entry.name << "  -  " << entry.summary
+              << (plugin.empty() ? "" : " [plugin " + plugin + "]") << "\n";
+  }
   std::cout << "generators:\n";
   for (const GeneratorEntry& entry : generator_table())
     std::cout << "  " << entry.name << "  -  " << entry.summary << "\n";

@@ -11,9 +11,10 @@
 #include <vector>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/plugins/plugin_loader.h"
 #include "harness/process/interrupt.h"
 #include "harness/process/memory_limit.h"
 
@@ -37,6 +38,8 @@ constexpr const char* kUsage =
     "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
     "every command: --memory-limit MB   the most memory it may use (default: half of the\n"
     "                                   machine's); an input that needs more is exit 2\n"
+    "               --plugin PATH.so    load renderers built outside hapticbench (repeatable;\n"
+    "                                   also HAPTICBENCH_PLUGINS=A.so:B.so; docs/plugins.md)\n"
     "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
 
 // Takes `--memory-limit MB` out of the arguments (anywhere after the
@@ -55,6 +58,19 @@ std::uint64_t take_memory_limit(std::vector<std::string>& args) {
   args.erase(at, at + 2);
   return static_cast<std::uint64_t>(*mb);
 }
+// Loads the plugins HAPTICBENCH_PLUGINS lists, then takes every `--plugin
+// PATH` out of the arguments (anywhere after the command) and loads it.
+void load_plugins(std::vector<std::string>& args) {
+  hb::load_plugins_from_environment();
+  for (auto at = std::find(args.begin(), args.end(), "--plugin"); at != args.end();
+       at = std::find(args.begin(), args.end(), "--plugin")) {
+    if (at + 1 == args.end())
+      throw hb::InputError("", "--plugin", "expected the path of a plugin file (.so)");
+    const std::string path = *(at + 1);
+    args.erase(at, at + 2);
+    hb::load_plugin(path, "--plugin");
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +86,7 @@ int main(int argc, char** argv) {
   if (memory_limit_mb == 0) return hb::kExitBadInput;
   hb::apply_memory_limit(memory_limit_mb);
   try {
+    load_plugins(args);
     if (command == "run") return hb::run_command(args);
     if (command == "validate") return hb::validate_command(args);
     if (command == "list") return hb::list_command(args);

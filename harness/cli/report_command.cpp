@@ -20,7 +20,7 @@
 #include <system_error>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
@@ -43,10 +43,22 @@ const std::string kReportUsage =
     "           zwidth.json files (hapticbench zwidth) the Z-width figures\n"
     "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
     "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
-    "               HAPTICBENCH_REPORTS_DIR (where render_report.py is)\n" +
+    "               HAPTICBENCH_REPORTS_DIR (where render_report.py is; default\n"
+    "               ../share/hapticbench/reports from the binary's folder)\n" +
     std::string(kProgressUsage);
 
 constexpr const char* kDefaultPython = "/usr/bin/python3";
+
+// Where render_report.py and its template are: HAPTICBENCH_REPORTS_DIR, else
+// share/hapticbench/reports beside the binary's folder (PREFIX/bin and
+// PREFIX/share when installed; the build links build/harness/share to the
+// source tree's reports/), so that a moved or installed binary finds its own.
+fs::path reports_dir() {
+  if (const char* set = std::getenv("HAPTICBENCH_REPORTS_DIR")) return set;
+  std::error_code error;
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  return executable.parent_path().parent_path() / "share" / "hapticbench" / "reports";
+}
 // In the head of every page (reports/report_template.html): how a later
 // report recognises a page it may replace.
 constexpr const char* kReportGeneratorMeta =
@@ -198,9 +210,7 @@ int report_command(const std::vector<std::string>& args) {
       run_inputs.empty() ? std::vector<fs::path>() : find_run_folders(run_inputs);
   for (const fs::path& folder : folders) read_run_summary(folder / "summary.json");
 
-  const fs::path script =
-      fs::path(environment_or("HAPTICBENCH_REPORTS_DIR", HAPTICBENCH_REPORTS_DIR)) /
-      kRendererScript;
+  const fs::path script = reports_dir() / kRendererScript;
   if (!fs::is_regular_file(script)) {
     std::cerr << "error: " << script.string()
               << ": the report renderer is not there; set HAPTICBENCH_REPORTS_DIR to the "

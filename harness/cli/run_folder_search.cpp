@@ -6,7 +6,7 @@
 #include <sstream>
 #include <system_error>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {

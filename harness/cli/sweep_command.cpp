@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/sweep/sweep_runner.h"

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
-#include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
+#include "hapticbench/triangle_mesh.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/mesh_io/mesh_io.h"

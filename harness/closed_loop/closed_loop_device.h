@@ -18,8 +18,8 @@
 
 #include <cstdint>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/renderer.h"
 #include "harness/closed_loop/axis_propagator.h"
 #include "harness/closed_loop/closed_loop_model.h"
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/compare/run_checks.h"
 
 namespace hb {

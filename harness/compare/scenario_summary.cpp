@@ -7,8 +7,8 @@
 #include <limits>
 #include <set>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/core/input_file.h"
+#include "hapticbench/input_error.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/scenario/json_fields.h"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <system_error>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

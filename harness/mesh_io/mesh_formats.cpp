@@ -12,7 +12,7 @@
 #include <optional>
 #include <sstream>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb::mesh_formats {
 

@@ -19,7 +19,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/mesh_io/mesh_formats.h"
 #include "harness/process/memory_limit.h"
 

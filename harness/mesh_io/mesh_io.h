@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

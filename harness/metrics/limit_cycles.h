@@ -20,7 +20,7 @@
 #include <optional>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -19,7 +19,7 @@
 // run is passive while E ≥ 0.
 #pragma once
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 #include "harness/metrics/limit_cycles.h"
 #include "harness/metrics/passivity_energy.h"
 #include "harness/metrics/percentiles.h"

@@ -7,8 +7,8 @@
 #include <system_error>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/core/replacing_file.h"
+#include "hapticbench/input_error.h"
 #include "harness/output/output_ownership.h"
 #include "harness/process/scratch_folder.h"
 

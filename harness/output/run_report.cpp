@@ -230,6 +230,7 @@ json run_json(const AlgorithmRun& run) {
       {"algorithm", run.name},
       {"label", run.label},
       {"renders_friction", run.renders_friction},
+      {"plugin", run.plugin.empty() ? json(nullptr) : json(run.plugin)},
       {"params", json::parse(run.params_json.empty() ? "{}" : run.params_json)},
       {"ticks_file", run.ticks_file},
       {"preprocess", preprocess_json(run.preprocess)},

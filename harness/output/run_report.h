@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/core/scene.h"
+#include "hapticbench/scene.h"
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
@@ -53,6 +53,7 @@ struct AlgorithmRun {
   std::string name;
   std::string label;
   bool renders_friction = false;  ///< its registry entry's renders_friction
+  std::string plugin;             ///< the plugin file it came from; empty when built in
   std::string params_json;        ///< the params object as written in the scenario
   /// "measured" (default), "1", "5" (fixed), "replayed"; empty without a slow loop.
   std::string slow_loop_latency;

@@ -11,9 +11,9 @@
 #include <optional>
 #include <string>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/shapes.h"
 #include "harness/reference/tunnelling.h"
 
 namespace hb {

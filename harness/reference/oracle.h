@@ -14,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

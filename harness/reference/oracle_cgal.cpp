@@ -22,7 +22,7 @@
 #include <sstream>
 #include <utility>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {

@@ -19,8 +19,8 @@
 #include <type_traits>
 #include <utility>
 
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/input_error.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {

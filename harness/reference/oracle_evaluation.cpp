@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/reference/surface_samples.h"
 
 namespace hb {

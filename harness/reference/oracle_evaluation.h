@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {

@@ -41,8 +41,8 @@
 #include <optional>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/scene.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/reference/oracle.h"
 

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

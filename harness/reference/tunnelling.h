@@ -21,8 +21,8 @@
 #include <optional>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
 #include "harness/closed_loop/closed_loop_model.h"
 #include "harness/replay/slow_loop_schedule.h"
 #include "harness/trace/device_trajectory.h"

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 #include "harness/output/run_report.h"
 #include "harness/progress/progress_display.h"
 #include "harness/scenario/scenario.h"

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/process/child_process.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/replay/instruction_count.h"

@@ -6,8 +6,8 @@
 #include <optional>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/run/scenario_runner.h"
 

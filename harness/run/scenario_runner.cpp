@@ -13,8 +13,8 @@
 #include <optional>
 #include <string_view>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
@@ -313,6 +313,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.label = algorithm.spec->label;
     const AlgorithmEntry* entry = find_algorithm(run.name);
     run.renders_friction = entry && entry->renders_friction;
+    run.plugin = algorithm_origin(run.name);
     run.params_json = algorithm.spec->params_json;
     run.preprocess = algorithm.preprocess;
     run.metrics = observer.metrics();

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
 #include "harness/output/run_report.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/progress/progress_display.h"

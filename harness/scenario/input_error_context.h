@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

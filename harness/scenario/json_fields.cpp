@@ -5,7 +5,7 @@
 #include <limits>
 #include <set>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

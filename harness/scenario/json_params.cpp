@@ -1,6 +1,6 @@
 #include "harness/scenario/json_params.h"
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "algorithms/core/param_set.h"
+#include "hapticbench/param_set.h"
 
 namespace hb {
 

@@ -16,14 +16,15 @@
 #include <sstream>
 
 #include "algorithms/core/content_hash.h"
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
-#include "algorithms/core/triangle_mesh.h"
 #include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
+#include "hapticbench/triangle_mesh.h"
 #include "harness/closed_loop/closed_loop_device.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/plugins/plugin_loader.h"
 #include "harness/reference/oracle.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
@@ -154,8 +155,8 @@ class ScenarioReader {
     const Json document = parse_json_document(bytes, path_);
     const JsonField root(document, path_, "");
     root.require_object("expected a JSON object with the scenario's keys");
-    root.reject_unknown_keys({"name", "description", "tags", "scene", "tool", "trace", "algorithms",
-                              "coupling", "device", "gravity", "reference", "budgets",
+    root.reject_unknown_keys({"name", "description", "tags", "plugins", "scene", "tool", "trace",
+                              "algorithms", "coupling", "device", "gravity", "reference", "budgets",
                               "closed_loop"});
 
     Scenario scenario;
@@ -167,6 +168,8 @@ class ScenarioReader {
     if (root.has("description")) root.existing_member("description").string("expected a string");
     if (root.has("tags")) scenario.tags = read_tags(root.existing_member("tags"));
 
+    // Plugins first: they add algorithm names the algorithms block may use.
+    if (root.has("plugins")) read_plugins(root.existing_member("plugins"));
     // Cheap checks first, so that a typo is reported before meshes load.
     scenario.algorithms = read_algorithms(
         root.member("algorithms", "a non-empty array of {\"name\", \"label\", \"params\"}"));
@@ -431,6 +434,23 @@ class ScenarioReader {
     tool.shape = geometry.shape;
     tool.content_hash = hash.hex();
     return tool;
+  }
+
+  // Each plugin file, relative to the scenario, is loaded (once per process)
+  // and hashed with the scenario.
+  void read_plugins(const JsonField& field) {
+    const std::size_t count =
+        field.array_size("expected an array of plugin file paths (shared libraries)");
+    for (std::size_t i = 0; i < count; ++i) {
+      const JsonField entry = field.element(i);
+      const std::string path = existing_file(entry, "plugin");
+      try {
+        load_plugin(path, entry.pointer());
+      } catch (const InputError& error) {
+        throw with_reference_note(error, path_, entry.pointer());
+      }
+      scenario_hash_.add(file_content_hash(path));
+    }
   }
 
   static std::vector<std::string> read_tags(const JsonField& field) {

@@ -10,9 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 #include "harness/closed_loop/closed_loop_model.h"
 #include "harness/trace/device_trajectory.h"
 

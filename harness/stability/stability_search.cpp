@@ -7,7 +7,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/scenario.h"
 #include "harness/sweep/sweep_jobs.h"

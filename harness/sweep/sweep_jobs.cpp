@@ -5,7 +5,7 @@
 #include <map>
 #include <optional>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
 #include "harness/sweep/job_name.h"

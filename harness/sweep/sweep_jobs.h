@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/scenario/scenario.h"
 #include "harness/sweep/sweep_spec.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_table.h"
 #include "harness/process/scratch_folder.h"

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/scenario/json_fields.h"
 #include "harness/sweep/job_name.h"
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

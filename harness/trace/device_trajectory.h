@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
 #include "harness/trace/trace.h"
 
 namespace hb {

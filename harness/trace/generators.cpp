@@ -14,7 +14,7 @@
 #include <sstream>
 #include <variant>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "algorithms/core/param_set.h"
+#include "hapticbench/param_set.h"
 #include "harness/trace/trace.h"
 
 namespace hb {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/renderer.h"
 
 namespace hb {
 

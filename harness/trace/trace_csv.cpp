@@ -16,9 +16,9 @@
 #include <string_view>
 
 #include "algorithms/core/content_hash.h"
-#include "algorithms/core/input_error.h"
 #include "algorithms/core/input_file.h"
 #include "algorithms/core/replacing_file.h"
+#include "hapticbench/input_error.h"
 #include "harness/trace/trace.h"
 
 namespace hb {

@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb::bench {
 

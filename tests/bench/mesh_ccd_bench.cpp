@@ -31,9 +31,9 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/mass_properties.h"
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/ccd/screw_motion.h"
+#include "hapticbench/mass_properties.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"

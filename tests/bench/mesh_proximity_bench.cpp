@@ -30,8 +30,8 @@
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/bench/bench_models.h"
 

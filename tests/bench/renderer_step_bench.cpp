@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
 #include "algorithms/registry.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
 
 namespace hb {
 namespace {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <string>
 
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
 #include "algorithms/voxmap_pointshell/voxmap_pointshell.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
 
 namespace hb {
 namespace {

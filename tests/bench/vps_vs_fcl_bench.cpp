@@ -39,9 +39,9 @@
 
 #include "algorithms/core/cache_directory.h"
 #include "algorithms/core/disk_cache.h"
-#include "algorithms/proxy/rigid_body.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
+#include "hapticbench/proxy/rigid_body.h"
 #include "harness/scenario/scenario.h"
 #include "tests/bench/bench_models.h"
 #include "tests/bench/fcl_models.h"

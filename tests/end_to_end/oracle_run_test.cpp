@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/shortened_scenario.h"
 

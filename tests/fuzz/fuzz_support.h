@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb::fuzz {
 

@@ -1,6 +1,6 @@
 // Fuzz target: mesh files (OFF, OBJ, STL, PLY) through read_mesh_file and
 // the mesh checks a scenario applies.
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/triangle_mesh.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb::test {
 

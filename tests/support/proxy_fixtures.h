@@ -8,10 +8,10 @@
 #include <functional>
 #include <numbers>
 
-#include "algorithms/core/scene.h"
-#include "algorithms/core/shapes.h"
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/shapes.h"
 
 namespace hb::test {
 

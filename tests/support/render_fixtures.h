@@ -4,9 +4,9 @@
 #include <initializer_list>
 #include <utility>
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/scene.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb::test {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb::test {
 

@@ -16,8 +16,8 @@
 #include "algorithms/ccd/interval_trig.h"
 #include "algorithms/ccd/screw_ccd.h"
 #include "algorithms/ccd/screw_motion.h"
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 namespace {

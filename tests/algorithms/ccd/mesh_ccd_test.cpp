@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/support/cgal_mesh_intersection.h"
 

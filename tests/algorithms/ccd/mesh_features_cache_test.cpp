@@ -10,8 +10,8 @@
 
 #include "algorithms/ccd/mesh_features.h"
 #include "algorithms/core/disk_cache.h"
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/scratch_dir.h"
 
 namespace hb::ccd_detail {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

@@ -13,11 +13,11 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
-#include "algorithms/proxy/dynamic_proxy.h"
-#include "algorithms/proxy/proxy_settings.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
+#include "hapticbench/proxy/proxy_settings.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 #include "tests/support/render_fixtures.h"
 

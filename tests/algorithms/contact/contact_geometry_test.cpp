@@ -9,7 +9,7 @@
 #include <catch2/catch.hpp>
 #include <vector>
 
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

@@ -14,7 +14,7 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 namespace {

@@ -1,7 +1,7 @@
 // Tests for algorithms/core/closest_points.cpp against closed forms and
 // against brute force (the minimum over a dense grid of the triangle or of
 // both segments), including the degenerate cases the module fixes a rule for.
-#include "algorithms/core/closest_points.h"
+#include "hapticbench/closest_points.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -2,14 +2,14 @@
 // tetrahedron's moments, a box away from the origin, and spheres and
 // capsules bracketed between the exact solids inscribed in and enclosing
 // their tessellations.
-#include "algorithms/core/mass_properties.h"
+#include "hapticbench/mass_properties.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 
 namespace hb {
 namespace {

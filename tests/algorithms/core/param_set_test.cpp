@@ -1,12 +1,12 @@
 // Tests for algorithms/core/param_set.cpp: values within range are returned,
 // everything else is an InputError that names the field (prefix + key) and
 // says what was expected.
-#include "algorithms/core/param_set.h"
+#include "hapticbench/param_set.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace hb {
 namespace {

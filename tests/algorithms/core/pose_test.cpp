@@ -1,7 +1,7 @@
 // Tests for algorithms/core/pose.{h,cpp}: rotation vectors against Eigen's
 // angle-axis, the inverse SO(3) Jacobians against finite differences of the
 // logarithm, and Pose composition against Eigen's isometries.
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

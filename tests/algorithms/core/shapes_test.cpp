@@ -2,7 +2,7 @@
 // matches the exact shape; signed distances at hand-computed points; closest
 // points and normals; and agreement with an independent brute-force
 // reference (distance to the mesh's triangles, inside/outside by ray parity).
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -10,9 +10,9 @@
 #include <random>
 #include <set>
 
-#include "algorithms/core/closest_points.h"
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
+#include "hapticbench/closest_points.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
 
 namespace hb {
 namespace {

@@ -1,12 +1,12 @@
 // Tests for algorithms/core/triangle_mesh.cpp: geometry queries, every kind
 // of defect validation reports (and where), and rigid transforms.
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/triangle_mesh.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 
 namespace hb {
 namespace {

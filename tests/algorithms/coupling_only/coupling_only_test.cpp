@@ -5,7 +5,7 @@
 #include <limits>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

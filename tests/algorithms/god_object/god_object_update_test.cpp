@@ -10,8 +10,8 @@
 #include <memory>
 #include <random>
 
-#include "algorithms/core/param_set.h"
 #include "algorithms/god_object/god_object.h"
+#include "hapticbench/param_set.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

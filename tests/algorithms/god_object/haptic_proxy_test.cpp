@@ -11,8 +11,8 @@
 #include <random>
 #include <utility>
 
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

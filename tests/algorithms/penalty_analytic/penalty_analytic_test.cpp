@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

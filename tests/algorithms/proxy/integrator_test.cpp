@@ -1,11 +1,11 @@
-#include "algorithms/proxy/integrator.h"
+#include "hapticbench/proxy/integrator.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 #include <vector>
 
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

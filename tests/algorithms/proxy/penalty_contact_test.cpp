@@ -1,9 +1,9 @@
-#include "algorithms/proxy/penalty_contact.h"
+#include "hapticbench/proxy/penalty_contact.h"
 
 #include <catch2/catch.hpp>
 
-#include "algorithms/proxy/integrator.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/integrator.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

@@ -1,9 +1,9 @@
-#include "algorithms/proxy/quasi_static.h"
+#include "hapticbench/proxy/quasi_static.h"
 
 #include <catch2/catch.hpp>
 
-#include "algorithms/proxy/penalty_contact.h"
-#include "algorithms/proxy/virtual_coupling.h"
+#include "hapticbench/proxy/penalty_contact.h"
+#include "hapticbench/proxy/virtual_coupling.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

@@ -1,4 +1,4 @@
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/proxy/rigid_body.h"
 
 #include <catch2/catch.hpp>
 #include <numbers>

@@ -1,8 +1,8 @@
-// Tests for WorkCounters (algorithms/proxy/renderer.h): counts read back by
+// Tests for WorkCounters (hapticbench/renderer.h): counts read back by
 // the names the algorithm gives its slots; nothing without names.
 #include <catch2/catch.hpp>
 
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
 
 namespace hb {
 namespace {

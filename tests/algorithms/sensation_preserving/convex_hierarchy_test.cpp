@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
 #include "algorithms/sensation_preserving/convex_hull.h"
 #include "algorithms/sensation_preserving/hull_simplification.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/support/scratch_dir.h"
 

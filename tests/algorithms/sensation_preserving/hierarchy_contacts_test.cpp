@@ -19,8 +19,8 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
 #include "algorithms/sensation_preserving/convex_proximity.h"
+#include "hapticbench/input_error.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/support/cgal_convex.h"
 

@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "algorithms/core/shapes.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {

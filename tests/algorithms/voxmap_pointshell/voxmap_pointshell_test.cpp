@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 #include "tests/support/render_fixtures.h"
 #include "tests/support/scratch_dir.h"

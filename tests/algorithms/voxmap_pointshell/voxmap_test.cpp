@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/reference/oracle.h"
 #include "tests/support/scratch_dir.h"

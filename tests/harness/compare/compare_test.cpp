@@ -11,7 +11,7 @@
 #include <system_error>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/compare/comparison.h"
 #include "harness/compare/comparison_report.h"
 #include "harness/compare/run_checks.h"

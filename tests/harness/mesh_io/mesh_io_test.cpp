@@ -12,8 +12,8 @@
 #include <fstream>
 #include <string>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/mass_properties.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/mass_properties.h"
 
 namespace hb {
 namespace {

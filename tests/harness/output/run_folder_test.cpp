@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/output/output_ownership.h"
 #include "tests/support/scratch_dir.h"
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
-#include "algorithms/core/shapes.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {

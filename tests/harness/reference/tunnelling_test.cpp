@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/shapes.h"
+#include "hapticbench/shapes.h"
 #include "harness/reference/oracle.h"
 #include "tests/support/tunnelling_paths.h"
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/replay/slow_loop_schedule.h"
 #include "harness/trace/device_trajectory.h"
 

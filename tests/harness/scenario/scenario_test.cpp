@@ -18,7 +18,7 @@
 #include <string>
 #include <variant>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/reference/oracle.h"
 #include "harness/scenario/json_params.h"

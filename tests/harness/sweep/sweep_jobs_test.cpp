@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/sweep/job_name.h"
 #include "harness/sweep/sweep_spec.h"
 

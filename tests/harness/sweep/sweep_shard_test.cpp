@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 TEST_CASE("the shards of a sweep are disjoint and together hold every job") {
   for (std::size_t count = 1; count <= 6; ++count)

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "tests/support/scratch_dir.h"
 
 namespace {

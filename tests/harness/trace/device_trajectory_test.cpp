@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/trace/generators.h"
 
 namespace hb {

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <string>
 
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 
 namespace {
 

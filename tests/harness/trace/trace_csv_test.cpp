@@ -16,7 +16,7 @@
 #include <string>
 
 #include "algorithms/core/content_hash.h"
-#include "algorithms/core/input_error.h"
+#include "hapticbench/input_error.h"
 #include "harness/trace/trace.h"
 
 namespace {

@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

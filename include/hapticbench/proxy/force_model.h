@@ -3,8 +3,8 @@
 // integration, how that wrench changes with the state.
 #pragma once
 
-#include "algorithms/core/pose.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/proxy/rigid_body.h"
 
 namespace hb {
 

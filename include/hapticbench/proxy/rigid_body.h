@@ -5,7 +5,7 @@
 // Quaternions are qw,qx,qy,qz (Eigen's Quat).
 #pragma once
 
-#include "algorithms/core/pose.h"
+#include "hapticbench/pose.h"
 
 namespace hb {
 

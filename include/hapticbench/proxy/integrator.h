@@ -21,8 +21,8 @@
 // unconditionally stable and dissipative.
 #pragma once
 
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
 
 namespace hb {
 

@@ -13,9 +13,9 @@
 #include <span>
 #include <vector>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
 
 namespace hb {
 

@@ -10,10 +10,10 @@
 
 #include <cstdint>
 
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/renderer.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -1,8 +1,8 @@
 // Mass properties of a closed triangle mesh of uniform density.
 #pragma once
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

@@ -11,10 +11,10 @@
 
 #include <utility>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/force_model.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/proxy/force_model.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

@@ -6,10 +6,10 @@
 
 #include <cstdint>
 
-#include "algorithms/core/pose.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/renderer.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/renderer.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

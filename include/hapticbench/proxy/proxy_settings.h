@@ -3,11 +3,11 @@
 // renderer is built. Errors are InputErrors naming the field.
 #pragma once
 
-#include "algorithms/core/param_set.h"
-#include "algorithms/core/scene.h"
-#include "algorithms/proxy/integrator.h"
-#include "algorithms/proxy/penalty_contact.h"
-#include "algorithms/proxy/rigid_body.h"
+#include "hapticbench/param_set.h"
+#include "hapticbench/proxy/integrator.h"
+#include "hapticbench/proxy/penalty_contact.h"
+#include "hapticbench/proxy/rigid_body.h"
+#include "hapticbench/scene.h"
 
 namespace hb {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <utility>
 
-#include "algorithms/proxy/renderer.h"
+#include "hapticbench/renderer.h"
 
 namespace hb {
 

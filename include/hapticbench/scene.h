@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/mass_properties.h"
-#include "algorithms/core/pose.h"
-#include "algorithms/core/shapes.h"
-#include "algorithms/core/triangle_mesh.h"
+#include "hapticbench/mass_properties.h"
+#include "hapticbench/pose.h"
+#include "hapticbench/shapes.h"
+#include "hapticbench/triangle_mesh.h"
 
 namespace hb {
 

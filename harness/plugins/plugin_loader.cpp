@@ -1,0 +1,111 @@
+#include "harness/plugins/plugin_loader.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <span>
+#include <system_error>
+#include <utility>
+
+#include "algorithms/registry.h"
+#include "hapticbench/input_error.h"
+#include "hapticbench/plugin.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<LoadedPlugin>& plugins() {
+  static std::vector<LoadedPlugin> loaded;
+  return loaded;
+}
+
+// Appends the plugin to HAPTICBENCH_PLUGINS unless it is listed.
+void export_to_children(const std::string& path) {
+  const char* current = std::getenv(kPluginsVariable);
+  std::string list = current ? current : "";
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(':', start), list.size());
+    if (list.compare(start, end - start, path) == 0) return;
+    start = end + 1;
+  }
+  list += (list.empty() ? "" : ":") + path;
+  setenv(kPluginsVariable, list.c_str(), 1);
+}
+
+// Closes the library unless released: a plugin that fails a check leaves
+// nothing loaded.
+struct LibraryHandle {
+  void* handle = nullptr;
+  ~LibraryHandle() {
+    if (handle) dlclose(handle);
+  }
+  void* release() { return std::exchange(handle, nullptr); }
+};
+
+}  // namespace
+
+const LoadedPlugin& load_plugin(const fs::path& path, const std::string& field) {
+  std::error_code error;
+  const bool exists = fs::is_regular_file(path, error);
+  const std::string shown = path.string();
+  if (!exists) throw InputError(shown, field, "cannot load the plugin: no such file");
+  const std::string absolute = fs::canonical(path, error).string();
+  for (const LoadedPlugin& plugin : plugins())
+    if (plugin.path == absolute) return plugin;
+
+  LibraryHandle library{dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL)};
+  if (!library.handle) {
+    const char* reason = dlerror();
+    throw InputError(shown, field,
+                     std::string("cannot load the plugin as a shared library: ") +
+                         (reason ? reason : "unknown reason"));
+  }
+  const auto entry_point =
+      reinterpret_cast<PluginEntryPoint>(dlsym(library.handle, kPluginEntryPoint));
+  if (!entry_point)
+    throw InputError(shown, field,
+                     std::string("not a hapticbench plugin: it exports no ") + kPluginEntryPoint +
+                         "() (define it with HAPTICBENCH_PLUGIN, hapticbench/plugin.h)");
+  const PluginDescription* description = entry_point();
+  if (!description)
+    throw InputError(shown, field, std::string(kPluginEntryPoint) + "() returned no description");
+  if (description->abi_version != kPluginAbiVersion)
+    throw InputError(shown, field,
+                     "built for plugin ABI version " + std::to_string(description->abi_version) +
+                         ", but this hapticbench loads version " +
+                         std::to_string(kPluginAbiVersion) +
+                         "; rebuild the plugin against this hapticbench's package");
+  if (!description->name || (!description->algorithms && description->algorithm_count != 0))
+    throw InputError(shown, field, "its plugin description has no name or no algorithm rows");
+  const std::span<const AlgorithmEntry> rows(description->algorithms, description->algorithm_count);
+  if (rows.empty()) throw InputError(shown, field, "the plugin registers no algorithm");
+  register_algorithms(rows, absolute);  // throws on a taken name, registering nothing
+
+  LoadedPlugin loaded{absolute, description->name, {}};
+  for (const AlgorithmEntry& row : rows) loaded.algorithms.emplace_back(row.name);
+  library.release();  // its renderers' code must stay mapped for the process's life
+  export_to_children(absolute);
+  plugins().push_back(std::move(loaded));
+  return plugins().back();
+}
+
+const std::vector<LoadedPlugin>& loaded_plugins() { return plugins(); }
+
+void load_plugins_from_environment() {
+  const char* value = std::getenv(kPluginsVariable);
+  if (!value) return;
+  const std::string list = value;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(':', start), list.size());
+    if (end > start) load_plugin(list.substr(start, end - start), kPluginsVariable);
+    start = end + 1;
+  }
+}
+
+}  // namespace hb

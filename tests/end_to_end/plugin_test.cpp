@@ -1,0 +1,146 @@
+// End-to-end: renderers built outside hapticbench, loaded as plugins
+// (include/hapticbench/plugin.h). The example renderer of
+// examples/out_of_tree_renderer/ runs, lists, sweeps and reports like a
+// built-in one; a missing file, a library without the entry point, another
+// ABI version and a taken name are each refused with exit 2, the path and
+// the reason, and leave no run folder.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using hb::test::CommandResult;
+
+const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
+const fs::path kPlugins = HAPTICBENCH_TEST_PLUGINS_DIR;
+const fs::path kExample = kSource / "examples/out_of_tree_renderer";
+const std::string kVertexPenalty = (kPlugins / "vertex_penalty.so").string();
+
+// The example's scenario, 0.3 s long, with the built-in penalty proxy
+// beside the plugin's renderer, in the work folder.
+void write_short_example_scenario(const fs::path& path) {
+  json scenario = json::parse(hb::test::read_text_file(kExample / "sphere_press_box.json"));
+  scenario["trace"]["duration_s"] = 0.3;
+  scenario["algorithms"].push_back({{"name", "penalty_analytic"}, {"label", "penalty_implicit"}});
+  scenario["budgets"] = json::object();
+  std::ofstream(path) << scenario.dump(2);
+}
+
+TEST_CASE("a plugin's renderer runs like a built-in one and its summary names the plugin") {
+  const hb::test::ScratchDir work_dir("e2e_plugin_run");
+  const fs::path& work = work_dir.path();
+  write_short_example_scenario(work / "press.json");
+  const CommandResult run =
+      hb::test::run_hapticbench("run press.json --plugin " + kVertexPenalty + " --out runs", work);
+  INFO(run.stderr_text);
+  REQUIRE(run.exit_code == 0);
+  const json summary = json::parse(hb::test::read_text_file(work / "runs/summary.json"));
+  const json& plugin_run = summary.at("runs").at(0);
+  CHECK(plugin_run.at("algorithm") == "vertex_penalty");
+  CHECK(plugin_run.at("plugin") == fs::canonical(kVertexPenalty).string());
+  CHECK(summary.at("runs").at(1).at("plugin").is_null());  // the built-in penalty proxy
+  // It pressed: a force against the analytic reference, no non-finite tick.
+  CHECK(plugin_run.at("stability").at("nonfinite") == 0);
+  CHECK(plugin_run.at("accuracy").at("force_err_rms_n").get<double>() >= 0);
+
+  const CommandResult list = hb::test::run_hapticbench("list --plugin " + kVertexPenalty, work);
+  CHECK(list.stdout_text.find("  vertex_penalty  -  example plugin") != std::string::npos);
+  CHECK(list.stdout_text.find("[plugin " + fs::canonical(kVertexPenalty).string() + "]") !=
+        std::string::npos);
+}
+
+TEST_CASE("a scenario names its plugins relative to itself") {
+  const hb::test::ScratchDir work_dir("e2e_plugin_field");
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "scenarios" / "plugins");
+  fs::copy_file(kVertexPenalty, work / "scenarios" / "plugins" / "vertex_penalty.so");
+  write_short_example_scenario(work / "scenarios" / "press.json");
+  json scenario = json::parse(hb::test::read_text_file(work / "scenarios" / "press.json"));
+  scenario["plugins"] = {"plugins/vertex_penalty.so"};
+  std::ofstream(work / "scenarios" / "press.json") << scenario.dump(2);
+  const CommandResult run = hb::test::run_hapticbench("run scenarios/press.json --out runs", work);
+  INFO(run.stderr_text);
+  CHECK(run.exit_code == 0);
+  CHECK(fs::exists(work / "runs/ticks_vertex_penalty.csv"));
+}
+
+TEST_CASE("a sweep's jobs load the plugin given to the sweep") {
+  const hb::test::ScratchDir work_dir("e2e_plugin_sweep");
+  const fs::path& work = work_dir.path();
+  write_short_example_scenario(work / "press.json");
+  std::ofstream(work / "sweep.json") << json{
+      {"name", "plugin_grid"},
+      {"scenarios", {"press.json"}},
+      {"grid", {{"/algorithms/0/params/contact_stiffness", {1000, 3000}}}},
+      {"only_algorithms",
+       {"vertex_penalty"}}}.dump(2);
+  const CommandResult sweep = hb::test::run_hapticbench(
+      "sweep sweep.json --jobs 2 --out runs --plugin " + kVertexPenalty, work);
+  INFO(sweep.stderr_text);
+  REQUIRE(sweep.exit_code == 0);
+  const json index = json::parse(hb::test::read_text_file(work / "runs/sweep.json"));
+  REQUIRE(index.at("jobs").size() == 2);
+  for (const json& job : index.at("jobs")) {
+    CHECK(job.at("status") == "ok");
+    const json summary = json::parse(hb::test::read_text_file(
+        work / "runs" / job.at("name").get<std::string>() / "summary.json"));
+    CHECK(summary.at("runs").at(0).at("algorithm") == "vertex_penalty");
+  }
+  // The report draws plugin runs as it draws the others.
+  const CommandResult report =
+      hb::test::run_hapticbench("report runs --out report.html --quiet", work);
+  INFO(report.stderr_text);
+  CHECK(report.exit_code == 0);
+  CHECK(hb::test::read_text_file(work / "report.html").find("vertex_penalty") != std::string::npos);
+}
+
+TEST_CASE("a plugin that cannot be used is exit 2 with its path and the reason") {
+  struct Case {
+    std::string name, plugin, reason;
+  };
+  const std::vector<Case> cases = {
+      {"missing file", (kPlugins / "no_such_plugin.so").string(), "no such file"},
+      {"not a shared library", (kExample / "sphere_press_box.json").string(),
+       "cannot load the plugin as a shared library"},
+      {"no entry point", (kPlugins / "plugin_without_entry_point.so").string(),
+       "exports no hapticbench_plugin()"},
+      {"another ABI version", (kPlugins / "plugin_other_abi.so").string(),
+       "built for plugin ABI version 2, but this hapticbench loads version 1"},
+      {"a taken name", (kPlugins / "plugin_taken_name.so").string(),
+       "the algorithm name \"god_object\" is taken by a built-in algorithm"},
+  };
+  for (const Case& c : cases) {
+    SECTION(c.name) {
+      const hb::test::ScratchDir work_dir("e2e_plugin_refused");
+      const fs::path& work = work_dir.path();
+      write_short_example_scenario(work / "press.json");
+      const CommandResult run =
+          hb::test::run_hapticbench("run press.json --plugin " + c.plugin + " --out runs", work);
+      INFO(run.stderr_text);
+      CHECK(run.exit_code == 2);
+      CHECK(run.stderr_text.find(c.plugin) != std::string::npos);
+      CHECK(run.stderr_text.find(c.reason) != std::string::npos);
+      CHECK_FALSE(fs::exists(work / "runs"));
+      // Refused whole: none of its algorithms is listed.
+      const CommandResult list = hb::test::run_hapticbench("list --plugin " + c.plugin, work);
+      CHECK(list.exit_code == 2);
+      CHECK(list.stdout_text.find("fresh_name") == std::string::npos);
+    }
+  }
+  SECTION("--plugin without a path") {
+    const hb::test::ScratchDir work_dir("e2e_plugin_no_path");
+    const CommandResult list = hb::test::run_hapticbench("list --plugin", work_dir.path());
+    CHECK(list.exit_code == 2);
+    CHECK(list.stderr_text.find("--plugin: expected the path of a plugin file") !=
+          std::string::npos);
+  }
+}
+
+}  // namespace
