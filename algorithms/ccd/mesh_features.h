@@ -94,7 +94,7 @@ void check_mesh_features_input(const std::vector<Vec3>& vertices,
                                const std::vector<std::array<int, 3>>& triangles,
                                const std::string& name);
 
-/// build_mesh_features through the disk cache (algorithms/core/disk_cache.h,
+/// build_mesh_features through the disk cache (hapticbench/disk_cache.h,
 /// kind "mesh_features", in default_cache_directory()): the same input
 /// checks, then the stored structure when one was built from the same
 /// vertices and triangles by the same code, else a fresh build that is

@@ -1,5 +1,5 @@
 // MeshFeatures on disk: every part is an array of plain values, written in
-// one payload (algorithms/core/disk_cache.h adds key, length and checksum).
+// one payload (hapticbench/disk_cache.h adds key, length and checksum).
 // The key holds the vertices' and triangles' bytes' hash and a hash of this
 // folder's sources (HB_BUILDER_SOURCES_HASH, from CMake), so a structure
 // built by other code or from other input never matches.
@@ -12,10 +12,10 @@
 
 #include "algorithms/ccd/mesh_features.h"
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/cache_directory.h"
-#include "algorithms/core/content_hash.h"
-#include "algorithms/core/disk_cache.h"
 #include "algorithms/core/payload_bytes.h"
+#include "hapticbench/cache_directory.h"
+#include "hapticbench/content_hash.h"
+#include "hapticbench/disk_cache.h"
 
 namespace hb::ccd_detail {
 

@@ -1,4 +1,4 @@
-#include "algorithms/core/cache_directory.h"
+#include "hapticbench/cache_directory.h"
 
 #include <cstdlib>
 #include <string>

@@ -1,4 +1,4 @@
-#include "algorithms/core/content_hash.h"
+#include "hapticbench/content_hash.h"
 
 #include <cstdio>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "algorithms/core/disk_cache.h"
+#include "hapticbench/disk_cache.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -13,7 +13,7 @@
 #include <sstream>
 #include <system_error>
 
-#include "algorithms/core/content_hash.h"
+#include "hapticbench/content_hash.h"
 
 namespace hb {
 

@@ -1,5 +1,5 @@
 // The on-disk cache of convex hierarchies, in the shared disk cache
-// (algorithms/core/disk_cache.h, kind "convex_hierarchy"). The payload, in
+// (hapticbench/disk_cache.h, kind "convex_hierarchy"). The payload, in
 // native byte order, lists the root, the pieces per level and every node.
 // The key spells out the caller's content hash, a hash of the mesh's
 // coordinates and triangles as stored, and the exact settings. A file whose
@@ -22,11 +22,11 @@
 #include <vector>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/cache_directory.h"
-#include "algorithms/core/content_hash.h"
-#include "algorithms/core/disk_cache.h"
 #include "algorithms/core/payload_bytes.h"
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
+#include "hapticbench/cache_directory.h"
+#include "hapticbench/content_hash.h"
+#include "hapticbench/disk_cache.h"
 
 namespace hb {
 

@@ -18,8 +18,8 @@
 #include <system_error>
 
 #include "algorithms/core/build_progress.h"
-#include "algorithms/core/content_hash.h"
-#include "algorithms/core/disk_cache.h"
+#include "hapticbench/content_hash.h"
+#include "hapticbench/disk_cache.h"
 
 namespace hb {
 
@@ -122,7 +122,7 @@ std::string key_of_box(const openvdb::CoordBBox& box) {
 }
 
 // A cache entry's payload is the grids as an OpenVDB stream
-// (algorithms/core/disk_cache.h keeps key, length and checksum).
+// (hapticbench/disk_cache.h keeps key, length and checksum).
 
 // Reads the named grids stored under `key`; an empty list (and a reason in
 // `problem`) when the entry is absent, damaged or lacks a grid.

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/cache_directory.h"
-#include "algorithms/core/disk_cache.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
+#include "hapticbench/cache_directory.h"
+#include "hapticbench/disk_cache.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/proxy/device_output.h"
 #include "hapticbench/proxy/dynamic_proxy.h"

@@ -25,7 +25,7 @@ constexpr const char* kUsage =
     "                                              replay scenarios, write run folders\n"
     "  validate FILE...                            check a scenario, mesh or trace file\n"
     "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
-    "  list --metrics | --generators | --limits    a table of the docs, as Markdown\n"
+    "  list --metrics | --generators | --params | --limits   a table of the docs (Markdown)\n"
     "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
     "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/content_hash.h"
+#include "hapticbench/content_hash.h"
 #include "harness/metrics/run_metrics.h"
 #include "harness/replay/replay.h"
 

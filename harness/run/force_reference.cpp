@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cstring>
 
-#include "algorithms/core/cache_directory.h"
-#include "algorithms/core/content_hash.h"
-#include "algorithms/core/disk_cache.h"
+#include "hapticbench/cache_directory.h"
+#include "hapticbench/content_hash.h"
+#include "hapticbench/disk_cache.h"
 #include "harness/reference/rigid_proxy_reference.h"
 
 namespace hb {

@@ -15,8 +15,8 @@
 #include <map>
 #include <sstream>
 
-#include "algorithms/core/content_hash.h"
 #include "algorithms/registry.h"
+#include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/mass_properties.h"
 #include "hapticbench/shapes.h"

@@ -15,9 +15,9 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "algorithms/core/content_hash.h"
 #include "algorithms/core/input_file.h"
 #include "algorithms/core/replacing_file.h"
+#include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
 #include "harness/trace/trace.h"
 

@@ -37,10 +37,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/cache_directory.h"
-#include "algorithms/core/disk_cache.h"
 #include "algorithms/voxmap_pointshell/pointshell_contacts.h"
 #include "algorithms/voxmap_pointshell/voxmap.h"
+#include "hapticbench/cache_directory.h"
+#include "hapticbench/disk_cache.h"
 #include "hapticbench/proxy/rigid_body.h"
 #include "harness/scenario/scenario.h"
 #include "tests/bench/bench_models.h"

@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "algorithms/ccd/mesh_features.h"
-#include "algorithms/core/disk_cache.h"
+#include "hapticbench/disk_cache.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/shapes.h"
 #include "tests/support/scratch_dir.h"

@@ -1,4 +1,4 @@
-#include "algorithms/core/disk_cache.h"
+#include "hapticbench/disk_cache.h"
 
 #include <sys/resource.h>
 #include <sys/stat.h>

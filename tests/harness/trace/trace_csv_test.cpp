@@ -15,7 +15,7 @@
 #include <random>
 #include <string>
 
-#include "algorithms/core/content_hash.h"
+#include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
 #include "harness/trace/trace.h"
 
