@@ -1,8 +1,10 @@
 """The report's figures: the accuracy-cost figure has one front per scenario, over
-runs that stayed stable, with cost = CPU time per tick of both loops. Run by CTest with
-Debian's python3."""
+runs that stayed stable, with cost = CPU time per tick of both loops; coupling stiffness
+sweeps are found by their sweep.json. Run by CTest with Debian's python3."""
+import json
 import os
 import sys
+import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
@@ -45,3 +47,46 @@ class ParetoTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class CouplingSweepTest(unittest.TestCase):
+    """A coupling stiffness sweep is found by the sweep.json beside its run folders, with
+    k_t from each summary; folder and scenario names are never parsed."""
+
+    def setUp(self):
+        self.scratch = tempfile.TemporaryDirectory()
+        root = self.scratch.name
+        jobs = []
+        for k in (1000, 8000):
+            for b in (2, 5):
+                name = "job%d" % len(jobs)  # says nothing of k_t
+                jobs.append({"name": name, "scenario": "../smoke/pose_jump.json",
+                             "grid": {"/coupling/k_t": k, "/coupling/b_t": b}})
+        with open(os.path.join(root, "sweep.json"), "w") as f:
+            json.dump({"grid": {"/coupling/k_t": [1000, 8000], "/coupling/b_t": [2, 5],
+                                "/trace/duration_s": [5]}, "jobs": jobs}, f)
+        self.folders = [Folder(os.path.join(root, job["name"]),
+                               {"scenario": {"name": job["name"],
+                                             "coupling": {"k_t": job["grid"]["/coupling/k_t"]}}})
+                        for job in jobs]
+
+    def tearDown(self):
+        self.scratch.cleanup()
+
+    def test_scene_is_the_scenario_with_the_other_varied_keys(self):
+        points = [figures.coupling_stiffness(f) for f in self.folders]
+        self.assertEqual(points, [("pose_jump (/coupling/b_t=2)", 1000.0),
+                                  ("pose_jump (/coupling/b_t=5)", 1000.0),
+                                  ("pose_jump (/coupling/b_t=2)", 8000.0),
+                                  ("pose_jump (/coupling/b_t=5)", 8000.0)])
+
+    def test_a_folder_outside_a_sweep_is_no_sweep_point(self):
+        alone = Folder(os.path.join(self.scratch.name, "elsewhere", "stability_k5000"),
+                       {"scenario": {"name": "stability_k5000", "coupling": {"k_t": 5000}}})
+        self.assertIsNone(figures.coupling_stiffness(alone))
+
+
+class Folder:
+    def __init__(self, path, summary):
+        self.path = path
+        self.summary = summary
