@@ -20,6 +20,8 @@ HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,
 void HapticProxy::reset(const Pose& start) {
   pose_ = start;
   certificate_ = certify(start, settings_.haptic_band_m);
+  com_pose_current_ = false;
+  measured_.clear();
   warm_active_.clear();
   warm_impulses_.clear();
   contacts_.clear();
@@ -39,16 +41,36 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
     warm_active_.clear();
     carry_impulses(previous.pairs, warm_impulses_, certificate_.pairs, carried_);
     warm_impulses_.swap(carried_);
+    carry_measured_pairs(previous.pairs);  // the pose stays
     return true;
   }
   if (coupling_energy(slow_proxy, target) < coupling_energy(pose_, target)) {
     pose_ = slow_proxy;  // the anchor's own tool pose: within reach
+    com_pose_current_ = false;
+    measured_.clear();
     warm_active_.clear();
     warm_impulses_.clear();
     return true;
   }
   certificate_ = std::move(previous);
   return false;
+}
+
+void HapticProxy::carry_measured_pairs(const std::vector<ContactFeatures>& previous) {
+  const std::vector<ContactFeatures>& pairs = certificate_.pairs;
+  std::vector<char> measured(pairs.size(), 0);
+  carried_contacts_.resize(pairs.size());
+  if (measured_.size() == previous.size()) {
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const auto found = std::find(previous.begin(), previous.end(), pairs[k]);
+      const auto old = static_cast<std::size_t>(found - previous.begin());
+      if (found == previous.end() || !measured_[old]) continue;
+      carried_contacts_[k] = end_contacts_[old];
+      measured[k] = 1;
+    }
+  }
+  measured_.swap(measured);
+  end_contacts_.swap(carried_contacts_);
 }
 
 double HapticProxy::least_listed_distance() const {
@@ -77,19 +99,23 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   HapticSolveStats stats;
   const ProxyFrames& frames = certifier_.frames();
   const double radius = certifier_.radius();
-  const Pose start = frames.com_frame(pose_);
+  const Pose start = com_pose_current_ ? com_pose_ : frames.com_frame(pose_);
   const Vec6 unconstrained = displacement(start, frames.com_frame(target));
 
   // The listed pairs at the current pose: one constraint each, asking for
   // the standoff (a pair found closer is pushed back out: the gap a
-  // rotation's second-order motion took is recovered).
+  // rotation's second-order motion took is recovered). The last tick's
+  // final check measured them there already, unless a certificate came since.
   constraints_.clear();
   constraint_friction_.clear();
   contacts_.clear();
   floors_.clear();
-  for (const ContactFeatures& pair : certificate_.pairs) {
-    const PairContact contact = certifier_.evaluate(pair, start);
-    ++stats.pairs_evaluated;
+  const bool carried = com_pose_current_ && measured_.size() == certificate_.pairs.size();
+  for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
+    const ContactFeatures& pair = certificate_.pairs[k];
+    const bool measured = carried && measured_[k];
+    const PairContact contact = measured ? end_contacts_[k] : certifier_.evaluate(pair, start);
+    stats.pairs_evaluated += measured ? 0 : 1;
     constraints_.push_back(GaussConstraint{contact.normal, contact.tool_point - start.p,
                                            settings_.standoff_m - contact.distance});
     constraint_friction_.push_back(
@@ -147,7 +173,11 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
         constraints_[k].rhs += settings_.standoff_m - end_distances_[k];
     ++stats.corrections;
   }
-  if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(displaced(start, moved));
+  // The last check measured every pair at this pose; the next tick starts here.
+  com_pose_ = displaced(start, moved);
+  com_pose_current_ = true;
+  measured_.assign(certificate_.pairs.size(), 1);
+  if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(com_pose_);
 
   // Contacts at the new pose: the pairs within the contact distance, as
   // measured there by the last check.

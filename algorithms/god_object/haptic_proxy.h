@@ -110,6 +110,9 @@ class HapticProxy {
   /// `com_pose`: signed distance (by the side the pair started the tick on)
   /// minus its floor; fills end_distances_ and end_contacts_.
   double worst_margin(const Pose& com_pose);
+  /// After a certificate taken at the same pose: the pairs both certificates
+  /// list keep their measurement at com_pose_ (end_contacts_, measured_).
+  void carry_measured_pairs(const std::vector<ContactFeatures>& previous);
 
   ProximityCertifier certifier_;
   CouplingGains gains_;
@@ -123,6 +126,16 @@ class HapticProxy {
   std::vector<Vec3> carried_;
   ProximityCertificate certificate_;
   Pose pose_;
+  /// The centre-of-mass pose the last tick ended at, while pose_ is its
+  /// tool frame: the next tick starts there (com_frame(pose_) would differ
+  /// from it by rounding).
+  Pose com_pose_;
+  bool com_pose_current_ = false;
+  /// Per listed pair: end_contacts_ holds it measured at com_pose_ (by the
+  /// last tick's check, carried over a new certificate that lists it too),
+  /// so the next tick need not measure it again at its start.
+  std::vector<char> measured_;
+  std::vector<PairContact> carried_contacts_;
   std::vector<Contact> contacts_;
   std::vector<double> floors_;         ///< per listed pair: the least distance it may end at (m)
   std::vector<double> end_distances_;  ///< per listed pair at the end pose tried, signed (m)

@@ -223,6 +223,41 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("a tick starts from the last tick's check: each listed pair is measured once a tick") {
+  // A tick evaluates its pairs once, at the end pose it checks, and starts
+  // from the last tick's check; only a pair it has not measured (the first
+  // tick, a pair a new certificate adds) is also measured at its start.
+  CubeOnSlab rig;
+  rig.proxy.reset(at(Vec3(0, 0, 0.021)));
+  const Pose target = at(Vec3(0.002, 0.001, 0.018));  // 3 mm deep, sideways
+  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                  target);
+  const auto pairs = static_cast<int64_t>(rig.proxy.certificate().pairs.size());
+  REQUIRE(pairs >= 4);
+  const HapticSolveStats first = rig.proxy.step(target);
+  CHECK(first.pairs_evaluated == pairs * (2 + first.corrections));
+  for (int tick = 0; tick < 20; ++tick) {
+    const HapticSolveStats next = rig.proxy.step(target);
+    INFO("tick " << tick << ", corrections " << next.corrections << ", cut " << next.cut);
+    if (!next.cut) CHECK(next.pairs_evaluated == pairs * (1 + next.corrections));
+  }
+  // A certificate found where the proxy is lists the same pairs: all carried.
+  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                  target);
+  REQUIRE(static_cast<int64_t>(rig.proxy.certificate().pairs.size()) == pairs);
+  const HapticSolveStats after_offer = rig.proxy.step(target);
+  CHECK(after_offer.pairs_evaluated == pairs * (1 + after_offer.corrections));
+  // A band wider than the cube adds its top features: only those are
+  // measured at the start.
+  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), 10 * rig.settings.haptic_band_m),
+                  rig.proxy.pose(), target);
+  const auto wider = static_cast<int64_t>(rig.proxy.certificate().pairs.size());
+  REQUIRE(wider > pairs);
+  const HapticSolveStats widened = rig.proxy.step(target);
+  CHECK(widened.pairs_evaluated == (wider - pairs) + wider * (1 + widened.corrections));
+  CHECK(rig.lowest_vertex_z() >= 0.0);  // resting on the face, never below it
+}
+
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   CubeOnSlab rig;
   rig.proxy.reset(at(Vec3(0, 0, 0.021)));         // 1 mm above the face
