@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace hb {
 
@@ -25,15 +26,17 @@ namespace {
 // root of 1/|λ(γ)| = 1/r, found by Newton's method from γ = 0 (the function
 // is concave and increasing in γ, so the iterates increase monotonically to
 // the root, as in Moré and Sorensen's trust-region step).
-Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w, const Eigen::Matrix2d& w_inverse,
-                               const Eigen::Vector2d& g, double r) {
+// `decompose` gives W's eigenvalues and eigenvectors (W = Q diag(e) Qᵀ)
+// when the disk's boundary is needed.
+template <class Decompose>
+Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w_inverse, const Eigen::Vector2d& g, double r,
+                               Decompose decompose) {
   if (!(r > 0)) return Eigen::Vector2d::Zero();
   const Eigen::Vector2d inside = -w_inverse * g;
   if (inside.norm() <= r) return inside;
-  // W = Q diag(e) Qᵀ; in its eigenbasis λ_i(γ) = −h_i / (e_i + γ), h = Qᵀ g.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (w + w.transpose()));
-  const Eigen::Vector2d e = eigen.eigenvalues();
-  const Eigen::Vector2d h = eigen.eigenvectors().transpose() * g;
+  // In W's eigenbasis λ_i(γ) = −h_i / (e_i + γ), h = Qᵀ g.
+  const auto [e, q] = decompose();
+  const Eigen::Vector2d h = q.transpose() * g;
   double gamma = 0;
   for (int i = 0; i < 60; ++i) {
     const Eigen::Vector2d lambda = -(h.array() / (e.array() + gamma)).matrix();
@@ -46,7 +49,7 @@ Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w, const Eigen::Matrix2d& 
     if (std::abs(step) <= 1e-15 * (gamma + e.maxCoeff())) break;
   }
   const Eigen::Vector2d lambda = -(h.array() / (e.array() + gamma)).matrix();
-  return eigen.eigenvectors() * lambda * (r / lambda.norm());  // on the circle exactly
+  return q * lambda * (r / lambda.norm());  // on the circle exactly
 }
 
 }  // namespace
@@ -63,6 +66,9 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   responses_.resize(count);
   blocks_.resize(count);
   tangential_inverses_.resize(count);
+  tangential_decomposed_.assign(count, 0);
+  tangential_eigenvalues_.resize(count);
+  tangential_eigenvectors_.resize(count);
   s.impulses.assign(count, Vec3::Zero());
   s.tangent1.resize(count);
   s.velocity = free_velocity;
@@ -117,7 +123,17 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
       // The slip this contact's tangential impulse sees from everything else.
       const Eigen::Vector2d slip_without = j.bottomRows<2>() * s.velocity - wt * impulse.tail<2>();
       const Eigen::Vector2d tangential =
-          disk_minimiser(wt, tangential_inverses_[k], slip_without, c.friction * normal);
+          disk_minimiser(tangential_inverses_[k], slip_without, c.friction * normal, [&, k] {
+            if (!tangential_decomposed_[k]) {
+              const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 *
+                                                                         (wt + wt.transpose()));
+              tangential_eigenvalues_[k] = eigen.eigenvalues();
+              tangential_eigenvectors_[k] = eigen.eigenvectors();
+              tangential_decomposed_[k] = 1;
+            }
+            return std::pair<const Eigen::Vector2d&, const Eigen::Matrix2d&>(
+                tangential_eigenvalues_[k], tangential_eigenvectors_[k]);
+          });
       const Eigen::Vector2d tangential_change = tangential - impulse.tail<2>();
       if (!tangential_change.isZero()) {
         s.velocity += responses_[k].rightCols<2>() * tangential_change;

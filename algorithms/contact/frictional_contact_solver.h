@@ -96,6 +96,12 @@ class FrictionalContactSolver {
   std::vector<Eigen::Matrix<double, 6, 3>> responses_;  ///< R J_kᵀ
   std::vector<Mat3> blocks_;                            ///< J_k R J_kᵀ
   std::vector<Eigen::Matrix2d> tangential_inverses_;    ///< of each block's tangential 2 × 2
+  /// Each tangential 2 × 2's eigen-decomposition, made the first time a
+  /// sweep puts that contact on its friction circle (the block is fixed
+  /// for the solve): values, then vectors as columns.
+  std::vector<char> tangential_decomposed_;
+  std::vector<Eigen::Vector2d> tangential_eigenvalues_;
+  std::vector<Eigen::Matrix2d> tangential_eigenvectors_;
   FrictionalContactSolution solution_;
 };
 
