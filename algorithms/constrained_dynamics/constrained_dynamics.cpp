@@ -284,8 +284,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
 ConstrainedDynamicsSettings read_constrained_dynamics_settings(const ParamSet& params,
                                                                const Tool& tool) {
   ConstrainedDynamicsSettings settings;
-  ContactSettings contact_defaults;
-  contact_defaults.haptic_max_pairs = 256;
+  const ContactSettings contact_defaults;
   if (params.has("max_iterations"))
     throw InputError("", params.field("max_iterations"),
                      "constrained_dynamics makes no slow-loop moves; its solver's limit is "

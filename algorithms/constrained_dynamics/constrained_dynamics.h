@@ -48,7 +48,7 @@ namespace hb {
 
 struct ConstrainedDynamicsSettings {
   /// Contact discovery: standoff, contact distance, certificate bands and
-  /// pair limit, as for the god-object (haptic_max_pairs defaults to 256).
+  /// pair limit, as for the god-object.
   ContactSettings contacts;
   FrictionalContactOptions solver;   ///< "solver_sweeps", "solver_tolerance" (m/s)
   double stabilisation = 0.2;        ///< "stabilisation": β in (0, 1]
@@ -58,7 +58,7 @@ struct ConstrainedDynamicsSettings {
 
 /// Reads the contact keys shared with the god-object (contact_settings.h:
 /// standoff, contact_distance, haptic_band, haptic_band_min,
-/// haptic_max_pairs default 256, ccd_*, contact_window),
+/// haptic_max_pairs, ccd_*, contact_window),
 /// "solver_sweeps" (default 200), "solver_tolerance" (m/s, default 1e-6: a
 /// nanometre of slip per tick; the normal constraints are solved exactly
 /// whatever it is, constrained_step.h),

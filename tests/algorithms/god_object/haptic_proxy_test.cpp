@@ -258,6 +258,51 @@ TEST_CASE("a tick starts from the last tick's check: each listed pair is measure
   CHECK(rig.lowest_vertex_z() >= 0.0);  // resting on the face, never below it
 }
 
+// A floor of 6 × 6 separate 1 cm tiles, 0.2 mm apart, top faces at z = 0.
+RenderContext tiled_floor_context() {
+  RenderContext context;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      SceneObject tile = test::box_object(
+          Vec3(0.01, 0.01, 0.01),
+          Pose{Vec3(-0.0255 + 0.0102 * i, -0.0255 + 0.0102 * j, -0.005), Quat::Identity()});
+      tile.mesh = shape_mesh(*tile.shape);
+      context.scene.push_back(tile);
+    }
+  }
+  context.coupling = test::example_gains();
+  context.tool = test::box_tool(Vec3(0.03, 0.03, 0.02));
+  context.tool.mesh = shape_mesh(*context.tool.shape);
+  return context;
+}
+
+TEST_CASE("a box face slides over the seams of a tiled floor without catching on them") {
+  // With its default pair limit the certificate must not lose its reach on
+  // a crowded contact: were the limit's pair (the nearest one left out) at
+  // the standoff, the proxy could not move and the coupling would stretch.
+  ProxyRig rig(tiled_floor_context());
+  rig.proxy.reset(at(Vec3(-0.005, -0.005, 0.0105)));
+  for (int tick = 0; tick <= 600; ++tick) {
+    // Pressed 1 mm, then slid 1 cm along x over 500 ms.
+    const double x = -0.005 + 0.01 * std::clamp((tick - 100) / 500.0, 0.0, 1.0);
+    const Pose target = at(Vec3(x, -0.005, 0.0095));
+    rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                    rig.proxy.pose(), target);
+    rig.proxy.step(target);
+  }
+  INFO("listed pairs " << rig.proxy.certificate().pairs.size() << ", clearance "
+                       << rig.proxy.certificate().clearance_m);
+  CHECK(rig.proxy.pose().p.x() == Approx(0.005).margin(1e-4));  // followed the device
+  const double lowest = [&] {
+    double z = 1e300;
+    for (const Vec3& v : rig.context.tool.mesh.vertices)
+      z = std::min(z, rig.proxy.pose().transform_point(v).z());
+    return z;
+  }();
+  CHECK(lowest >= 0.0);  // on the floor, never in it
+  CHECK(lowest <= rig.settings.contact_distance_m);
+}
+
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   CubeOnSlab rig;
   rig.proxy.reset(at(Vec3(0, 0, 0.021)));         // 1 mm above the face
