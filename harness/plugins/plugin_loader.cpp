@@ -23,17 +23,26 @@ std::vector<LoadedPlugin>& plugins() {
   return loaded;
 }
 
-// Appends the plugin to HAPTICBENCH_PLUGINS unless it is listed.
-void export_to_children(const std::string& path) {
-  const char* current = std::getenv(kPluginsVariable);
-  std::string list = current ? current : "";
-  std::size_t start = 0;
-  while (start <= list.size()) {
+// The paths HAPTICBENCH_PLUGINS lists, ':'-separated; empty entries skipped.
+std::vector<std::string> listed_plugins() {
+  const char* value = std::getenv(kPluginsVariable);
+  std::vector<std::string> paths;
+  const std::string list = value ? value : "";
+  for (std::size_t start = 0; start < list.size();) {
     const std::size_t end = std::min(list.find(':', start), list.size());
-    if (list.compare(start, end - start, path) == 0) return;
+    if (end > start) paths.push_back(list.substr(start, end - start));
     start = end + 1;
   }
-  list += (list.empty() ? "" : ":") + path;
+  return paths;
+}
+
+// Appends the plugin to HAPTICBENCH_PLUGINS unless it is listed.
+void export_to_children(const std::string& path) {
+  std::vector<std::string> paths = listed_plugins();
+  if (std::find(paths.begin(), paths.end(), path) != paths.end()) return;
+  paths.push_back(path);
+  std::string list;
+  for (const std::string& listed : paths) list += (list.empty() ? "" : ":") + listed;
   setenv(kPluginsVariable, list.c_str(), 1);
 }
 
@@ -49,7 +58,7 @@ struct LibraryHandle {
 
 }  // namespace
 
-const LoadedPlugin& load_plugin(const fs::path& path, const std::string& field) {
+LoadedPlugin load_plugin(const fs::path& path, const std::string& field) {
   std::error_code error;
   const bool exists = fs::is_regular_file(path, error);
   const std::string shown = path.string();
@@ -97,15 +106,7 @@ const LoadedPlugin& load_plugin(const fs::path& path, const std::string& field) 
 const std::vector<LoadedPlugin>& loaded_plugins() { return plugins(); }
 
 void load_plugins_from_environment() {
-  const char* value = std::getenv(kPluginsVariable);
-  if (!value) return;
-  const std::string list = value;
-  std::size_t start = 0;
-  while (start <= list.size()) {
-    const std::size_t end = std::min(list.find(':', start), list.size());
-    if (end > start) load_plugin(list.substr(start, end - start), kPluginsVariable);
-    start = end + 1;
-  }
+  for (const std::string& path : listed_plugins()) load_plugin(path, kPluginsVariable);
 }
 
 }  // namespace hb

@@ -26,7 +26,7 @@ struct LoadedPlugin {
 /// a shared library that loads, lacks the entry point, was built for another
 /// plugin ABI version, or names an algorithm that already exists; nothing is
 /// registered then.
-const LoadedPlugin& load_plugin(const std::filesystem::path& path, const std::string& field = "");
+LoadedPlugin load_plugin(const std::filesystem::path& path, const std::string& field = "");
 
 /// Every plugin loaded so far, in load order.
 const std::vector<LoadedPlugin>& loaded_plugins();

@@ -134,6 +134,14 @@ TEST_CASE("a plugin that cannot be used is exit 2 with its path and the reason")
       CHECK(list.stdout_text.find("fresh_name") == std::string::npos);
     }
   }
+  SECTION("HAPTICBENCH_PLUGINS naming a missing file") {
+    const hb::test::ScratchDir work_dir("e2e_plugin_variable");
+    const CommandResult list = hb::test::run_hapticbench_after(
+        "export HAPTICBENCH_PLUGINS=/no/such/plugin.so &&", "list", work_dir.path());
+    CHECK(list.exit_code == 2);
+    CHECK(list.stderr_text.find("/no/such/plugin.so: HAPTICBENCH_PLUGINS: cannot load the "
+                                "plugin: no such file") != std::string::npos);
+  }
   SECTION("--plugin without a path") {
     const hb::test::ScratchDir work_dir("e2e_plugin_no_path");
     const CommandResult list = hb::test::run_hapticbench("list --plugin", work_dir.path());
