@@ -49,16 +49,6 @@ const std::string kReportUsage =
 
 constexpr const char* kDefaultPython = "/usr/bin/python3";
 
-// Where render_report.py and its template are: HAPTICBENCH_REPORTS_DIR, else
-// share/hapticbench/reports beside the binary's folder (PREFIX/bin and
-// PREFIX/share when installed; the build links build/harness/share to the
-// source tree's reports/), so that a moved or installed binary finds its own.
-fs::path reports_dir() {
-  if (const char* set = std::getenv("HAPTICBENCH_REPORTS_DIR")) return set;
-  std::error_code error;
-  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
-  return executable.parent_path().parent_path() / "share" / "hapticbench" / "reports";
-}
 // In the head of every page (reports/report_template.html): how a later
 // report recognises a page it may replace.
 constexpr const char* kReportGeneratorMeta =
@@ -178,6 +168,18 @@ bool is_report_page(const fs::path& path) {
 std::string environment_or(const char* name, const std::string& fallback) {
   const char* value = std::getenv(name);
   return value != nullptr && *value != '\0' ? std::string(value) : fallback;
+}
+
+// Where render_report.py and its template are: HAPTICBENCH_REPORTS_DIR, else
+// share/hapticbench/reports beside the binary's folder (PREFIX/bin and
+// PREFIX/share when installed; the build links build/harness/share to the
+// source tree's reports/), so that a moved or installed binary finds its own.
+fs::path reports_dir() {
+  std::error_code error;
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  return environment_or(
+      "HAPTICBENCH_REPORTS_DIR",
+      (executable.parent_path().parent_path() / "share" / "hapticbench" / "reports").string());
 }
 
 }  // namespace
