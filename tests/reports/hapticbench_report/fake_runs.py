@@ -7,9 +7,15 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "re
 from hapticbench_report import inputs  # noqa: E402
 
 
-class Folder:
-    def __init__(self, scenario):
+class FakeFolder:
+    """A run folder's summary alone: its scenario block (name and the keys
+    given) and its runs; `path` where a test reads files beside it."""
+
+    def __init__(self, scenario, runs=(), path=None, **scenario_keys):
         self.scenario = scenario
+        self.path = path
+        self.summary = {"scenario": dict(name=scenario, **scenario_keys)}
+        self.runs = list(runs)
 
 
 class FakeRun(inputs.Run):
@@ -17,7 +23,7 @@ class FakeRun(inputs.Run):
 
     def __init__(self, scenario, label, error, step_p99_ns, cpu_p99_ns=None, diverged=False,
                  nonfinite=0):
-        self.folder = Folder(scenario)
+        self.folder = FakeFolder(scenario)
         self.label = label
         self.ticks = None
         timing = {"step_ns": {"p99": step_p99_ns}}

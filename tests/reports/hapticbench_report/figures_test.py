@@ -9,7 +9,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
 from hapticbench_report import figures  # noqa: E402
-from fake_runs import FakeRun  # noqa: E402
+from fake_runs import FakeFolder, FakeRun  # noqa: E402
 
 
 class ParetoTest(unittest.TestCase):
@@ -65,9 +65,8 @@ class CouplingSweepTest(unittest.TestCase):
         with open(os.path.join(root, "sweep.json"), "w") as f:
             json.dump({"grid": {"/coupling/k_t": [1000, 8000], "/coupling/b_t": [2, 5],
                                 "/trace/duration_s": [5]}, "jobs": jobs}, f)
-        self.folders = [Folder(os.path.join(root, job["name"]),
-                               {"scenario": {"name": job["name"],
-                                             "coupling": {"k_t": job["grid"]["/coupling/k_t"]}}})
+        self.folders = [FakeFolder(job["name"], path=os.path.join(root, job["name"]),
+                                   coupling={"k_t": job["grid"]["/coupling/k_t"]})
                         for job in jobs]
 
     def tearDown(self):
@@ -81,12 +80,7 @@ class CouplingSweepTest(unittest.TestCase):
                                   ("pose_jump (/coupling/b_t=5)", 8000.0)])
 
     def test_a_folder_outside_a_sweep_is_no_sweep_point(self):
-        alone = Folder(os.path.join(self.scratch.name, "elsewhere", "stability_k5000"),
-                       {"scenario": {"name": "stability_k5000", "coupling": {"k_t": 5000}}})
+        alone = FakeFolder("stability_k5000",
+                           path=os.path.join(self.scratch.name, "elsewhere", "stability_k5000"),
+                           coupling={"k_t": 5000})
         self.assertIsNone(figures.coupling_stiffness(alone))
-
-
-class Folder:
-    def __init__(self, path, summary):
-        self.path = path
-        self.summary = summary

@@ -9,7 +9,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
 from hapticbench_report import inputs, tables  # noqa: E402
-from fake_runs import FakeRun  # noqa: E402
+from fake_runs import FakeFolder, FakeRun  # noqa: E402
 
 
 class NumberTextTest(unittest.TestCase):
@@ -46,13 +46,6 @@ class StressRun:
                         "accuracy": {"penetration_max_m": 0.0019}}
 
 
-class StressFolder:
-    def __init__(self, scenario, tags, runs):
-        self.scenario = scenario
-        self.summary = {"scenario": {"name": scenario, "tags": tags}}
-        self.runs = runs
-
-
 class StressMatrixTest(unittest.TestCase):
     def test_a_cell_is_the_runs_verdict(self):
         # The checks and their order are hapticbench's
@@ -67,11 +60,11 @@ class StressMatrixTest(unittest.TestCase):
         self.assertEqual(verdict(old), (None, "no verdict"))
 
     def test_only_scenarios_tagged_stress_make_the_matrix(self):
-        stress = StressFolder("thin_wall", ["stress"],
-                              [StressRun("coupling_only", False, "tunnelled 1×", "tunnelled"),
-                               StressRun("god_object")])
+        stress = FakeFolder("thin_wall", [StressRun("coupling_only", False, "tunnelled 1×",
+                                                    "tunnelled"), StressRun("god_object")],
+                            tags=["stress"])
         # The folder a scenario came from does not matter, only its tag.
-        other = StressFolder("press", ["smoke"], [StressRun("other")])
+        other = FakeFolder("press", [StressRun("other")], tags=["smoke"])
         other.summary["scenario"]["path"] = "/x/scenarios/stress/press.json"
         page = tables.stress_matrix_html([stress, other])
         self.assertIn("thin_wall", page)
@@ -159,19 +152,13 @@ class FrictionRun:
                         "accuracy": {"force_err_rms_n": error, "penetration_max_m": 0.0}}
 
 
-class FrictionFolder:
-    def __init__(self, scenario, friction, runs):
-        self.scenario = scenario
-        self.summary = {"scenario": {"name": scenario, "scene_friction": friction}}
-        self.runs = runs
-
-
 class FrictionTest(unittest.TestCase):
     def test_rough_scenes_list_each_run_and_whether_it_renders_friction(self):
-        rough = FrictionFolder("press_drag", [0.0, 0.8],
-                               [FrictionRun("cd", "constrained_dynamics", 0.098),
-                                FrictionRun("penalty", "penalty_analytic", 3.58)])
-        smooth = FrictionFolder("press", [0.0], [FrictionRun("other", "god_object", 0.1)])
+        rough = FakeFolder("press_drag", [FrictionRun("cd", "constrained_dynamics", 0.098),
+                                          FrictionRun("penalty", "penalty_analytic", 3.58)],
+                           scene_friction=[0.0, 0.8])
+        smooth = FakeFolder("press", [FrictionRun("other", "god_object", 0.1)],
+                            scene_friction=[0.0])
         page = tables.friction_html([rough, smooth])
         self.assertIn("<td>0.8</td><td class=\"text\">cd</td>"
                       "<td class=\"text\" data-friction=\"true\">Coulomb μ</td><td>0.098</td>",
@@ -180,7 +167,7 @@ class FrictionTest(unittest.TestCase):
         self.assertNotIn(">other<", page)
         self.assertEqual(tables.friction_html([smooth]), "")
         # Summaries written before scenes had friction have no field: no section.
-        self.assertEqual(tables.friction_html([FrictionFolder("old", None, [])]), "")
+        self.assertEqual(tables.friction_html([FakeFolder("old", scene_friction=None)]), "")
 
 
 if __name__ == "__main__":
