@@ -167,8 +167,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
       return;
     }
     work.add(ConstrainedDynamicsWork::kCertificatesTaken);
-    match_pairs(certificate_.pairs, update.certificate.pairs, matched_);
-    carry_impulses(matched_, impulses_, carried_);
+    carry_impulses(certificate_.pairs, impulses_, update.certificate.pairs, carried_);
     impulses_.swap(carried_);
     std::swap(certificate_, update.certificate);
   }
@@ -265,7 +264,6 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   ProximityCertificate certificate_;
   std::vector<Vec3> impulses_;  ///< last tick's impulses, one per listed pair
   std::vector<Vec3> carried_;
-  std::vector<int> matched_;  ///< a new certificate's pairs among the last one's
   ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> rows_;
   std::vector<double> friction_;   ///< μ per row

@@ -1,8 +1,6 @@
 #include "algorithms/contact/proximity_certifier.h"
 
 #include <algorithm>
-#include <numeric>
-#include <tuple>
 
 namespace hb {
 
@@ -12,29 +10,13 @@ namespace {
 constexpr double kDirectionFloor = 1e-12;
 }  // namespace
 
-void match_pairs(std::span<const ContactFeatures> from, std::span<const ContactFeatures> to,
-                 std::vector<int>& index_in_from) {
-  auto key = [](const ContactFeatures& f) {
-    return std::tuple(f.kind, f.scene_object, f.tool_feature, f.scene_feature);
-  };
-  std::vector<int> sorted(from.size());
-  std::iota(sorted.begin(), sorted.end(), 0);
-  std::sort(sorted.begin(), sorted.end(),
-            [&](int a, int b) { return key(from[a]) < key(from[b]); });
-  index_in_from.assign(to.size(), -1);
-  for (std::size_t k = 0; k < to.size(); ++k) {
-    const auto at = std::lower_bound(sorted.begin(), sorted.end(), to[k],
-                                     [&](int i, const auto& f) { return key(from[i]) < key(f); });
-    if (at != sorted.end() && from[*at] == to[k]) index_in_from[k] = *at;
-  }
-}
-
-void carry_impulses(std::span<const int> index_in_from, std::span<const Vec3> impulses,
-                    std::vector<Vec3>& carried) {
-  carried.assign(index_in_from.size(), Vec3::Zero());
-  for (std::size_t k = 0; k < index_in_from.size(); ++k) {
-    const int old = index_in_from[k];
-    if (old >= 0 && static_cast<std::size_t>(old) < impulses.size()) carried[k] = impulses[old];
+void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3> impulses,
+                    std::span<const ContactFeatures> to, std::vector<Vec3>& carried) {
+  carried.assign(to.size(), Vec3::Zero());
+  for (std::size_t old = 0; old < impulses.size() && old < from.size(); ++old) {
+    if (impulses[old].isZero()) continue;
+    const auto found = std::find(to.begin(), to.end(), from[old]);
+    if (found != to.end()) carried[found - to.begin()] = impulses[old];
   }
 }
 

@@ -38,17 +38,12 @@ struct PairContact {
   double distance = 0;  ///< m, between the two features (≥ 0)
 };
 
-/// For each pair of `to`, its index among `from`, or -1 where `from` does
-/// not list it (each list holds distinct pairs): how a new certificate's
-/// pairs correspond to the last one's. O((|from| + |to|) log |from|).
-void match_pairs(std::span<const ContactFeatures> from, std::span<const ContactFeatures> to,
-                 std::vector<int>& index_in_from);
-
-/// Per-pair impulses (`impulses`, one per pair of `from`, or fewer) carried
-/// over to the pairs of `to` through match_pairs' `index_in_from`; zero
-/// where `to` lists a pair that had none.
-void carry_impulses(std::span<const int> index_in_from, std::span<const Vec3> impulses,
-                    std::vector<Vec3>& carried);
+/// Per-pair impulses (`impulses`, one per pair of `from`) carried over to
+/// the pairs of `to`, by feature pair; zero where `to` lists a pair `from`
+/// did not carry an impulse for. Only pairs with an impulse are looked up
+/// (a few, near the front of `to`, which lists the nearest first).
+void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3> impulses,
+                    std::span<const ContactFeatures> to, std::vector<Vec3>& carried);
 
 class ProximityCertifier {
  public:

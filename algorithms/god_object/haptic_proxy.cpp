@@ -39,10 +39,9 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
   certificate_ = std::move(certificate);
   if (within_reach(certificate_, pose_)) {
     warm_active_.clear();
-    match_pairs(previous.pairs, certificate_.pairs, matched_);
-    carry_impulses(matched_, warm_impulses_, carried_);
+    carry_impulses(previous.pairs, warm_impulses_, certificate_.pairs, carried_);
     warm_impulses_.swap(carried_);
-    carry_measured_pairs(previous.pairs.size());  // the pose stays
+    carry_measured_pairs(previous.pairs);  // the pose stays
     return true;
   }
   if (coupling_energy(slow_proxy, target) < coupling_energy(pose_, target)) {
@@ -57,13 +56,15 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
   return false;
 }
 
-void HapticProxy::carry_measured_pairs(std::size_t previous_pairs) {
-  std::vector<char> measured(matched_.size(), 0);
-  carried_contacts_.resize(matched_.size());
-  if (measured_.size() == previous_pairs) {
-    for (std::size_t k = 0; k < matched_.size(); ++k) {
-      const int old = matched_[k];
-      if (old < 0 || !measured_[old]) continue;
+void HapticProxy::carry_measured_pairs(const std::vector<ContactFeatures>& previous) {
+  const std::vector<ContactFeatures>& pairs = certificate_.pairs;
+  std::vector<char> measured(pairs.size(), 0);
+  carried_contacts_.resize(pairs.size());
+  if (measured_.size() == previous.size()) {
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const auto found = std::find(previous.begin(), previous.end(), pairs[k]);
+      const auto old = static_cast<std::size_t>(found - previous.begin());
+      if (found == previous.end() || !measured_[old]) continue;
       carried_contacts_[k] = end_contacts_[old];
       measured[k] = 1;
     }

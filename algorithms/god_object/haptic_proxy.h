@@ -110,10 +110,9 @@ class HapticProxy {
   /// `com_pose`: signed distance (by the side the pair started the tick on)
   /// minus its floor; fills end_distances_ and end_contacts_.
   double worst_margin(const Pose& com_pose);
-  /// After a certificate taken at the same pose (its pairs matched to the
-  /// last one's `previous_pairs` in matched_): the pairs both list keep
-  /// their measurement at com_pose_ (end_contacts_, measured_).
-  void carry_measured_pairs(std::size_t previous_pairs);
+  /// After a certificate taken at the same pose: the pairs both certificates
+  /// list keep their measurement at com_pose_ (end_contacts_, measured_).
+  void carry_measured_pairs(const std::vector<ContactFeatures>& previous);
 
   ProximityCertifier certifier_;
   CouplingGains gains_;
@@ -125,7 +124,6 @@ class HapticProxy {
   std::vector<int> warm_active_;
   std::vector<Vec3> warm_impulses_;  ///< the last frictional solve's, per listed pair
   std::vector<Vec3> carried_;
-  std::vector<int> matched_;  ///< a new certificate's pairs among the last one's
   ProximityCertificate certificate_;
   Pose pose_;
   /// The centre-of-mass pose the last tick ended at, while pose_ is its
