@@ -18,6 +18,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Set by refuse_plugins: why this process loads no plugin.
+std::string& refusal_reason() {
+  static std::string reason;
+  return reason;
+}
+
 std::vector<LoadedPlugin>& plugins() {
   static std::vector<LoadedPlugin> loaded;
   return loaded;
@@ -58,10 +64,16 @@ struct LibraryHandle {
 
 }  // namespace
 
+void refuse_plugins(const std::string& reason) {
+  refusal_reason() = reason.empty() ? "plugins are refused in this program" : reason;
+}
+
 LoadedPlugin load_plugin(const fs::path& path, const std::string& field) {
   std::error_code error;
   const bool exists = fs::is_regular_file(path, error);
   const std::string shown = path.string();
+  if (!refusal_reason().empty())
+    throw InputError(shown, field, "cannot load the plugin: " + refusal_reason());
   if (!exists) throw InputError(shown, field, "cannot load the plugin: no such file");
   const std::string absolute = fs::canonical(path, error).string();
   for (const LoadedPlugin& plugin : plugins())

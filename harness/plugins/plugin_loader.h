@@ -28,6 +28,11 @@ struct LoadedPlugin {
 /// registered then.
 LoadedPlugin load_plugin(const std::filesystem::path& path, const std::string& field = "");
 
+/// From now on, this process refuses every plugin (load_plugin throws
+/// InputError with `reason`): programs that read untrusted scenarios, such
+/// as the fuzz targets, must not open the shared libraries those name.
+void refuse_plugins(const std::string& reason);
+
 /// Every plugin loaded so far, in load order.
 const std::vector<LoadedPlugin>& loaded_plugins();
 

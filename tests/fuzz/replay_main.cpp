@@ -21,6 +21,8 @@
 #include "harness/process/memory_limit.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size);
+// Defined by the targets that set the process up first (as libFuzzer calls it).
+extern "C" __attribute__((weak)) int LLVMFuzzerInitialize(int* argc, char*** argv);
 
 // The heap in use and its peak, counted by the replaced operators below
 // (every allocation through new, which is all the parsers use).
@@ -54,6 +56,7 @@ void operator delete[](void* p, std::size_t) noexcept { counted_release(p); }
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
+  if (LLVMFuzzerInitialize) LLVMFuzzerInitialize(&argc, &argv);
   std::vector<fs::path> files;
   for (int i = 1; i < argc; ++i) {
     const fs::path path = argv[i];
