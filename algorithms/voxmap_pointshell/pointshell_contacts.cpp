@@ -115,6 +115,14 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
   }
 }
 
+// m += a bᵀ, column by column (kept inline: Eigen's product assignment was
+// a call per point).
+inline void add_outer(Mat3& m, const Vec3& a, const Vec3& b) {
+  m.col(0) += b.x() * a;
+  m.col(1) += b.y() * a;
+  m.col(2) += b.z() * a;
+}
+
 }  // namespace
 
 double braking_speed(const Vec3& normal, const Vec3& lever, const RigidBodyState& state) {
@@ -132,9 +140,11 @@ PointShell make_pointshell(const std::vector<Vec3>& points, const std::vector<Ve
   if (n > 0) build_subtree(about_centre, order, 0, n, std::max(leaf_points, 1), -1, shell.nodes);
   shell.points.reserve(points.size());
   shell.normals.reserve(points.size());
+  shell.moments.reserve(points.size());
   for (const int32_t i : order) {
     shell.points.push_back(about_centre[i]);
     shell.normals.push_back(normals[i]);
+    shell.moments.push_back(about_centre[i].cross(normals[i]));
     shell.levers.push_back(about_centre[i].norm());
     shell.radius = std::max(shell.radius, shell.levers.back());
   }
@@ -270,48 +280,65 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   const Mat3 rotation = state.q.toRotationMatrix();
   const double k = gains.stiffness;
 
+  // Every sum below is taken in tool axes (subscript t: R⁻¹ of the world
+  // vector) and turned into the world once at the end, X = R X_t Rᵀ, so a
+  // point costs one rotation instead of three; the points' moments
+  // m_i = r_i × n_i are the shell's own.
   // Contacts. Per point, with a = ∂d/∂x and c = ∂d/∂δθ, m = s × n:
   //   ∂F/∂x = K n aᵀ, ∂τ/∂x = K m aᵀ, and
   //   tangent plane (n the point's normal, turning with the body): a = −n,
   //     c = n × (C − x), ∂F/∂δθ = K n cᵀ − K d [n]×, ∂τ/∂δθ = K m cᵀ − K d [m]×;
+  //     the d-terms sum to −K [Σ d n]× and −K [Σ d m]×;
   //   field (n = ∇φ, fixed in the world; φ's second derivatives left out):
-  //     a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ, ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×.
-  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-  Mat3 n_a = Mat3::Zero(), n_c = Mat3::Zero(), m_a = Mat3::Zero(), m_c = Mat3::Zero();
-  Mat3 force_turn = Mat3::Zero(), torque_turn = Mat3::Zero();  // the d-terms above
+  //     a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ, ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×,
+  //     with [n]×[s]× = s nᵀ − (n·s) I.
+  const Mat3 to_tool = rotation.transpose();
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // Σ d n, Σ d m (tool)
+  Vec3 plane_force = Vec3::Zero(), plane_torque = Vec3::Zero();  // over tangent-plane hits
+  Mat3 n_n = Mat3::Zero(), m_n = Mat3::Zero(), n_c = Mat3::Zero(), m_c = Mat3::Zero();
+  Mat3 d_s_n = Mat3::Zero();  // Σ d s nᵀ over field hits (tool)
+  double d_n_s = 0;           // Σ d n·s over field hits
   for (const PointHit& hit : hits.contacts) {
-    const Vec3 s = rotation * shell.points[hit.point];
-    const Vec3 n = contact_direction(shell, hit, rotation);
-    const Vec3 m = s.cross(n);
+    const Vec3& r = shell.points[hit.point];
+    Vec3 n, m;
+    if (hit.field) {
+      n = to_tool * hit.reference;
+      m = r.cross(n);
+    } else {
+      n = shell.normals[hit.point];
+      m = shell.moments[hit.point];
+    }
     force += hit.depth * n;
     torque += hit.depth * m;
     if (!with_jacobians) continue;
-    Vec3 a, c;
+    Vec3 c;
     if (!hit.field) {
-      a = -n;
-      c = n.cross(hit.reference - state.x);
-      force_turn -= hit.depth * skew(n);
-      torque_turn -= hit.depth * skew(m);
+      c = n.cross(to_tool * (hit.reference - state.x));
+      plane_force += hit.depth * n;
+      plane_torque += hit.depth * m;
     } else {
-      a = -hit.reference;
-      c = hit.reference.cross(s);
-      torque_turn.noalias() += hit.depth * skew(n) * skew(s);
+      c = -m;  // ∇φ × s
+      add_outer(d_s_n, hit.depth * r, n);
+      d_n_s += hit.depth * n.dot(r);
     }
-    n_a.noalias() += n * a.transpose();
-    n_c.noalias() += n * c.transpose();
-    m_a.noalias() += m * a.transpose();
-    m_c.noalias() += m * c.transpose();
+    add_outer(n_n, n, n);
+    add_outer(m_n, m, n);
+    add_outer(n_c, n, c);
+    add_outer(m_c, m, c);
   }
   const double contact_scale =
       k / (gains.signed_distance ? signed_distance_divisor(shell.points.size())
                                  : averaging_divisor(hits.contacts.size()));
-  result.wrench.force = contact_scale * force;
-  result.wrench.torque = contact_scale * torque;
+  result.wrench.force = contact_scale * (rotation * force);
+  result.wrench.torque = contact_scale * (rotation * torque);
+  auto to_world = [&](const Mat3& tool) -> Mat3 { return rotation * tool * to_tool; };
   if (with_jacobians && !hits.contacts.empty()) {
-    result.stiffness.block<3, 3>(0, 0) = contact_scale * n_a;
-    result.stiffness.block<3, 3>(0, 3) = contact_scale * (n_c + force_turn);
-    result.stiffness.block<3, 3>(3, 0) = contact_scale * m_a;
-    result.stiffness.block<3, 3>(3, 3) = contact_scale * (m_c + torque_turn);
+    const Mat3 force_turn = -skew(plane_force);
+    const Mat3 torque_turn = -skew(plane_torque) + d_s_n - d_n_s * Mat3::Identity();
+    result.stiffness.block<3, 3>(0, 0) = -contact_scale * to_world(n_n);
+    result.stiffness.block<3, 3>(0, 3) = contact_scale * to_world(n_c + force_turn);
+    result.stiffness.block<3, 3>(3, 0) = -contact_scale * to_world(m_n);
+    result.stiffness.block<3, 3>(3, 3) = contact_scale * to_world(m_c + torque_turn);
   }
 
   // Braking: F = b c u with c = n·u < 0, u = v + ω × s. With A = ∂F/∂u =
@@ -324,9 +351,11 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   //   ∂τ/∂ω = −[s]× A [s]×             = −b ((s × u) pᵀ + c (s sᵀ − |s|² I))
   //   ∂τ/∂δθ = [s]× ∂F/∂δθ + [F]×[s]×  = −b (s × u) qᵀ + b c (ω·s) [s]×
   //                                      + b c (s uᵀ − (u·s) I)
+  // (in tool axes too: s = r_i, n = n_i, p = −m_i, and v, ω turned once).
   const double b = gains.braking_viscosity;
   if (!(b > 0) || hits.braking.empty()) return result;
-  const Vec3& w = state.w;
+  const Vec3 v = to_tool * state.v;
+  const Vec3 w = to_tool * state.w;
   Vec3 brake_force = Vec3::Zero(), brake_torque = Vec3::Zero();
   Mat3 u_n = Mat3::Zero(), u_p = Mat3::Zero(), u_q = Mat3::Zero();
   Mat3 su_n = Mat3::Zero(), su_p = Mat3::Zero(), su_q = Mat3::Zero();
@@ -335,9 +364,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   double c_sum = 0, c_s2 = 0, c_ws = 0, c_us = 0;
   std::size_t braking = 0;
   for (const int32_t i : hits.braking) {
-    const Vec3 s = rotation * shell.points[i];
-    const Vec3 n = rotation * shell.normals[i];
-    const Vec3 u = state.v + w.cross(s);
+    const Vec3& s = shell.points[i];
+    const Vec3& n = shell.normals[i];
+    const Vec3 u = v + w.cross(s);
     const double c = n.dot(u);  // braking_speed(n, s, state), u kept for the sums below
     if (!(c < 0)) continue;
     ++braking;
@@ -345,16 +374,16 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     brake_force += c * u;
     brake_torque += c * s_u;
     if (!with_jacobians) continue;
-    const Vec3 p = n.cross(s);
+    const Vec3 p = -shell.moments[i];
     const Vec3 q = u.cross(n) + s.cross(w.cross(n));
-    u_n.noalias() += u * n.transpose();
-    u_p.noalias() += u * p.transpose();
-    u_q.noalias() += u * q.transpose();
-    su_n.noalias() += s_u * n.transpose();
-    su_p.noalias() += s_u * p.transpose();
-    su_q.noalias() += s_u * q.transpose();
-    c_ss.noalias() += c * s * s.transpose();
-    c_su.noalias() += c * s * u.transpose();
+    add_outer(u_n, u, n);
+    add_outer(u_p, u, p);
+    add_outer(u_q, u, q);
+    add_outer(su_n, s_u, n);
+    add_outer(su_p, s_u, p);
+    add_outer(su_q, s_u, q);
+    add_outer(c_ss, c * s, s);
+    add_outer(c_su, c * s, u);
     c_s += c * s;
     c_ws_s += (c * w.dot(s)) * s;
     c_sum += c;
@@ -363,18 +392,18 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     c_us += c * u.dot(s);
   }
   const double brake_scale = b / averaging_divisor(braking);
-  result.wrench.force += brake_scale * brake_force;
-  result.wrench.torque += brake_scale * brake_torque;
+  result.wrench.force += brake_scale * (rotation * brake_force);
+  result.wrench.torque += brake_scale * (rotation * brake_torque);
   if (with_jacobians && braking > 0) {
     const Mat3 identity = Mat3::Identity();
-    result.damping.block<3, 3>(0, 0) += brake_scale * (u_n + c_sum * identity);
-    result.damping.block<3, 3>(0, 3) += -brake_scale * (u_p + skew(c_s));
-    result.damping.block<3, 3>(3, 0) += brake_scale * (su_n + skew(c_s));
-    result.damping.block<3, 3>(3, 3) += -brake_scale * (su_p + c_ss - c_s2 * identity);
+    result.damping.block<3, 3>(0, 0) += brake_scale * to_world(u_n + c_sum * identity);
+    result.damping.block<3, 3>(0, 3) += -brake_scale * to_world(u_p + skew(c_s));
+    result.damping.block<3, 3>(3, 0) += brake_scale * to_world(su_n + skew(c_s));
+    result.damping.block<3, 3>(3, 3) += -brake_scale * to_world(su_p + c_ss - c_s2 * identity);
     result.stiffness.block<3, 3>(0, 3) +=
-        -brake_scale * (u_q + c_s * w.transpose() - c_ws * identity);
+        -brake_scale * to_world(u_q + c_s * w.transpose() - c_ws * identity);
     result.stiffness.block<3, 3>(3, 3) +=
-        brake_scale * (-su_q + skew(c_ws_s) + c_su - c_us * identity);
+        brake_scale * to_world(-su_q + skew(c_ws_s) + c_su - c_us * identity);
   }
   return result;
 }

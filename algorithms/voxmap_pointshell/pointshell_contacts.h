@@ -62,6 +62,7 @@ struct PointShell {
   };
   std::vector<Vec3> points;    ///< r_i: m, tool axes, about the centre of mass
   std::vector<Vec3> normals;   ///< n_i: unit, tool axes, pointing into the tool
+  std::vector<Vec3> moments;   ///< m_i = r_i × n_i: m, tool axes
   std::vector<double> levers;  ///< |r_i|, m
   std::vector<Node> nodes;     ///< depth-first; nodes[0] is the root (when any point)
   double radius = 0;           ///< m, max |r_i|
