@@ -58,14 +58,15 @@ bool HapticProxy::offer(ProximityCertificate certificate, const Pose& slow_proxy
 
 void HapticProxy::carry_measured_pairs(const std::vector<ContactFeatures>& previous) {
   const std::vector<ContactFeatures>& pairs = certificate_.pairs;
-  std::vector<char> measured(pairs.size(), 0);
+  std::vector<char>& measured = carried_measured_;
+  measured.assign(pairs.size(), 0);
   carried_contacts_.resize(pairs.size());
   if (measured_.size() == previous.size()) {
+    previous_index_.build(previous);
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const auto found = std::find(previous.begin(), previous.end(), pairs[k]);
-      const auto old = static_cast<std::size_t>(found - previous.begin());
-      if (found == previous.end() || !measured_[old]) continue;
-      carried_contacts_[k] = end_contacts_[old];
+      const int old = previous_index_.find(pairs[k]);
+      if (old < 0 || !measured_[static_cast<std::size_t>(old)]) continue;
+      carried_contacts_[k] = end_contacts_[static_cast<std::size_t>(old)];
       measured[k] = 1;
     }
   }

@@ -35,6 +35,7 @@
 
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/contact/constrained_step.h"
+#include "algorithms/contact/feature_pair_index.h"
 #include "algorithms/contact/proximity_certifier.h"
 #include "algorithms/contact/proxy_motion.h"
 #include "algorithms/god_object/god_object_update.h"
@@ -135,7 +136,9 @@ class HapticProxy {
   /// last tick's check, carried over a new certificate that lists it too),
   /// so the next tick need not measure it again at its start.
   std::vector<char> measured_;
+  std::vector<char> carried_measured_;  ///< measured_ of the next certificate, being filled
   std::vector<PairContact> carried_contacts_;
+  FeaturePairIndex previous_index_;  ///< the last certificate's pairs, to match the next's
   std::vector<Contact> contacts_;
   std::vector<double> floors_;         ///< per listed pair: the least distance it may end at (m)
   std::vector<double> end_distances_;  ///< per listed pair at the end pose tried, signed (m)
