@@ -33,15 +33,17 @@ struct ContactSettings {
   /// At most this many pairs are listed (the nearest); the band shrinks to
   /// the nearest pair left out. Where more pairs than this rest at the
   /// standoff (a face on many tiles), the band shrinks to the standoff and
-  /// the proxy cannot move: 64 held a box face on 36 tiles still.
-  int haptic_max_pairs = 256;
+  /// the proxy cannot move: 256 held a 10 cm box face still on the 121 tiles
+  /// of box_rest_144_tiles (up to 1,836 pairs within the band), which 2,048
+  /// lets slide, at the cost of a haptic step that measures every pair.
+  int haptic_max_pairs = 2048;
 };
 
 /// Reads "standoff" (m, default 1e-5), "contact_distance" (m, > standoff,
 /// default 1e-4), "ccd_time_tolerance" (default 1e-6),
 /// "ccd_max_evaluations" (default 64), "contact_window" (default 1e-3),
 /// "haptic_band" (m, > standoff, default 5e-3), "haptic_band_min" (m,
-/// default 5e-4) and "haptic_max_pairs" (default 256), in that order;
+/// default 5e-4) and "haptic_max_pairs" (default 2048), in that order;
 /// `defaults` gives the values of absent keys. Throws InputError naming the
 /// field.
 ContactSettings read_contact_settings(const ParamSet& params, bool point_tool,

@@ -22,7 +22,7 @@ namespace hb {
 /// (default 1e-6), "ccd_max_evaluations" (default 64), "contact_window"
 /// (default 1e-3), "haptic_band" (m, > standoff, default 5e-3), "haptic_band_min"
 /// (m, default 5e-4) and
-/// "haptic_max_pairs" (default 256); `defaults` gives the values of absent
+/// "haptic_max_pairs" (default 2048); `defaults` gives the values of absent
 /// keys. Throws InputError naming the field.
 GodObjectSettings read_god_object_settings(const ParamSet& params, bool point_tool,
                                            const GodObjectSettings& defaults = {});

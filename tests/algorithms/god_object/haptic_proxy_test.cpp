@@ -45,6 +45,14 @@ struct ProxyRig {
         solver(context, settings),
         proxy(solver.geometry().ccd(), context.coupling, settings,
               context.tool.mass.centre_of_mass) {}
+
+  /// m, world: the tool mesh's lowest vertex at the proxy pose.
+  double lowest_vertex_z() const {
+    double lowest = 1e300;
+    for (const Vec3& vertex : context.tool.mesh.vertices)
+      lowest = std::min(lowest, proxy.pose().transform_point(vertex).z());
+    return lowest;
+  }
 };
 
 struct CubeOnSlab : ProxyRig {
@@ -56,13 +64,6 @@ struct CubeOnSlab : ProxyRig {
     context.tool = test::box_tool(Vec3::Constant(kCube));
     context.tool.mesh = shape_mesh(*context.tool.shape);
     return context;
-  }
-
-  double lowest_vertex_z() const {
-    double lowest = 1e300;
-    for (const Vec3& vertex : context.tool.mesh.vertices)
-      lowest = std::min(lowest, proxy.pose().transform_point(vertex).z());
-    return lowest;
   }
 };
 
@@ -258,20 +259,22 @@ TEST_CASE("a tick starts from the last tick's check: each listed pair is measure
   CHECK(rig.lowest_vertex_z() >= 0.0);  // resting on the face, never below it
 }
 
-// A floor of 6 × 6 separate 1 cm tiles, 0.2 mm apart, top faces at z = 0.
-RenderContext tiled_floor_context() {
+// A floor of n × n separate 1 cm tiles at `pitch` (m; 1 cm: touching),
+// centred on the origin, top faces at z = 0, under a box tool of `tool` (m).
+RenderContext tiled_floor_context(int n, double pitch, const Vec3& tool) {
   RenderContext context;
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double first = -0.5 * (n - 1) * pitch;
       SceneObject tile = test::box_object(
           Vec3(0.01, 0.01, 0.01),
-          Pose{Vec3(-0.0255 + 0.0102 * i, -0.0255 + 0.0102 * j, -0.005), Quat::Identity()});
+          Pose{Vec3(first + pitch * i, first + pitch * j, -0.005), Quat::Identity()});
       tile.mesh = shape_mesh(*tile.shape);
       context.scene.push_back(tile);
     }
   }
   context.coupling = test::example_gains();
-  context.tool = test::box_tool(Vec3(0.03, 0.03, 0.02));
+  context.tool = test::box_tool(tool);
   context.tool.mesh = shape_mesh(*context.tool.shape);
   return context;
 }
@@ -280,7 +283,8 @@ TEST_CASE("a box face slides over the seams of a tiled floor without catching on
   // With its default pair limit the certificate must not lose its reach on
   // a crowded contact: were the limit's pair (the nearest one left out) at
   // the standoff, the proxy could not move and the coupling would stretch.
-  ProxyRig rig(tiled_floor_context());
+  // 6 × 6 tiles 0.2 mm apart under a 3 cm box.
+  ProxyRig rig(tiled_floor_context(6, 0.0102, Vec3(0.03, 0.03, 0.02)));
   rig.proxy.reset(at(Vec3(-0.005, -0.005, 0.0105)));
   for (int tick = 0; tick <= 600; ++tick) {
     // Pressed 1 mm, then slid 1 cm along x over 500 ms.
@@ -293,14 +297,31 @@ TEST_CASE("a box face slides over the seams of a tiled floor without catching on
   INFO("listed pairs " << rig.proxy.certificate().pairs.size() << ", clearance "
                        << rig.proxy.certificate().clearance_m);
   CHECK(rig.proxy.pose().p.x() == Approx(0.005).margin(1e-4));  // followed the device
-  const double lowest = [&] {
-    double z = 1e300;
-    for (const Vec3& v : rig.context.tool.mesh.vertices)
-      z = std::min(z, rig.proxy.pose().transform_point(v).z());
-    return z;
-  }();
-  CHECK(lowest >= 0.0);  // on the floor, never in it
-  CHECK(lowest <= rig.settings.contact_distance_m);
+  CHECK(rig.lowest_vertex_z() >= 0.0);                          // on the floor, never in it
+  CHECK(rig.lowest_vertex_z() <= rig.settings.contact_distance_m);
+}
+
+TEST_CASE("a 10 cm box face resting on 121 touching tiles slides with the device") {
+  // box_rest_144_tiles: up to 1,836 pairs lie within the band; with 256
+  // listed the certificate had no reach left and the proxy stayed put
+  // while the device slid 5 mm (a 9 N pull on a frictionless floor).
+  ProxyRig rig(tiled_floor_context(12, 0.01, Vec3(0.1, 0.1, 0.02)));
+  rig.proxy.reset(at(Vec3(0, 0, 0.0105)));
+  const Vec3 slide = Vec3(1, 0.5, 0).normalized() * 0.005;
+  for (int tick = 0; tick <= 250; ++tick) {
+    // Pressed 1 mm, then slid 5 mm over 200 ms.
+    const double along = std::clamp((tick - 50) / 200.0, 0.0, 1.0);
+    const Pose target = at(Vec3(0, 0, 0.0095) + along * slide);
+    rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
+                    rig.proxy.pose(), target);
+    rig.proxy.step(target);
+  }
+  INFO("listed pairs " << rig.proxy.certificate().pairs.size() << ", clearance "
+                       << rig.proxy.certificate().clearance_m);
+  CHECK(rig.proxy.certificate().pairs.size() > 256);
+  CHECK((rig.proxy.pose().p.head<2>() - slide.head<2>()).norm() <= 1e-4);  // followed the device
+  CHECK(rig.lowest_vertex_z() >= 0.0);  // on the floor, never in it
+  CHECK(rig.lowest_vertex_z() <= rig.settings.contact_distance_m);
 }
 
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
