@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace hb {
@@ -83,13 +84,40 @@ inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
   return -1;
 }
 
+// The points' slack kept between searches, as a reserve against the
+// motion bound accumulated since the front was first searched (so that a
+// point the stride leaves out for a while still ages): a point looked up
+// free with slack σ when the accumulated bound was S + T |r| is stored as
+// σ + S + T |r|, and may be skipped while that exceeds the bound now.
+struct PointReserves {
+  double* reserve = nullptr;  ///< per point of the shell; −1: look it up
+  double shift = 0;           ///< m, Σ |Δx| over the searches
+  double turn = 0;            ///< Σ ‖ΔR‖_F over the searches
+  double travelled(double lever) const { return shift + turn * lever; }
+  void keep(int32_t i, double slack, double lever) {
+    reserve[i] = slack > 0 ? slack + travelled(lever) : -1;
+  }
+  /// Looked up free, with room left (−1 marks a point that was not free:
+  /// no bound to work out).
+  bool still_free(int32_t i, double lever) const {
+    return reserve[i] > 0 && reserve[i] - travelled(lever) > 0;
+  }
+};
+
+// The first index from `first` on that the stride samples (a multiple of it).
+inline int32_t first_sampled(int32_t first, int32_t stride) {
+  return stride == 1 ? first : (first + stride - 1) / stride * stride;
+}
+
 // Searches nodes [begin, end) (whole subtrees) at the pose (x, rotation):
 // a node whose sphere is clear is skipped with its subtree, a leaf that is
-// not has its points looked up. With `front`, appends where it stopped;
-// with `point_slack`, keeps each looked-up point's slack there.
+// not has its points looked up, those whose index is a multiple of
+// `stride`. With `front`, appends where it stopped; with `reserves`, keeps
+// each looked-up point's slack there.
 void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShellGains& gains,
-             const Vec3& x, const Mat3& rotation, int32_t begin, int32_t end, PointShellHits& hits,
-             DescentWork& work, std::vector<PointShellFront::Entry>* front, double* point_slack) {
+             const Vec3& x, const Mat3& rotation, int32_t begin, int32_t end, int32_t stride,
+             PointShellHits& hits, DescentWork& work, std::vector<PointShellFront::Entry>* front,
+             PointReserves* reserves) {
   for (int32_t k = begin; k < end;) {
     const PointShell::Node& node = shell.nodes[k];
     ++work.tests;
@@ -104,11 +132,11 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
       ++k;
       continue;
     }
-    work.looked_up += node.count;
-    for (int32_t i = node.first; i < node.first + node.count; ++i) {
-      const double point =
-          look_up_point(shell, voxmap, gains, x, rotation, i, hits, point_slack != nullptr);
-      if (point_slack) point_slack[i] = point;
+    for (int32_t i = first_sampled(node.first, stride); i < node.first + node.count; i += stride) {
+      ++work.looked_up;
+      const double slack =
+          look_up_point(shell, voxmap, gains, x, rotation, i, hits, reserves != nullptr);
+      if (reserves) reserves->keep(i, slack, shell.levers[i]);
     }
     if (front) front->push_back({k, -1});
     k = node.skip;
@@ -157,8 +185,19 @@ Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3&
   return hit.field ? hit.reference : Vec3(rotation * shell.normals[hit.point]);
 }
 
-double averaging_divisor(std::size_t n) {
-  return n >= kAveragingThreshold ? static_cast<double>(n) / kAveragingThreshold : 1.0;
+double averaging_divisor(double n) {
+  return n >= static_cast<double>(kAveragingThreshold) ? n / kAveragingThreshold : 1.0;
+}
+
+int32_t point_budget_stride(int64_t candidates, int64_t budget, int32_t current) {
+  if (budget <= 0) return 1;
+  const int64_t needed = std::max<int64_t>(1, (candidates + budget - 1) / budget);
+  int64_t stride = std::max<int64_t>(current, 1);
+  if (needed > stride)
+    return static_cast<int32_t>(std::min<int64_t>(needed, std::numeric_limits<int32_t>::max()));
+  // Lowered only with a fifth of the lower stride's budget to spare.
+  while (stride > 1 && candidates * 5 <= budget * (stride - 1) * 4) --stride;
+  return static_cast<int32_t>(stride);
 }
 
 double signed_distance_divisor(std::size_t shell_points) {
@@ -172,7 +211,7 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
   work.names = &PointShellWork::kNames;
   DescentWork counts;
   descend(shell, voxmap, gains, state.x, state.q.toRotationMatrix(), 0,
-          static_cast<int32_t>(shell.nodes.size()), hits, counts, nullptr, nullptr);
+          static_cast<int32_t>(shell.nodes.size()), 1, hits, counts, nullptr, nullptr);
   work.add(PointShellWork::kSphereTests, counts.tests);
   work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
   work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
@@ -180,24 +219,29 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
 
 void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
                                    const PointShellGains& gains, const RigidBodyState& state,
-                                   PointShellFront& front, PointShellHits& hits,
-                                   WorkCounters& work) {
+                                   int64_t point_budget, PointShellFront& front,
+                                   PointShellHits& hits, WorkCounters& work) {
   hits.clear();
   work.names = &PointShellWork::kNames;
+  const int32_t stride = point_budget_stride(front.candidates_, point_budget, front.stride_);
+  hits.weight = stride;
   const Mat3 rotation = state.q.toRotationMatrix();
   DescentWork counts;
   std::vector<PointShellFront::Entry>& next = front.next_;
   next.clear();
-  front.point_slack_.resize(shell.points.size(), -1);
-  double* point_slack = front.point_slack_.data();
+  front.point_reserve_.resize(shell.points.size(), -1);
+  PointReserves reserves{front.point_reserve_.data(), front.travelled_shift_,
+                         front.travelled_turn_};
   const bool moved_finite = state.x.allFinite() && rotation.allFinite();
   if (!front.valid_ || !moved_finite) {
     descend(shell, voxmap, gains, state.x, rotation, 0, static_cast<int32_t>(shell.nodes.size()),
-            hits, counts, &next, point_slack);
+            stride, hits, counts, &next, &reserves);
   } else {
     // How far a point r (tool axes) has moved at most: |Δx| + ‖ΔR‖ |r|.
     const double shift = (state.x - front.x_).norm();
     const double turn = (rotation - front.rotation_).norm();
+    reserves.shift += shift;
+    reserves.turn += turn;
     int32_t skip_until = 0;  // input entries below this node lie in a subtree lifted
     // Coarsens the front's last entry while the scene is beyond its
     // parent's sphere too (the bound drops at most by the distance between
@@ -225,22 +269,21 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
           lift();
         } else {
           // The scene may have come within the sphere: search the subtree again.
-          descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, hits, counts,
-                  &next, point_slack);
+          descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, stride, hits,
+                  counts, &next, &reserves);
         }
         continue;
       }
       // A leaf looked up last time: its points again, skipping those that
-      // were free with room to spare while they have it.
-      bool all_clear = true;
-      for (int32_t i = node.first; i < node.first + node.count; ++i) {
-        double& slack = point_slack[i];
-        if (slack > 0) {
-          slack -= shift + turn * shell.levers[i];
-          if (slack > 0) continue;
-        }
+      // were free with room to spare while they have it (and those the
+      // stride leaves out, which keep the leaf in the front).
+      bool all_clear = stride == 1;
+      for (int32_t i = first_sampled(node.first, stride); i < node.first + node.count;
+           i += stride) {
+        if (reserves.still_free(i, shell.levers[i])) continue;
         ++counts.looked_up;
-        slack = look_up_point(shell, voxmap, gains, state.x, rotation, i, hits, true);
+        const double slack = look_up_point(shell, voxmap, gains, state.x, rotation, i, hits, true);
+        reserves.keep(i, slack, shell.levers[i]);
         if (!(slack > 0)) all_clear = false;
       }
       // Every point clear: the leaf's sphere may be too.
@@ -257,9 +300,17 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
   front.entries_.swap(next);
   front.x_ = state.x;
   front.rotation_ = rotation;
+  front.travelled_shift_ = reserves.shift;
+  front.travelled_turn_ = reserves.turn;
   front.valid_ = moved_finite;
+  // Each point looked up stands for `stride` the search would have looked up.
+  const int64_t candidates = counts.looked_up * stride;
+  front.candidates_ = candidates;
+  front.stride_ = stride;
   work.add(PointShellWork::kSphereTests, counts.tests);
   work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
+  work.add(PointShellWork::kBudgetSkipped, candidates - counts.looked_up);
+  work.add(PointShellWork::kBudgetTicks, stride > 1 ? 1 : 0);
   work.add(PointShellWork::kFrontEntries, static_cast<int64_t>(front.entries_.size()));
   work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
 }
@@ -326,9 +377,12 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     add_outer(n_c, n, c);
     add_outer(m_c, m, c);
   }
+  const double weight = hits.weight;
   const double contact_scale =
-      k / (gains.signed_distance ? signed_distance_divisor(shell.points.size())
-                                 : averaging_divisor(hits.contacts.size()));
+      k * weight /
+      (gains.signed_distance
+           ? signed_distance_divisor(shell.points.size())
+           : averaging_divisor(weight * static_cast<double>(hits.contacts.size())));
   result.wrench.force = contact_scale * (rotation * force);
   result.wrench.torque = contact_scale * (rotation * torque);
   auto to_world = [&](const Mat3& tool) -> Mat3 { return rotation * tool * to_tool; };
@@ -391,7 +445,7 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     c_ws += c * w.dot(s);
     c_us += c * u.dot(s);
   }
-  const double brake_scale = b / averaging_divisor(braking);
+  const double brake_scale = b * weight / averaging_divisor(weight * static_cast<double>(braking));
   result.wrench.force += brake_scale * (rotation * brake_force);
   result.wrench.torque += brake_scale * (rotation * brake_torque);
   if (with_jacobians && braking > 0) {

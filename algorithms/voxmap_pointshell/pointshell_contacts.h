@@ -93,9 +93,13 @@ struct PointHit {
 struct PointShellHits {
   std::vector<PointHit> contacts;  ///< points in contact (d > 0)
   std::vector<int32_t> braking;    ///< points in proximity voxels
+  /// How many shell points each hit stands for: the point budget's stride
+  /// (every stride-th point looked up), 1 when every point was.
+  double weight = 1;
   void clear() {
     contacts.clear();
     braking.clear();
+    weight = 1;
   }
 };
 
@@ -118,32 +122,53 @@ class PointShellFront {
     double slack = -1;  ///< m, > 0 for a skipped node, < 0 for a leaf looked up
   };
 
-  /// Forgets the front: the next search descends from the root.
-  void clear() { valid_ = false; }
+  /// Forgets the front: the next search descends from the root, every
+  /// point looked up.
+  void clear() {
+    valid_ = false;
+    candidates_ = 0;
+    stride_ = 1;
+  }
   /// Nodes in the front (0 when cleared or never searched).
   std::size_t size() const { return valid_ ? entries_.size() : 0; }
+  /// The point budget's stride at the last search (1: every point looked up).
+  int32_t stride() const { return stride_; }
 
  private:
   friend void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
                                             const PointShellGains& gains,
-                                            const RigidBodyState& state, PointShellFront& front,
-                                            PointShellHits& hits, WorkCounters& work);
+                                            const RigidBodyState& state, int64_t point_budget,
+                                            PointShellFront& front, PointShellHits& hits,
+                                            WorkCounters& work);
   std::vector<Entry> entries_, next_;
-  /// Per point of a leaf looked up: how far (m) it may move and stay free,
-  /// ≤ 0 when it must be looked up again.
-  std::vector<double> point_slack_;
-  Vec3 x_ = Vec3::Zero();  ///< m, world: the centre of mass at the last search
+  /// Per point of a leaf looked up: how far (m) it may move and stay free
+  /// when looked up, plus the motion bound travelled until then (m); −1
+  /// when it must be looked up again (pointshell_contacts.cpp).
+  std::vector<double> point_reserve_;
+  double travelled_shift_ = 0;  ///< m, Σ |Δx| over the searches since the first
+  double travelled_turn_ = 0;   ///< Σ ‖ΔR‖_F over the searches since the first
+  Vec3 x_ = Vec3::Zero();       ///< m, world: the centre of mass at the last search
   Mat3 rotation_ = Mat3::Identity();
   bool valid_ = false;
+  int64_t candidates_ = 0;  ///< points the last search had to look up, budget aside
+  int32_t stride_ = 1;      ///< the last search's stride
 };
+
+/// The point budget's stride for a search after one that had `candidates`
+/// points to look up, at `current` stride: the least k ≥ 1 with
+/// candidates ≤ k · budget, except that the stride is lowered only once
+/// candidates ≤ 0.8 (k − 1) budget, so that a count hovering at a boundary
+/// does not switch the sample back and forth. 1 when budget ≤ 0 (none).
+int32_t point_budget_stride(int64_t candidates, int64_t budget, int32_t current);
 
 /// n·u for a point with normal n (world, pointing into the tool) and lever
 /// s (m, world, from the centre of mass) at `state`, u = v + ω × s (m/s): a
 /// braking point acts when it is negative (moving towards the scene).
 double braking_speed(const Vec3& normal, const Vec3& lever, const RigidBodyState& state);
 
-/// The averaging rule's divisor for n acting points: 1 when n < 10, else n / 10.
-double averaging_divisor(std::size_t n);
+/// The averaging rule's divisor for n acting points: 1 when n < 10, else
+/// n / 10 (n counts the points the hits stand for: hits × weight).
+double averaging_divisor(double n);
 
 /// Shell points per unit of the signed-distance variant's divisor: a 2 cm
 /// sphere at 2 mm (about 1,250 points) gets 6.3 where a 2.5 mm press
@@ -164,9 +189,12 @@ struct PointShellWork {
     kPointsLookedUp,  ///< points whose voxel was read
     kFrontEntries,    ///< front entries carried between searches
     kBrakingPoints,   ///< points found in proximity voxels
+    kBudgetSkipped,   ///< points to look up that the point budget's stride left out
+    kBudgetTicks,     ///< searches with a stride above 1
   };
-  static constexpr WorkCounters::Names kNames = {"sphere_tests", "points_looked_up",
-                                                 "front_entries", "braking_points"};
+  static constexpr WorkCounters::Names kNames = {"sphere_tests",       "points_looked_up",
+                                                 "front_entries",      "braking_points",
+                                                 "points_over_budget", "searches_over_budget"};
 };
 
 /// Finds the points of the shell that act at the proxy pose (x, q of
@@ -180,7 +208,17 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
                           PointShellHits& hits, WorkCounters& work);
 
 /// The same hits as find_pointshell_hits, starting from the front the last
-/// search at another pose left (then updated for the next). A skipped
+/// search at another pose left (then updated for the next), within a point
+/// budget (the time-critical traversal of Barbič & James's pointshells,
+/// by stride): when the last search had more points to look up than
+/// `point_budget` (> 0), only every k-th point of the shell is looked up
+/// (k = point_budget_stride, the same points while k holds, so the
+/// sampled force stays a function of the pose) and each hit stands for k
+/// points (hits.weight = k: the sums are scaled by k, the averaging rule
+/// counts k per hit); the points left out are counted in work
+/// (kBudgetSkipped, kBudgetTicks). The stride follows the last search's
+/// count, so the first search of a sudden crowd looks up every point.
+/// With point_budget ≤ 0 every point is looked up. A skipped
 /// node stays skipped while its slack exceeds how far its sphere's centre
 /// has moved since it was tested (|Δx| + ‖ΔR‖_F |centre|: a lower bound on
 /// the distance to the scene drops at most that much), and is tested again
@@ -195,8 +233,8 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
 /// spheres tested and points looked up.
 void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
                                    const PointShellGains& gains, const RigidBodyState& state,
-                                   PointShellFront& front, PointShellHits& hits,
-                                   WorkCounters& work);
+                                   int64_t point_budget, PointShellFront& front,
+                                   PointShellHits& hits, WorkCounters& work);
 
 /// The same hits by looking up every point, without the tree (the reference
 /// the tree's culling is checked against).
@@ -205,7 +243,7 @@ void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxma
                                PointShellHits& hits);
 
 /// The net wrench of the hits at `state` about the centre of mass (world),
-/// with Jacobians when asked.
+/// with Jacobians when asked; each hit counts hits.weight times.
 ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,
                                   const PointShellGains& gains, const RigidBodyState& state,
                                   bool with_jacobians);

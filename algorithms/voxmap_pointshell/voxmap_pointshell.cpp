@@ -28,10 +28,16 @@ constexpr double kReachMarginPerToolRadius = 0.1;
 
 constexpr double kMinVoxelSize = 2e-5;  // m
 
+// Points looked up a tick at most, about (pointshell_contacts.h); 0: every
+// point, McNeely's rendering as published. A budget trades accuracy for
+// time where many points crowd the contact (docs/algorithms/voxmap-pointshell.md).
+constexpr int64_t kDefaultPointBudget = 0;
+
 struct VoxmapPointShellSettings {
   VoxmapSettings voxmap;
   double pointshell_spacing_m = 0;
   PointShellGains gains;
+  int64_t point_budget = 0;  ///< points looked up a tick at most (about); 0: no budget
   ProxySettings proxy;
   bool cache = true;
 };
@@ -62,6 +68,7 @@ VoxmapPointShellSettings read_settings(const RenderContext& context, const Param
   settings.voxmap.interior_layers = static_cast<int>(params.integer("interior_layers", 3, 1, 64));
   settings.voxmap.proximity_layers = static_cast<int>(params.integer("proximity_layers", 2, 0, 64));
   settings.gains.braking_viscosity = params.number("braking_viscosity", 5, 0, 1e9);
+  settings.point_budget = params.integer("point_budget", kDefaultPointBudget, 0, 100000000);
   settings.proxy = read_proxy_settings(params, context.tool);
   settings.cache = params.flag("cache", true);
   return settings;
@@ -134,6 +141,7 @@ class VoxmapPointShellRenderer : public Renderer {
                            const ParamSet& params)
       : limits_(context.device),
         gains_(settings.gains),
+        point_budget_(settings.point_budget),
         body_(proxy_body(context.tool, settings.proxy.proxy_mass_kg, context.gravity)),
         proxy_(body_, context.coupling, settings.proxy.integrator, context.dt_s) {
     CacheSettings cache;
@@ -240,13 +248,15 @@ class VoxmapPointShellRenderer : public Renderer {
   };
 
   void find_hits(const RigidBodyState& state, WorkCounters& work) {
-    find_pointshell_hits_coherent(shell_, scene_.lookup, gains_, state, front_, hits_, work);
+    find_pointshell_hits_coherent(shell_, scene_.lookup, gains_, state, point_budget_, front_,
+                                  hits_, work);
     hits_pose_ = Pose{state.x, state.q};
     hits_valid_ = true;
   }
 
   DeviceLimits limits_;
   PointShellGains gains_;
+  int64_t point_budget_ = 0;
   RigidBody body_;
   DynamicProxy proxy_;
   PointShell shell_;

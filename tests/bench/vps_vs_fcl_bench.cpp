@@ -112,7 +112,7 @@ struct Setup {
   double vps_query(const DeviceSample& sample, bool coherent) {
     const RigidBodyState state = state_of(sample, scenario.context.tool.mass.centre_of_mass);
     if (coherent) {
-      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, front, hits, work);
+      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, 0, front, hits, work);
     } else {
       find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
     }

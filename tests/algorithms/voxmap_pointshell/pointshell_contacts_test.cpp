@@ -462,7 +462,7 @@ TEST_CASE("the search from the last front finds exactly what the flat scan finds
                 state.q;
       state.v = Vec3(unit(random), unit(random), unit(random));
       PointShellHits coherent, full, flat;
-      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, front, coherent,
+      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, 0, front, coherent,
                                     coherent_work);
       find_pointshell_hits(shell, voxmap.lookup, gains, state, full, full_work);
       find_pointshell_hits_flat(shell, voxmap.lookup, gains, state, flat);
@@ -482,6 +482,123 @@ TEST_CASE("the search from the last front finds exactly what the flat scan finds
     // own sphere is clear, which the voxel-quantised bound may say later
     // than its parent's.
     CHECK(coherent_work.get("points_looked_up") <= full_work.get("points_looked_up") * 21 / 20);
+  }
+}
+
+TEST_CASE("the point budget's stride rises at once and falls with a fifth to spare",
+          "[voxmap_pointshell]") {
+  CHECK(point_budget_stride(5000, 0, 1) == 1);  // no budget
+  CHECK(point_budget_stride(5000, -1, 3) == 1);
+  CHECK(point_budget_stride(512, 512, 1) == 1);
+  CHECK(point_budget_stride(513, 512, 1) == 2);
+  CHECK(point_budget_stride(3100, 512, 1) == 7);  // ⌈3100 / 512⌉
+  // Lowered from 7 only to a stride whose budget has a fifth to spare:
+  // 2,500 ≤ 0.8 · 512 · k first holds at k = 7 (2,867), not at k = 6 (2,458).
+  CHECK(point_budget_stride(2500, 512, 7) == 7);
+  CHECK(point_budget_stride(2400, 512, 7) == 6);
+  CHECK(point_budget_stride(300, 512, 7) == 1);
+  CHECK(point_budget_stride(450, 512, 2) == 2);  // 450 > 0.8 · 512
+}
+
+// A 6 cm × 6 cm × 1 cm box tool at 1 mm spacing, about 9,000 points.
+PointShell plate_shell() {
+  Shape plate;
+  plate.type = ShapeType::kBox;
+  plate.size = Vec3(0.06, 0.06, 0.01);
+  const PointShellPoints points = build_pointshell(shape_mesh(plate), 0.001, no_cache());
+  return make_pointshell(points.points, points.normals, Vec3::Zero());
+}
+
+TEST_CASE("within a point budget a face pressed flat looks up a sample and keeps its wrench",
+          "[voxmap_pointshell]") {
+  // The plate's bottom face (3,600 points) 0.4 mm into the slab, tilted
+  // a little so that the depths vary across the face, sliding slowly: the
+  // crowded contact of a box on a floor.
+  const PointShell shell = plate_shell();
+  const int64_t budget = 400;
+  for (const bool signed_distance : {false, true}) {
+    const SceneVoxmap voxmap = slab_voxmap(0.001, signed_distance);
+    PointShellGains gains;
+    gains.signed_distance = signed_distance;
+    PointShellFront exact_front, budget_front;
+    WorkCounters exact_work, budget_work;
+    double force_error_max = 0, torque_error_max = 0, force_min = 1e9;
+    int64_t looked_up_max = 0;
+    for (int tick = 0; tick < 200; ++tick) {
+      RigidBodyState state;
+      state.x = Vec3(2e-5 * tick, 1e-5 * tick, 0.005 - 0.0004);
+      state.q = quat_from_rotation_vector(Vec3(0.004, -0.003, 0.0005 * tick));
+      state.v = Vec3(0.02, 0.01, -0.005);
+      PointShellHits exact, sampled;
+      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, 0, exact_front, exact,
+                                    exact_work);
+      const int64_t before = budget_work.get("points_looked_up");
+      find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, budget, budget_front,
+                                    sampled, budget_work);
+      const ForceEvaluation a = pointshell_wrench(shell, exact, gains, state, true);
+      const ForceEvaluation b = pointshell_wrench(shell, sampled, gains, state, true);
+      if (tick == 0) {
+        // The first search has no count to go by: every point, exactly.
+        CHECK(sampled.weight == 1);
+        CHECK(same_hits(exact, sampled));
+        continue;
+      }
+      INFO("signed distance " << signed_distance << ", tick " << tick);
+      REQUIRE(sampled.weight == budget_front.stride());
+      REQUIRE(budget_front.stride() > 4);
+      looked_up_max = std::max(looked_up_max, budget_work.get("points_looked_up") - before);
+      const double force = a.wrench.force.norm();
+      force_min = std::min(force_min, force);
+      force_error_max = std::max(force_error_max, (b.wrench.force - a.wrench.force).norm() / force);
+      // Torque about the centre of mass relative to the force's moment arm
+      // over the face (3 cm).
+      torque_error_max =
+          std::max(torque_error_max, (b.wrench.torque - a.wrench.torque).norm() / (0.03 * force));
+      // The Jacobians are scaled with the wrench.
+      CHECK(b.stiffness(2, 2) == Approx(a.stiffness(2, 2)).epsilon(0.1));
+    }
+    INFO("signed distance " << signed_distance << ": force within " << force_error_max
+                            << ", torque within " << torque_error_max << ", at most "
+                            << looked_up_max << " points a search");
+    CHECK(force_min > 1);  // a real press
+    CHECK(force_error_max < 0.05);
+    CHECK(torque_error_max < 0.05);
+    // About the budget a search (a stride rounds per leaf), where the
+    // exact search looks up every point of the face.
+    CHECK(looked_up_max <= budget * 5 / 4);
+    CHECK(exact_work.get("points_looked_up") > 200 * 3000);
+    CHECK(budget_work.get("searches_over_budget") == 199);
+    CHECK(budget_work.get("points_over_budget") > 199 * 2500);
+    CHECK(exact_work.get("points_over_budget") == 0);
+  }
+}
+
+TEST_CASE("a budget the contact fits in changes nothing, and a lifted tool gets every point back",
+          "[voxmap_pointshell]") {
+  const PointShell shell = plate_shell();
+  const SceneVoxmap voxmap = slab_voxmap(0.001, false);
+  PointShellGains gains;
+  PointShellFront exact_front, budget_front;
+  WorkCounters exact_work, budget_work;
+  // Pressed (over budget), lifted clear, then tilted onto one corner
+  // (within budget): from the touch on, the hits are the exact ones.
+  for (int tick = 0; tick < 120; ++tick) {
+    RigidBodyState state;
+    state.x = tick < 40 ? Vec3(0, 0, 0.0046) : tick < 80 ? Vec3(0, 0, 0.02) : Vec3(0, 0, 0.009);
+    state.q = tick < 80 ? Quat::Identity() : quat_from_rotation_vector(Vec3(0.1, -0.1, 0));
+    PointShellHits exact, sampled;
+    find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, 0, exact_front, exact,
+                                  exact_work);
+    find_pointshell_hits_coherent(shell, voxmap.lookup, gains, state, 2500, budget_front, sampled,
+                                  budget_work);
+    INFO("tick " << tick << " exact looked up " << exact_work.get("points_looked_up"));
+    if (tick >= 1 && tick < 40) CHECK(budget_front.stride() > 1);
+    if (tick >= 82) {
+      CHECK(!exact.contacts.empty());
+      CHECK(budget_front.stride() == 1);
+      CHECK(same_hits(exact, sampled));
+      CHECK(same_wrench(shell, exact, sampled, gains, state));
+    }
   }
 }
 

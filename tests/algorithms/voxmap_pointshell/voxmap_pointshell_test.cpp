@@ -402,6 +402,8 @@ TEST_CASE("bad parameters are named by field", "[voxmap_pointshell]") {
   CHECK(location_of(params_of({{"variant", std::string("octree")}})) == p + "variant");
   CHECK(location_of(params_of({{"proximity_layers", 1.5}})) == p + "proximity_layers");
   CHECK(location_of(params_of({{"braking_viscosity", -1.0}})) == p + "braking_viscosity");
+  CHECK(location_of(params_of({{"point_budget", -1.0}})) == p + "point_budget");
+  CHECK(location_of(params_of({{"point_budget", 100.5}})) == p + "point_budget");
   CHECK(location_of(params_of({{"integrator", std::string("rk4")}})) == p + "integrator");
   CHECK(location_of(params_of({{"cache", 1.0}})) == p + "cache");
   CHECK(location_of(params_of({{"voxel_sise", 0.001}})) == p + "voxel_sise");
