@@ -30,8 +30,21 @@ ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const ContactSettings
 ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double band_m) const {
   ProximityCertificate certificate;
   certificate.anchor = frames_.com_frame(tool_pose);
-  const ProximityResult found = ccd_.proximity(
-      certificate.anchor, band_m, static_cast<std::size_t>(settings_.haptic_max_pairs));
+  const auto most = static_cast<std::size_t>(settings_.haptic_max_pairs);
+  const std::size_t first = std::min(kFirstListedPairs, most);
+  constexpr double kReachPerBand = 1.0 / 3;
+  const double reach_wanted = kReachPerBand * band_m;
+  ProximityResult found = ccd_.proximity(certificate.anchor, band_m, crowded_ ? most : first);
+  // Cut short with too little reach (pairs crowding the standoff): list more.
+  if (!crowded_ && first < most && found.clearance_m < band_m &&
+      found.clearance_m - settings_.standoff_m < reach_wanted) {
+    found = ccd_.proximity(certificate.anchor, band_m, most);
+  }
+  // Whether the first pairs alone would have left too little reach here
+  // (their clearance: the distance of the next pair): then the next query,
+  // a slow-loop interval away, lists the most at once.
+  crowded_ = found.pairs.size() > first &&
+             found.pairs[first].distance - settings_.standoff_m < reach_wanted;
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   certificate.distances.reserve(found.pairs.size());

@@ -18,6 +18,9 @@
 
 namespace hb {
 
+/// Pairs a proximity query lists first (ProximityCertifier::certify).
+inline constexpr std::size_t kFirstListedPairs = 256;
+
 /// What a proximity query certifies around an anchor pose: within reach
 /// clearance_m − standoff of the anchor (point_reach of the displacement
 /// from it), only the listed pairs can come closer than the standoff.
@@ -52,8 +55,10 @@ class ProximityCertifier {
   ProximityCertifier(const MeshCcd& ccd, const ContactSettings& settings,
                      const Vec3& centre_of_mass);
 
-  /// The proximity query at `tool_pose`, listing pairs within `band_m` (at
-  /// most settings.haptic_max_pairs, the nearest).
+  /// The proximity query at `tool_pose`, listing pairs within `band_m`:
+  /// the kFirstListedPairs nearest, or, when those leave a reach below a
+  /// third of the band (what two slow-loop intervals of the motion the
+  /// band was sized for need), up to settings.haptic_max_pairs nearest.
   ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
 
   /// The band for the next certificate: six times how far (point_reach) the
@@ -81,6 +86,10 @@ class ProximityCertifier {
   ContactSettings settings_;
   ProxyFrames frames_;
   double radius_;
+  /// The last query found more pairs crowding the standoff than it lists
+  /// first: the next lists the most at once (a hint between queries; a
+  /// certificate is valid whichever way it was listed).
+  mutable bool crowded_ = false;
 };
 
 }  // namespace hb

@@ -324,6 +324,30 @@ TEST_CASE("a 10 cm box face resting on 121 touching tiles slides with the device
   CHECK(rig.lowest_vertex_z() <= rig.settings.contact_distance_m);
 }
 
+TEST_CASE("a certificate lists the first 256 pairs unless they crowd the standoff") {
+  // The 10 cm box over 12 × 12 tiles: hovering 2 mm above them, over 500
+  // pairs lie in the 5 mm band, but the 256 nearest leave a reach of 2 mm,
+  // more than the third of the band two slow-loop intervals need; resting
+  // on them, the 256 nearest leave none, and more are listed. The query
+  // after a crowded one lists the most at once, then the first 256 again.
+  ProxyRig rig(tiled_floor_context(12, 0.01, Vec3(0.1, 0.1, 0.02)));
+  const double band = rig.settings.haptic_band_m;
+  const Pose hover = at(Vec3(0, 0, 0.012)), rest = at(Vec3(0, 0, 0.01 + 0.5e-4));
+  const ProximityCertificate before = rig.proxy.certify(hover, band);
+  CHECK(before.pairs.size() == kFirstListedPairs);
+  CHECK(before.clearance_m == Approx(0.002).margin(1e-9));
+  CHECK(before.clearance_m - rig.settings.standoff_m >= band / 3);
+  const ProximityCertificate resting = rig.proxy.certify(rest, band);
+  CHECK(resting.pairs.size() > kFirstListedPairs);
+  CHECK(resting.clearance_m - rig.settings.standoff_m >= band / 3);
+  const ProximityCertificate lifted = rig.proxy.certify(hover, band);
+  CHECK(lifted.pairs.size() > kFirstListedPairs);  // listed at once, still a certificate
+  CHECK(lifted.clearance_m >= before.clearance_m);
+  const ProximityCertificate again = rig.proxy.certify(hover, band);
+  CHECK(again.pairs == before.pairs);
+  CHECK(again.clearance_m == before.clearance_m);
+}
+
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   CubeOnSlab rig;
   rig.proxy.reset(at(Vec3(0, 0, 0.021)));         // 1 mm above the face
