@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace hb {
 
@@ -15,6 +16,34 @@ constexpr int kConePasses = 4;
 
 // Two contact normals this close (cosine) are one normal: one plane.
 constexpr double kSameNormalCos = 1 - 1e-6;
+// How far apart (m) two such unit normals can be, |a − b| = √(2 − 2 a·b),
+// with room for their rounding: the KeyWindow radius of the search.
+const double kSameNormalDistance = std::sqrt(2 * (1 - kSameNormalCos)) + 1e-9;
+
+// Coincident contacts (ConstrainedStepSolver::solve): levers this close (m)
+// with normals this close (cosine) and one μ.
+constexpr double kCoincidentM = 1e-7;
+constexpr double kCoincidentCos = 1 - 1e-9;
+// Room for the rounding of a lever's key (m; levers up to kilometres).
+constexpr double kLeverKeyMargin = 1e-12;
+
+// Up to this many contacts a plain scan finds matches for less than
+// sorting them by key and searching does.
+constexpr std::size_t kFewContacts = 32;
+
+// Visits, in ascending order and until visit returns false, the ids of
+// `listed` when `few`, else the window's ids whose key is within `radius`
+// of `key` (the candidates a "within distance" test can accept).
+template <class Visit>
+void visit_candidates(bool few, std::span<const int> listed, KeyWindow& window, double key,
+                      double radius, Visit&& visit) {
+  if (few) {
+    for (const int id : listed)
+      if (!visit(id)) return;
+    return;
+  }
+  window.visit_within(key, radius, visit);
+}
 
 // z-component of (b − a) × (c − a): > 0 when a, b, c turn left.
 double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
@@ -61,26 +90,47 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
   // final QP, which holds every constraint.
   constexpr std::size_t kKept = 8;
   const double bound_tolerance = 1000 * tolerance_;
+  const Vec3 axis = KeyWindow::axis();
   group_of_.assign(rows_.size(), -1);
   group_first_.clear();
+  group_size_.clear();
+  // The groups' first rows as they come (few rows), or every row by normal.
+  const bool few = rows_.size() <= kFewContacts;
+  window_.clear();
+  for (std::size_t row = 0; row < rows_.size() && !few; ++row)
+    window_.append(rows_[row].normal.dot(axis), static_cast<int>(row));
+  window_.sort();
   for (std::size_t row = 0; row < rows_.size(); ++row) {
-    std::size_t g = 0;
-    for (; g < group_first_.size(); ++g) {
-      const FrictionalContactRow& first = rows_[group_first_[g]];
-      if (first.friction == rows_[row].friction &&
-          first.normal.dot(rows_[row].normal) >= kSameNormalCos &&
-          std::abs(first.bound - rows_[row].bound) <= bound_tolerance)
-        break;
+    // The first group (in order of creation, which is the order of their
+    // first rows) whose first row matches: only rows with a normal near
+    // this one's can.
+    int first = -1;
+    const double key = few ? 0.0 : rows_[row].normal.dot(axis);
+    visit_candidates(few, group_first_, window_, key, kSameNormalDistance, [&](int other) {
+      if (other >= static_cast<int>(row)) return false;
+      const FrictionalContactRow& candidate = rows_[other];
+      if (group_first_[group_of_[other]] == other && candidate.friction == rows_[row].friction &&
+          candidate.normal.dot(rows_[row].normal) >= kSameNormalCos &&
+          std::abs(candidate.bound - rows_[row].bound) <= bound_tolerance)
+        first = other;
+      return first < 0;
+    });
+    if (first < 0) {
+      group_of_[row] = static_cast<int>(group_first_.size());
+      group_first_.push_back(static_cast<int>(row));
+      group_size_.push_back(0);
+    } else {
+      group_of_[row] = group_of_[first];
     }
-    if (g == group_first_.size()) group_first_.push_back(static_cast<int>(row));
-    group_of_[row] = static_cast<int>(g);
+    ++group_size_[group_of_[row]];
   }
   keep_.assign(rows_.size(), 1);
   for (std::size_t g = 0; g < group_first_.size(); ++g) {
+    if (group_size_[g] <= static_cast<int>(kKept)) continue;
     members_.clear();
     for (std::size_t row = 0; row < rows_.size(); ++row)
       if (group_of_[row] == static_cast<int>(g)) members_.push_back(static_cast<int>(row));
-    if (members_.size() > kKept) keep_hull_vertices(rows_[group_first_[g]].normal);
+    keep_hull_vertices(rows_[group_first_[g]].normal);
   }
   // Compact the rows and re-point the constraints (−1: left to the QP).
   new_index_.assign(rows_.size(), -1);
@@ -128,22 +178,42 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   // vertex's edges meet at one point with one normal) would make the sweeps
   // trade load between them without end: each point is solved once, with
   // the tightest bound of the pairs there, its impulse kept by the first.
-  constexpr double kCoincidentM = 1e-7;
-  constexpr double kCoincidentCos = 1 - 1e-9;
+  // A constraint joins the first row (in order) that matches; only rows
+  // whose lever lies near its own can.
+  // (A row's lever, normal and μ are its first constraint's, and rows are
+  // made in the order of their first constraints.)
+  const Vec3 axis = KeyWindow::axis();
   rows_.clear();
   row_of_.assign(constraints.size(), 0);
+  row_first_.clear();
+  // The rows' first constraints as they come (few constraints), or every
+  // constraint by lever.
+  const bool few = constraints.size() <= kFewContacts;
+  window_.clear();
+  for (std::size_t k = 0; k < constraints.size() && !few; ++k)
+    window_.append(constraints[k].lever.dot(axis), static_cast<int>(k));
+  window_.sort();
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const GaussConstraint& c = constraints[k];
-    std::size_t row = 0;
-    while (row < rows_.size() && !(rows_[row].friction == friction[k] &&
-                                   (rows_[row].lever - c.lever).norm() <= kCoincidentM &&
-                                   rows_[row].normal.dot(c.normal) >= kCoincidentCos))
-      ++row;
-    if (row == rows_.size())
+    int first = -1;  // the earliest constraint that made a row and matches
+    const double key = few ? 0.0 : c.lever.dot(axis);
+    visit_candidates(few, row_first_, window_, key, kCoincidentM + kLeverKeyMargin, [&](int other) {
+      if (other >= static_cast<int>(k)) return false;
+      const GaussConstraint& candidate = constraints[other];
+      if (row_first_[row_of_[other]] == other && friction[other] == friction[k] &&
+          (candidate.lever - c.lever).norm() <= kCoincidentM &&
+          candidate.normal.dot(c.normal) >= kCoincidentCos)
+        first = other;
+      return first < 0;
+    });
+    if (first < 0) {
+      row_of_[k] = static_cast<int>(rows_.size());
       rows_.push_back(FrictionalContactRow{c.normal, c.lever, c.rhs, friction[k]});
-    else
-      rows_[row].bound = std::max(rows_[row].bound, c.rhs);
-    row_of_[k] = static_cast<int>(row);
+      row_first_.push_back(static_cast<int>(k));
+    } else {
+      row_of_[k] = row_of_[first];
+      rows_[row_of_[k]].bound = std::max(rows_[row_of_[k]].bound, c.rhs);
+    }
   }
   reduce_coplanar_rows();
   const std::span<const Vec3> source =
@@ -225,17 +295,28 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
 
 void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {
   // Rows with one normal and one μ share their group's total normal force
-  // (the QP's) in the sweeps' proportions.
+  // (the QP's) in the sweeps' proportions; the rows with a normal near a
+  // row's are found by key, and summed in row order.
+  const Vec3 axis = KeyWindow::axis();
+  const bool few = rows_.size() <= kFewContacts;  // every row, or the rows by normal
+  all_rows_.resize(rows_.size());
+  std::iota(all_rows_.begin(), all_rows_.end(), 0);
+  window_.clear();
+  for (std::size_t row = 0; row < rows_.size() && !few; ++row)
+    window_.append(rows_[row].normal.dot(axis), static_cast<int>(row));
+  window_.sort();
   shared_normal_.resize(rows_.size());
   for (std::size_t row = 0; row < rows_.size(); ++row) {
     double qp_total = 0, sweeps_total = 0;
-    for (std::size_t other = 0; other < rows_.size(); ++other) {
-      if (rows_[other].friction != rows_[row].friction ||
-          rows_[other].normal.dot(rows_[row].normal) < kSameNormalCos)
-        continue;
-      qp_total += row_normal_[other];
-      sweeps_total += solution.impulses[other].x();
-    }
+    const double key = few ? 0.0 : rows_[row].normal.dot(axis);
+    visit_candidates(few, all_rows_, window_, key, kSameNormalDistance, [&](int other) {
+      if (rows_[other].friction == rows_[row].friction &&
+          rows_[other].normal.dot(rows_[row].normal) >= kSameNormalCos) {
+        qp_total += row_normal_[other];
+        sweeps_total += solution.impulses[other].x();
+      }
+      return true;
+    });
     shared_normal_[row] = sweeps_total > 0 ? solution.impulses[row].x() * (qp_total / sweeps_total)
                                            : row_normal_[row];
   }

@@ -43,6 +43,7 @@
 
 #include "algorithms/contact/frictional_contact_solver.h"
 #include "algorithms/contact/gauss_least_constraint.h"
+#include "algorithms/contact/key_window.h"
 #include "hapticbench/pose.h"
 
 namespace hb {
@@ -122,8 +123,11 @@ class ConstrainedStepSolver {
                           std::span<const double> friction, std::span<const double> normal_forces);
 
   double tolerance_;
-  std::vector<int> row_of_;  ///< per constraint, its row of the frictional solve (−1: none)
-  std::vector<int> group_of_, group_first_, members_, new_index_;
+  std::vector<int> row_of_;     ///< per constraint, its row of the frictional solve (−1: none)
+  std::vector<int> row_first_;  ///< per row, the constraint that made it
+  std::vector<int> all_rows_;   ///< 0, 1, … (share_planar_loads)
+  std::vector<int> group_of_, group_first_, group_size_, members_, new_index_;
+  KeyWindow window_;  ///< rows or groups by the key of a lever or normal (constrained_step.cpp)
   std::vector<char> keep_;
   std::vector<char> taken_;
   std::vector<std::pair<Eigen::Vector2d, int>> plane_points_;

@@ -1,0 +1,46 @@
+// Ids kept in order of a scalar key, to visit those whose key lies within a
+// radius of a value: the candidates of a "within
+// distance r" search over points projected on one axis (|a·u − b·u| ≤ |a − b| for a unit u), so
+// that matching contacts by position or direction costs the few near the query instead of every one
+// (ConstrainedStepSolver).
+#pragma once
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+#include "hapticbench/pose.h"
+
+namespace hb {
+
+class KeyWindow {
+ public:
+  /// A unit axis in no particular alignment with a scene's or tool's axes,
+  /// so that contacts on an axis-aligned face or edge do not share one key.
+  static Vec3 axis() { return Vec3(0.48, 0.6, 0.64); }
+
+  void clear() { entries_.clear(); }
+  /// Adds `id` with `key`; call sort() before visiting.
+  void append(double key, int id) { entries_.emplace_back(key, id); }
+  void sort() { std::sort(entries_.begin(), entries_.end()); }
+  /// Calls visit(id), in ascending order of id, for every id whose key is
+  /// within [key − radius, key + radius], until visit returns false.
+  template <class Visit>
+  void visit_within(double key, double radius, Visit&& visit) {
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), key - radius,
+                               [](const Entry& e, double k) { return e.first < k; });
+    ids_.clear();
+    for (; it != entries_.end() && it->first <= key + radius; ++it) ids_.push_back(it->second);
+    std::sort(ids_.begin(), ids_.end());
+    for (const int id : ids_)
+      if (!visit(id)) return;
+  }
+  std::size_t size() const { return entries_.size(); }
+
+ private:
+  using Entry = std::pair<double, int>;
+  std::vector<Entry> entries_;
+  std::vector<int> ids_;  ///< the ids near one key, sorted
+};
+
+}  // namespace hb

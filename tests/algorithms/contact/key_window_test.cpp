@@ -1,0 +1,53 @@
+// KeyWindow visits what a scan of every id would accept: every point within
+// the radius of the query (by key on KeyWindow::axis()), in ascending order
+// of id, and stops when asked.
+#include "algorithms/contact/key_window.h"
+
+#include <catch2/catch.hpp>
+#include <random>
+#include <vector>
+
+namespace {
+
+using hb::KeyWindow;
+using hb::Vec3;
+
+TEST_CASE("a key window finds every point within the radius, in order of id") {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (const double spread : {1e-3, 1.0}) {
+    // Clustered points (many sharing nearly one key) and spread ones.
+    std::vector<Vec3> points;
+    for (int i = 0; i < 400; ++i) {
+      const Vec3 centre = i % 2 ? Vec3(0.1, 0.2, 0.3) : Vec3::Zero();
+      points.push_back(centre + spread * Vec3(unit(random), unit(random), unit(random)));
+    }
+    KeyWindow window;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      window.append(points[i].dot(KeyWindow::axis()), static_cast<int>(i));
+    window.sort();
+    REQUIRE(window.size() == points.size());
+    const double radius = 0.3 * spread;
+    for (std::size_t q = 0; q < points.size(); q += 7) {
+      std::vector<int> near, visited;
+      for (std::size_t i = 0; i < points.size(); ++i)
+        if ((points[i] - points[q]).norm() <= radius) near.push_back(static_cast<int>(i));
+      window.visit_within(points[q].dot(KeyWindow::axis()), radius, [&](int id) {
+        if ((points[id] - points[q]).norm() <= radius) visited.push_back(id);
+        return true;
+      });
+      INFO("spread " << spread << ", query " << q);
+      CHECK(visited == near);  // the same ids, ascending
+      // Stopped at the first: the smallest id near the query.
+      int first = -1;
+      window.visit_within(points[q].dot(KeyWindow::axis()), radius, [&](int id) {
+        if ((points[id] - points[q]).norm() > radius) return true;
+        first = id;
+        return false;
+      });
+      CHECK(first == near.front());
+    }
+  }
+}
+
+}  // namespace
