@@ -96,10 +96,7 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
   group_size_.clear();
   // The groups' first rows as they come (few rows), or every row by normal.
   const bool few = rows_.size() <= kFewContacts;
-  window_.clear();
-  for (std::size_t row = 0; row < rows_.size() && !few; ++row)
-    window_.append(rows_[row].normal.dot(axis), static_cast<int>(row));
-  window_.sort();
+  if (!few) window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(axis); });
   for (std::size_t row = 0; row < rows_.size(); ++row) {
     // The first group (in order of creation, which is the order of their
     // first rows) whose first row matches: only rows with a normal near
@@ -189,10 +186,8 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   // The rows' first constraints as they come (few constraints), or every
   // constraint by lever.
   const bool few = constraints.size() <= kFewContacts;
-  window_.clear();
-  for (std::size_t k = 0; k < constraints.size() && !few; ++k)
-    window_.append(constraints[k].lever.dot(axis), static_cast<int>(k));
-  window_.sort();
+  if (!few)
+    window_.assign(constraints.size(), [&](int k) { return constraints[k].lever.dot(axis); });
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const GaussConstraint& c = constraints[k];
     int first = -1;  // the earliest constraint that made a row and matches
@@ -301,10 +296,7 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
   const bool few = rows_.size() <= kFewContacts;  // every row, or the rows by normal
   all_rows_.resize(rows_.size());
   std::iota(all_rows_.begin(), all_rows_.end(), 0);
-  window_.clear();
-  for (std::size_t row = 0; row < rows_.size() && !few; ++row)
-    window_.append(rows_[row].normal.dot(axis), static_cast<int>(row));
-  window_.sort();
+  if (!few) window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(axis); });
   shared_normal_.resize(rows_.size());
   for (std::size_t row = 0; row < rows_.size(); ++row) {
     double qp_total = 0, sweeps_total = 0;

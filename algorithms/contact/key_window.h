@@ -20,9 +20,14 @@ class KeyWindow {
   static Vec3 axis() { return Vec3(0.48, 0.6, 0.64); }
 
   void clear() { entries_.clear(); }
-  /// Adds `id` with `key`; call sort() before visiting.
-  void append(double key, int id) { entries_.emplace_back(key, id); }
-  void sort() { std::sort(entries_.begin(), entries_.end()); }
+  /// Holds ids 0 … n − 1 with keys key_of(id), sorted.
+  template <class KeyOf>
+  void assign(std::size_t n, KeyOf&& key_of) {
+    entries_.clear();
+    for (std::size_t id = 0; id < n; ++id)
+      entries_.emplace_back(key_of(static_cast<int>(id)), static_cast<int>(id));
+    std::sort(entries_.begin(), entries_.end());
+  }
   /// Calls visit(id), in ascending order of id, for every id whose key is
   /// within [key − radius, key + radius], until visit returns false.
   template <class Visit>

@@ -23,9 +23,7 @@ TEST_CASE("a key window finds every point within the radius, in order of id") {
       points.push_back(centre + spread * Vec3(unit(random), unit(random), unit(random)));
     }
     KeyWindow window;
-    for (std::size_t i = 0; i < points.size(); ++i)
-      window.append(points[i].dot(KeyWindow::axis()), static_cast<int>(i));
-    window.sort();
+    window.assign(points.size(), [&](int i) { return points[i].dot(KeyWindow::axis()); });
     REQUIRE(window.size() == points.size());
     const double radius = 0.3 * spread;
     for (std::size_t q = 0; q < points.size(); q += 7) {
