@@ -6,6 +6,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -20,12 +22,17 @@ class KeyWindow {
   static Vec3 axis() { return Vec3(0.48, 0.6, 0.64); }
 
   void clear() { entries_.clear(); }
-  /// Holds ids 0 … n − 1 with keys key_of(id), sorted.
+  /// Holds ids 0 … n − 1 with keys key_of(id), sorted. A NaN key (a
+  /// non-finite lever) is held as +∞, so that the order stays strict; no
+  /// finite key's window reaches it.
   template <class KeyOf>
   void assign(std::size_t n, KeyOf&& key_of) {
     entries_.clear();
-    for (std::size_t id = 0; id < n; ++id)
-      entries_.emplace_back(key_of(static_cast<int>(id)), static_cast<int>(id));
+    for (std::size_t id = 0; id < n; ++id) {
+      const double key = key_of(static_cast<int>(id));
+      entries_.emplace_back(std::isnan(key) ? std::numeric_limits<double>::infinity() : key,
+                            static_cast<int>(id));
+    }
     std::sort(entries_.begin(), entries_.end());
   }
   /// Calls visit(id), in ascending order of id, for every id whose key is

@@ -4,6 +4,7 @@
 #include "algorithms/contact/key_window.h"
 
 #include <catch2/catch.hpp>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -46,6 +47,27 @@ TEST_CASE("a key window finds every point within the radius, in order of id") {
       CHECK(first == near.front());
     }
   }
+}
+
+TEST_CASE("a key window holds non-finite points apart from the others") {
+  // A NaN key would break the sort's order; it is held as +∞.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Vec3> points = {Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(1e-4, 0, 0),
+                                    Vec3(std::numeric_limits<double>::infinity(), 0, 0)};
+  KeyWindow window;
+  window.assign(points.size(), [&](int i) { return points[i].dot(KeyWindow::axis()); });
+  std::vector<int> visited;
+  window.visit_within(0.0, 1e-3, [&](int id) {
+    visited.push_back(id);
+    return true;
+  });
+  CHECK(visited == std::vector<int>{0, 2});
+  visited.clear();
+  window.visit_within(nan, 1e-3, [&](int id) {
+    visited.push_back(id);
+    return true;
+  });
+  CHECK(visited.empty());
 }
 
 }  // namespace
