@@ -150,8 +150,10 @@ class PointShellFront {
   Vec3 x_ = Vec3::Zero();       ///< m, world: the centre of mass at the last search
   Mat3 rotation_ = Mat3::Identity();
   bool valid_ = false;
-  int64_t candidates_ = 0;  ///< points the last search had to look up, budget aside
-  int32_t stride_ = 1;      ///< the last search's stride
+  /// Points the last search had to look up, budget aside: those it looked
+  /// up times its stride (each stands for that many).
+  int64_t candidates_ = 0;
+  int32_t stride_ = 1;  ///< the last search's stride
 };
 
 /// The point budget's stride for a search after one that had `candidates`
@@ -189,7 +191,7 @@ struct PointShellWork {
     kPointsLookedUp,  ///< points whose voxel was read
     kFrontEntries,    ///< front entries carried between searches
     kBrakingPoints,   ///< points found in proximity voxels
-    kBudgetSkipped,   ///< points to look up that the point budget's stride left out
+    kBudgetSkipped,   ///< points to look up that the stride left out (looked up × (stride − 1))
     kBudgetTicks,     ///< searches with a stride above 1
   };
   static constexpr WorkCounters::Names kNames = {"sphere_tests",       "points_looked_up",
