@@ -34,17 +34,18 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   const std::size_t first = std::min(kFirstListedPairs, most);
   constexpr double kReachPerBand = 1.0 / 3;
   const double reach_wanted = kReachPerBand * band_m;
+  // A list cut short at `clearance` (< band_m) that leaves too little reach:
+  // pairs crowd the standoff.
+  const auto too_little_reach = [&](double clearance) {
+    return clearance < band_m && clearance - settings_.standoff_m < reach_wanted;
+  };
   ProximityResult found = ccd_.proximity(certificate.anchor, band_m, crowded_ ? most : first);
-  // Cut short with too little reach (pairs crowding the standoff): list more.
-  if (!crowded_ && first < most && found.clearance_m < band_m &&
-      found.clearance_m - settings_.standoff_m < reach_wanted) {
+  if (!crowded_ && first < most && too_little_reach(found.clearance_m))
     found = ccd_.proximity(certificate.anchor, band_m, most);
-  }
   // Whether the first pairs alone would have left too little reach here
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
-  crowded_ = found.pairs.size() > first &&
-             found.pairs[first].distance - settings_.standoff_m < reach_wanted;
+  crowded_ = found.pairs.size() > first && too_little_reach(found.pairs[first].distance);
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   certificate.distances.reserve(found.pairs.size());
