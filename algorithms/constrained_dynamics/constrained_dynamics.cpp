@@ -41,11 +41,12 @@ struct ConstrainedDynamicsWork {
     kStartEscapeUm,
     kCoulombViolations,
     kSkewResolves,
+    kProximitySearches,
   };
   static constexpr WorkCounters::Names kNames = {
       "pairs_evaluated", "solver_iterations",  "solver_unconverged", "active_contacts",
       "reach_bounded",   "certificates_taken", "certificates_kept",  "start_escapes",
-      "start_escape_um", "coulomb_violations", "skew_resolves"};
+      "start_escape_um", "coulomb_violations", "skew_resolves",      "proximity_searches"};
 };
 
 class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
@@ -162,6 +163,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   // Takes the new certificate when the proxy lies within its reach, and
   // carries each pair's impulse over to it for the warm start.
   void install(Certification& update, WorkCounters& work) {
+    work.add(ConstrainedDynamicsWork::kProximitySearches, update.certificate.searches);
     if (!certifier_.within_reach(update.certificate, tool_pose(body_, state_))) {
       work.add(ConstrainedDynamicsWork::kCertificatesKept);
       return;

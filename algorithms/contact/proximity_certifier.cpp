@@ -1,6 +1,9 @@
 #include "algorithms/contact/proximity_certifier.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <optional>
+#include <utility>
 
 namespace hb {
 
@@ -39,9 +42,10 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   const auto too_little_reach = [&](double clearance) {
     return clearance < band_m && clearance - settings_.standoff_m < reach_wanted;
   };
-  ProximityResult found = ccd_.proximity(certificate.anchor, band_m, crowded_ ? most : first);
+  ProximityResult found =
+      listed_pairs(certificate.anchor, band_m, crowded_ ? most : first, certificate.searches);
   if (!crowded_ && first < most && too_little_reach(found.clearance_m))
-    found = ccd_.proximity(certificate.anchor, band_m, most);
+    found = listed_pairs(certificate.anchor, band_m, most, certificate.searches);
   // Whether the first pairs alone would have left too little reach here
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
@@ -54,6 +58,63 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     certificate.distances.push_back(pair.distance);
   }
   return certificate;
+}
+
+ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band_m,
+                                                 std::size_t max_pairs, int& searches) const {
+  if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
+    return std::move(*answer);
+  ++searches;
+  ProximityResult found = ccd_.proximity(anchor, (1 + kSearchMargin) * band_m, max_pairs);
+  searched_.anchor = anchor;
+  searched_.clearance_m = found.clearance_m;
+  searched_.pairs.clear();
+  for (const ProximityPair& pair : found.pairs) searched_.pairs.push_back(pair.features);
+  // Within band_m: a list cut short before band_m is the answer as it is;
+  // otherwise it holds every pair within band_m.
+  if (found.clearance_m >= band_m) {
+    found.pairs.erase(
+        std::find_if(found.pairs.begin(), found.pairs.end(),
+                     [&](const ProximityPair& pair) { return pair.distance > band_m; }),
+        found.pairs.end());
+    found.clearance_m = band_m;
+  }
+  return found;
+}
+
+std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
+    const Pose& anchor, double band_m, std::size_t max_pairs) const {
+  if (searched_.clearance_m < 0) return std::nullopt;
+  // Every pair the search did not find was at least its clearance apart at
+  // its pose, and no tool point has moved farther than `moved` since: here
+  // it is at least `complete` apart, so the searched pairs hold every pair
+  // nearer than that (less a nanometre for the rounding of the bound).
+  constexpr double kRoundingSlack = 1e-9;  // m
+  const double moved = point_reach(displacement(searched_.anchor, anchor), radius_);
+  const double complete = searched_.clearance_m - moved - kRoundingSlack;
+  // The answer needs every pair within band_m, or max_pairs + 1 pairs
+  // within `complete` (then the last of them is the clearance).
+  if (complete < band_m && searched_.pairs.size() <= max_pairs) return std::nullopt;
+  const double within = std::min(complete, band_m);
+  measured_.clear();
+  for (const ContactFeatures& pair : searched_.pairs) {
+    const double distance = ccd_.closest_points(pair, anchor).distance;
+    if (distance <= within) measured_.push_back(ProximityPair{pair, distance});
+  }
+  std::stable_sort(
+      measured_.begin(), measured_.end(),
+      [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
+  ProximityResult answer;
+  if (measured_.size() > max_pairs)
+    answer.clearance_m = measured_[max_pairs].distance;
+  else if (complete >= band_m)
+    answer.clearance_m = band_m;
+  else
+    return std::nullopt;
+  const std::size_t listed = std::min(measured_.size(), max_pairs);
+  answer.pairs.assign(measured_.begin(), measured_.begin() + static_cast<std::ptrdiff_t>(listed));
+  answer.pair_tests = static_cast<int64_t>(searched_.pairs.size());
+  return answer;
 }
 
 double ProximityCertifier::band_for(const Pose& previous_target, const Pose& target) const {

@@ -8,6 +8,7 @@
 // not listed).
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -20,6 +21,9 @@ namespace hb {
 
 /// Pairs a proximity query lists first (ProximityCertifier::certify).
 inline constexpr std::size_t kFirstListedPairs = 256;
+/// How much farther than the band a tree search looks (a fraction of the
+/// band), so that its pairs answer the next queries while the tool moves.
+inline constexpr double kSearchMargin = 0.5;
 
 /// What a proximity query certifies around an anchor pose: within reach
 /// clearance_m − standoff of the anchor (point_reach of the displacement
@@ -29,6 +33,9 @@ struct ProximityCertificate {
   std::vector<ContactFeatures> pairs;  ///< every pair closer than clearance_m at the anchor
   std::vector<double> distances;       ///< per pair, its distance at the anchor (m), ascending
   double clearance_m = 0;              ///< every other pair is at least this far apart there
+  /// Tree searches the certificate took: 0 when the pairs of an earlier
+  /// search answered it (ProximityCertifier::certify), else 1 or 2.
+  int searches = 0;
 };
 
 /// A listed pair at one pose.
@@ -59,6 +66,10 @@ class ProximityCertifier {
   /// the kFirstListedPairs nearest, or, when those leave a reach below a
   /// third of the band (what two slow-loop intervals of the motion the
   /// band was sized for need), up to settings.haptic_max_pairs nearest.
+  /// A tree search looks kSearchMargin of the band farther and keeps what
+  /// it found; while the tool stays near enough to that search's pose for
+  /// its pairs to hold every pair the query asks for, the query only
+  /// measures them again (the same list and clearance a search would give).
   ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
 
   /// The band for the next certificate: six times how far (point_reach) the
@@ -82,6 +93,24 @@ class ProximityCertifier {
   double radius() const { return radius_; }
 
  private:
+  /// The pairs of the last tree search: every pair within clearance_m of
+  /// the tool at `anchor` (centre-of-mass frame, world) is among them.
+  struct SearchedPairs {
+    Pose anchor;
+    std::vector<ContactFeatures> pairs;
+    double clearance_m = -1;  ///< m; < 0 before the first search
+  };
+
+  /// The max_pairs nearest pairs within band_m at `anchor` and their
+  /// clearance (MeshCcd::proximity's answer), from the last search's pairs
+  /// when they hold the answer, else from a new search (counted in
+  /// `searches`).
+  ProximityResult listed_pairs(const Pose& anchor, double band_m, std::size_t max_pairs,
+                               int& searches) const;
+  /// The answer from searched_ at `anchor`, if its pairs hold it.
+  std::optional<ProximityResult> answer_from_searched(const Pose& anchor, double band_m,
+                                                      std::size_t max_pairs) const;
+
   const MeshCcd& ccd_;
   ContactSettings settings_;
   ProxyFrames frames_;
@@ -90,6 +119,8 @@ class ProximityCertifier {
   /// first: the next lists the most at once (a hint between queries; a
   /// certificate is valid whichever way it was listed).
   mutable bool crowded_ = false;
+  mutable SearchedPairs searched_;
+  mutable std::vector<ProximityPair> measured_;  ///< scratch of answer_from_searched
 };
 
 }  // namespace hb

@@ -37,11 +37,12 @@ struct GodObjectWork {
     kStartEscapes,
     kStartEscapeUm,
     kCoulombViolations,
+    kProximitySearches,
   };
   static constexpr WorkCounters::Names kNames = {
       "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
       "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
-      "start_escapes",   "start_escape_um",       "coulomb_violations"};
+      "start_escapes",   "start_escape_um",       "coulomb_violations",  "proximity_searches"};
 };
 
 class GodObjectRenderer : public Renderer, public SlowLoop {
@@ -128,10 +129,12 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     update.certificate = haptic_.certify(start, band);
     update.stats = solver_.update(target_, &update.certificate);
     update.stats.certificates = 1;
+    update.stats.proximity_searches = update.certificate.searches;
     update.proxy = solver_.proxy_pose();
     if (!haptic_.within_reach(update.certificate, update.proxy)) {
       update.certificate = haptic_.certify(update.proxy, band);
       ++update.stats.certificates;
+      update.stats.proximity_searches += update.certificate.searches;
     }
     return box;
   }
@@ -162,6 +165,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     result.work.add(GodObjectWork::kCcdBudgetHits, update.stats.budget_hits);
     result.work.add(GodObjectWork::kCcdCertifiedMoves, update.stats.certified_moves);
     result.work.add(GodObjectWork::kProximityQueries, update.stats.certificates);
+    result.work.add(GodObjectWork::kProximitySearches, update.stats.proximity_searches);
     result.work.add(GodObjectWork::kCoulombViolations, update.stats.coulomb_violations);
   }
 

@@ -59,11 +59,12 @@ struct KeptContact {
 
 /// What one update did.
 struct GodObjectUpdateStats {
-  int iterations = 0;       ///< CCD-limited moves made
-  int ccd_hits = 0;         ///< moves the CCD stopped short
-  int certified_moves = 0;  ///< moves checked on a certificate's pairs only
-  int budget_hits = 0;      ///< moves whose CCD had a kernel answer by its budget fallback
-  int certificates = 0;     ///< proximity queries made for the update (by its caller)
+  int iterations = 0;          ///< CCD-limited moves made
+  int ccd_hits = 0;            ///< moves the CCD stopped short
+  int certified_moves = 0;     ///< moves checked on a certificate's pairs only
+  int budget_hits = 0;         ///< moves whose CCD had a kernel answer by its budget fallback
+  int certificates = 0;        ///< proximity queries made for the update (by its caller)
+  int proximity_searches = 0;  ///< tree searches those queries took (the rest reused pairs)
   int64_t bv_tests = 0;
   int64_t primitive_queries = 0;
   int64_t qp_iterations = 0;
