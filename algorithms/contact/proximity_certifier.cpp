@@ -68,8 +68,7 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   ProximityResult found = ccd_.proximity(anchor, (1 + kSearchMargin) * band_m, max_pairs);
   searched_.anchor = anchor;
   searched_.clearance_m = found.clearance_m;
-  searched_.pairs.clear();
-  for (const ProximityPair& pair : found.pairs) searched_.pairs.push_back(pair.features);
+  searched_.pairs = found.pairs;
   // Within band_m: a list cut short before band_m is the answer as it is;
   // otherwise it holds every pair within band_m.
   if (found.clearance_m >= band_m) {
@@ -96,10 +95,13 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   // within `complete` (then the last of them is the clearance).
   if (complete < band_m && searched_.pairs.size() <= max_pairs) return std::nullopt;
   const double within = std::min(complete, band_m);
+  // A pair's distance has changed by `moved` at most: only those that can
+  // be within reach are measured again.
   measured_.clear();
-  for (const ContactFeatures& pair : searched_.pairs) {
-    const double distance = ccd_.closest_points(pair, anchor).distance;
-    if (distance <= within) measured_.push_back(ProximityPair{pair, distance});
+  for (const ProximityPair& pair : searched_.pairs) {
+    if (pair.distance - moved > within + kRoundingSlack) continue;
+    const double distance = ccd_.closest_points(pair.features, anchor).distance;
+    if (distance <= within) measured_.push_back(ProximityPair{pair.features, distance});
   }
   std::stable_sort(
       measured_.begin(), measured_.end(),

@@ -97,8 +97,8 @@ class ProximityCertifier {
   /// the tool at `anchor` (centre-of-mass frame, world) is among them.
   struct SearchedPairs {
     Pose anchor;
-    std::vector<ContactFeatures> pairs;
-    double clearance_m = -1;  ///< m; < 0 before the first search
+    std::vector<ProximityPair> pairs;  ///< with their distances at `anchor`
+    double clearance_m = -1;           ///< m; < 0 before the first search
   };
 
   /// The max_pairs nearest pairs within band_m at `anchor` and their
