@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <utility>
 
 namespace hb {
@@ -60,25 +61,61 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   return certificate;
 }
 
+namespace {
+
+// The max_pairs nearest of `nearest` (ascending distances) within band_m,
+// when `nearest` holds every pair nearer than `complete` (m): all of them
+// within band_m when complete reaches band_m, else max_pairs + 1 of them
+// within `complete`, the last giving the clearance; none otherwise.
+std::optional<ProximityResult> answer_within(std::span<const ProximityPair> nearest,
+                                             double complete, double band_m,
+                                             std::size_t max_pairs) {
+  const double within = std::min(complete, band_m);
+  const auto inside = static_cast<std::size_t>(
+      std::find_if(nearest.begin(), nearest.end(),
+                   [&](const ProximityPair& pair) { return pair.distance > within; }) -
+      nearest.begin());
+  ProximityResult answer;
+  if (inside > max_pairs)
+    answer.clearance_m = nearest[max_pairs].distance;
+  else if (complete >= band_m)
+    answer.clearance_m = band_m;
+  else
+    return std::nullopt;
+  answer.pairs.assign(nearest.begin(),
+                      nearest.begin() + static_cast<std::ptrdiff_t>(std::min(inside, max_pairs)));
+  return answer;
+}
+
+}  // namespace
+
 ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band_m,
                                                  std::size_t max_pairs, int& searches) const {
   if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
     return std::move(*answer);
   ++searches;
-  ProximityResult found = ccd_.proximity(anchor, (1 + kSearchMargin) * band_m, max_pairs);
+  // Up to twice the pairs asked for (within the most a query lists), so
+  // that a list cut short by its limit can be answered again.
+  const std::size_t kept =
+      std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
+                                   static_cast<std::size_t>(settings_.haptic_max_pairs)));
+  ProximityResult found = ccd_.proximity(anchor, (1 + kSearchMargin) * band_m, kept);
   searched_.anchor = anchor;
   searched_.clearance_m = found.clearance_m;
-  searched_.pairs = found.pairs;
-  // Within band_m: a list cut short before band_m is the answer as it is;
-  // otherwise it holds every pair within band_m.
-  if (found.clearance_m >= band_m) {
-    found.pairs.erase(
-        std::find_if(found.pairs.begin(), found.pairs.end(),
-                     [&](const ProximityPair& pair) { return pair.distance > band_m; }),
-        found.pairs.end());
-    found.clearance_m = band_m;
+  searched_.pairs = std::move(found.pairs);
+  // The search holds every pair nearer than its clearance, and more than
+  // max_pairs of them if it was cut short beyond max_pairs; cut short at
+  // max_pairs, its list and clearance are the answer.
+  std::optional<ProximityResult> answer =
+      answer_within(searched_.pairs, searched_.clearance_m, band_m, max_pairs);
+  if (!answer) {
+    answer.emplace();
+    answer->pairs = searched_.pairs;
+    answer->clearance_m = searched_.clearance_m;
   }
-  return found;
+  answer->bv_tests = found.bv_tests;
+  answer->pair_tests = found.pair_tests;
+  return std::move(*answer);
 }
 
 std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
@@ -106,16 +143,8 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   std::stable_sort(
       measured_.begin(), measured_.end(),
       [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
-  ProximityResult answer;
-  if (measured_.size() > max_pairs)
-    answer.clearance_m = measured_[max_pairs].distance;
-  else if (complete >= band_m)
-    answer.clearance_m = band_m;
-  else
-    return std::nullopt;
-  const std::size_t listed = std::min(measured_.size(), max_pairs);
-  answer.pairs.assign(measured_.begin(), measured_.begin() + static_cast<std::ptrdiff_t>(listed));
-  answer.pair_tests = static_cast<int64_t>(searched_.pairs.size());
+  std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
+  if (answer) answer->pair_tests = static_cast<int64_t>(searched_.pairs.size());
   return answer;
 }
 

@@ -24,6 +24,10 @@ inline constexpr std::size_t kFirstListedPairs = 256;
 /// How much farther than the band a tree search looks (a fraction of the
 /// band), so that its pairs answer the next queries while the tool moves.
 inline constexpr double kSearchMargin = 0.5;
+/// How many pairs a tree search keeps per pair the query lists (at most
+/// settings.haptic_max_pairs), so that a list cut short by its limit can be
+/// answered again from them.
+inline constexpr std::size_t kSearchedPairsPerListed = 2;
 
 /// What a proximity query certifies around an anchor pose: within reach
 /// clearance_m − standoff of the anchor (point_reach of the displacement
