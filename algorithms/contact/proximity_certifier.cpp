@@ -51,6 +51,7 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
   crowded_ = found.pairs.size() > first && too_little_reach(found.pairs[first].distance);
+  searched_last_ = certificate.searches > 0;
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   certificate.distances.reserve(found.pairs.size());
@@ -94,12 +95,17 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
     return std::move(*answer);
   ++searches;
-  // Up to twice the pairs asked for (within the most a query lists), so
-  // that a list cut short by its limit can be answered again.
+  // Farther than asked and up to twice the pairs (within the most a query
+  // lists), so that the next queries can be answered from the pairs found;
+  // only what was asked when the last query searched too (the tool moves
+  // faster than the margin, as in an impact: the larger search would not
+  // be used).
+  const bool widen = !searched_last_;
   const std::size_t kept =
-      std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
-                                   static_cast<std::size_t>(settings_.haptic_max_pairs)));
-  ProximityResult found = ccd_.proximity(anchor, (1 + kSearchMargin) * band_m, kept);
+      widen ? std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
+                                           static_cast<std::size_t>(settings_.haptic_max_pairs)))
+            : max_pairs;
+  ProximityResult found = ccd_.proximity(anchor, (widen ? 1 + kSearchMargin : 1.0) * band_m, kept);
   searched_.anchor = anchor;
   searched_.clearance_m = found.clearance_m;
   searched_.pairs = std::move(found.pairs);

@@ -71,9 +71,10 @@ class ProximityCertifier {
   /// third of the band (what two slow-loop intervals of the motion the
   /// band was sized for need), up to settings.haptic_max_pairs nearest.
   /// A tree search looks kSearchMargin of the band farther and keeps what
-  /// it found; while the tool stays near enough to that search's pose for
-  /// its pairs to hold every pair the query asks for, the query only
-  /// measures them again (the same list and clearance a search would give).
+  /// it found (unless the last query searched too); while the tool stays
+  /// near enough to that search's pose for its pairs to hold every pair the
+  /// query asks for, the query only measures them again (the same list and
+  /// clearance a search would give).
   ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
 
   /// The band for the next certificate: six times how far (point_reach) the
@@ -124,6 +125,9 @@ class ProximityCertifier {
   /// certificate is valid whichever way it was listed).
   mutable bool crowded_ = false;
   mutable SearchedPairs searched_;
+  /// The last certificate took a tree search: the next one searches only
+  /// what it asks for (listed_pairs).
+  mutable bool searched_last_ = false;
   mutable std::vector<ProximityPair> measured_;  ///< scratch of answer_from_searched
 };
 
