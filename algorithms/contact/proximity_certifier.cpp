@@ -51,7 +51,15 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
   crowded_ = found.pairs.size() > first && too_little_reach(found.pairs[first].distance);
-  searched_last_ = certificate.searches > 0;
+  // A wider search pays while the next certificates come from its pairs;
+  // when the one after it had to search as well (the tool moves faster than
+  // the margin, as in an impact), searches ask only for what they need,
+  // trying a wider one again after kPlainSearchesBetweenTries of them.
+  if (certificate.searches == 0)
+    widen_ = true;
+  else if (last_search_widened_)
+    widen_ = false;
+  last_search_widened_ = certificate.searches > 0 && searched_.widened;
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   certificate.distances.reserve(found.pairs.size());
@@ -96,17 +104,18 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
     return std::move(*answer);
   ++searches;
   // Farther than asked and up to twice the pairs (within the most a query
-  // lists), so that the next queries can be answered from the pairs found;
-  // only what was asked when the last query searched too (the tool moves
-  // faster than the margin, as in an impact: the larger search would not
-  // be used).
-  const bool widen = !searched_last_;
+  // lists), so that the next queries can be answered from the pairs found
+  // (certify says when).
+  const bool widened = widen_ || plain_searches_ >= kPlainSearchesBetweenTries;
+  plain_searches_ = widened ? 0 : plain_searches_ + 1;
   const std::size_t kept =
-      widen ? std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
-                                           static_cast<std::size_t>(settings_.haptic_max_pairs)))
-            : max_pairs;
-  ProximityResult found = ccd_.proximity(anchor, (widen ? 1 + kSearchMargin : 1.0) * band_m, kept);
+      widened ? std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
+                                             static_cast<std::size_t>(settings_.haptic_max_pairs)))
+              : max_pairs;
+  ProximityResult found =
+      ccd_.proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept);
   searched_.anchor = anchor;
+  searched_.widened = widened;
   searched_.clearance_m = found.clearance_m;
   searched_.pairs = std::move(found.pairs);
   // The search holds every pair nearer than its clearance, and more than

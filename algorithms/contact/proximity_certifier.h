@@ -28,6 +28,9 @@ inline constexpr double kSearchMargin = 0.5;
 /// settings.haptic_max_pairs), so that a list cut short by its limit can be
 /// answered again from them.
 inline constexpr std::size_t kSearchedPairsPerListed = 2;
+/// Searches that ask only for what they need before a wider one is tried
+/// again, after the wider ones were not used (ProximityCertifier::certify).
+inline constexpr int kPlainSearchesBetweenTries = 8;
 
 /// What a proximity query certifies around an anchor pose: within reach
 /// clearance_m − standoff of the anchor (point_reach of the displacement
@@ -71,7 +74,7 @@ class ProximityCertifier {
   /// third of the band (what two slow-loop intervals of the motion the
   /// band was sized for need), up to settings.haptic_max_pairs nearest.
   /// A tree search looks kSearchMargin of the band farther and keeps what
-  /// it found (unless the last query searched too); while the tool stays
+  /// it found (unless such searches went unused); while the tool stays
   /// near enough to that search's pose for its pairs to hold every pair the
   /// query asks for, the query only measures them again (the same list and
   /// clearance a search would give).
@@ -104,6 +107,7 @@ class ProximityCertifier {
     Pose anchor;
     std::vector<ProximityPair> pairs;  ///< with their distances at `anchor`
     double clearance_m = -1;           ///< m; < 0 before the first search
+    bool widened = false;              ///< it looked kSearchMargin farther than asked
   };
 
   /// The max_pairs nearest pairs within band_m at `anchor` and their
@@ -125,9 +129,12 @@ class ProximityCertifier {
   /// certificate is valid whichever way it was listed).
   mutable bool crowded_ = false;
   mutable SearchedPairs searched_;
-  /// The last certificate took a tree search: the next one searches only
-  /// what it asks for (listed_pairs).
-  mutable bool searched_last_ = false;
+  /// Whether searches look wider than asked (certify decides), the plain
+  /// searches since the last wider one, and whether the last certificate
+  /// ended with a wider search.
+  mutable bool widen_ = true;
+  mutable int plain_searches_ = 0;
+  mutable bool last_search_widened_ = false;
   mutable std::vector<ProximityPair> measured_;  ///< scratch of answer_from_searched
 };
 
