@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <utility>
@@ -150,8 +151,10 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   // A pair's distance has changed by `moved` at most: only those that can
   // be within reach are measured again.
   measured_.clear();
+  int64_t pair_tests = 0;
   for (const ProximityPair& pair : searched_.pairs) {
     if (pair.distance - moved > within + kRoundingSlack) continue;
+    ++pair_tests;
     const double distance = ccd_.closest_points(pair.features, anchor).distance;
     if (distance <= within) measured_.push_back(ProximityPair{pair.features, distance});
   }
@@ -159,7 +162,7 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
       measured_.begin(), measured_.end(),
       [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
   std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
-  if (answer) answer->pair_tests = static_cast<int64_t>(searched_.pairs.size());
+  if (answer) answer->pair_tests = pair_tests;
   return answer;
 }
 
