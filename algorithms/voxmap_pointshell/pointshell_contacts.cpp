@@ -58,11 +58,12 @@ inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
                             const PointShellGains& gains, const Vec3& x, const Mat3& rotation,
                             int32_t i, PointShellHits& hits, bool with_slack) {
   const Vec3 point = x + rotation * shell.points[i];
-  Eigen::Vector3i voxel;
-  const VoxelState voxel_state = voxmap.state_at(point, voxel);
+  const VoxelLookup::Cell cell = voxmap.cell_at(point);
+  const VoxelState voxel_state = voxmap.state(cell);
   if (voxel_state == VoxelState::kFree)
-    return with_slack ? std::max(voxmap.clearance(point) - kRoundingMargin, 0.0) : 0.0;
-  if (voxel_state == VoxelState::kProximity) {
+    return with_slack ? std::max(voxmap.clearance(cell, point) - kRoundingMargin, 0.0) : 0.0;
+  const bool braking = voxel_state == VoxelState::kProximity;
+  if (braking) {
     hits.braking.push_back(i);
     // The signed-distance force acts wherever φ < 0, whatever the voxel's
     // state (from φ at its centre): a point that crossed the surface inside
@@ -71,15 +72,17 @@ inline double look_up_point(const PointShell& shell, const VoxelLookup& voxmap,
     if (!gains.signed_distance) return -1;
   } else if (!gains.signed_distance && voxel_state == VoxelState::kSurface) {
     const Vec3 normal = rotation * shell.normals[i];
-    const Vec3 centre = voxmap.centre_of(voxel);
+    const Vec3 centre = voxmap.centre_of(voxmap.voxel_of(cell));
     const double depth = normal.dot(centre - point);
     if (depth > 0) hits.contacts.push_back({i, depth, centre, false});
     return -1;
   }
   if (voxmap.has_distances()) {
-    Vec3 gradient;
-    const double phi = voxmap.interpolated_distance(point, gradient);
-    if (phi < 0) hits.contacts.push_back({i, -phi, gradient, true});
+    FieldSample field;
+    field.phi = voxmap.interpolated_distance(point, field.gradient);
+    if (field.phi < 0) hits.contacts.push_back({i, -field.phi, field.gradient, true});
+    // Kept for report_contacts, which reports an acting braking point with φ.
+    if (braking) hits.braking_fields.push_back(field);
   }
   return -1;
 }
@@ -474,15 +477,24 @@ void report_contacts(const PointShell& shell, const PointShellHits& hits, const 
         {state.x + rotation * shell.points[hit.point], direction / length, hit.depth});
   }
   if (!(gains.braking_viscosity > 0) || !voxmap.has_distances()) return;
-  for (const int32_t i : hits.braking) {
-    const Vec3 s = rotation * shell.points[i];
-    if (!(braking_speed(rotation * shell.normals[i], s, state) < 0)) continue;
-    const Vec3 point = state.x + s;
-    Vec3 gradient;
-    const double phi = voxmap.interpolated_distance(point, gradient);
-    const double length = gradient.norm();
+  const bool fields_read = hits.braking_fields.size() == hits.braking.size();
+  // n·u in tool axes (v, ω turned once): a braking point acts when negative.
+  const Vec3 v = rotation.transpose() * state.v;
+  const Vec3 w = rotation.transpose() * state.w;
+  for (std::size_t k = 0; k < hits.braking.size(); ++k) {
+    const int32_t i = hits.braking[k];
+    const Vec3& r = shell.points[i];
+    if (!(shell.normals[i].dot(v + w.cross(r)) < 0)) continue;
+    const Vec3 point = state.x + rotation * r;
+    FieldSample field;
+    if (fields_read) {
+      field = hits.braking_fields[k];
+    } else {
+      field.phi = voxmap.interpolated_distance(point, field.gradient);
+    }
+    const double length = field.gradient.norm();
     if (!(length > 0)) continue;
-    contacts.push_back({point, gradient / length, -phi});
+    contacts.push_back({point, field.gradient / length, -field.phi});
   }
 }
 

@@ -89,16 +89,27 @@ struct PointHit {
   bool field = false;  ///< d = −φ(P) and F = K d ∇φ (else the tangent plane)
 };
 
+/// φ and its gradient at a point, as VoxelLookup::interpolated_distance reads them.
+struct FieldSample {
+  double phi = 0;                ///< m, negative inside the scene
+  Vec3 gradient = Vec3::Zero();  ///< ∇φ, world, dimensionless
+};
+
 /// What the points meet at one pose.
 struct PointShellHits {
   std::vector<PointHit> contacts;  ///< points in contact (d > 0)
   std::vector<int32_t> braking;    ///< points in proximity voxels
+  /// φ at each braking point, in the same order, when the search read it
+  /// (the signed-distance variant reads φ wherever it may be negative);
+  /// empty when it did not (report_contacts then reads it itself).
+  std::vector<FieldSample> braking_fields;
   /// How many shell points each hit stands for: the point budget's stride
   /// (every stride-th point looked up), 1 when every point was.
   double weight = 1;
   void clear() {
     contacts.clear();
     braking.clear();
+    braking_fields.clear();
     weight = 1;
   }
 };
@@ -254,13 +265,14 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
 /// (tangent-plane hit, unit) or ∇φ at the point (field hit, about unit).
 Vec3 contact_direction(const PointShell& shell, const PointHit& hit, const Mat3& rotation);
 
-/// The hits as Contacts at `state`, appended to `contacts`: each point in
+/// The hits found at `state` as Contacts, appended to `contacts`: each point in
 /// contact at P (world) with the unit direction of its force (pushes the
 /// tool out of the scene) and its depth d; and each braking point that acts
 /// (b > 0, moving towards the scene) at P with the scene's outward normal
 /// ∇φ/|∇φ| and depth −φ(P) < 0 (its distance to the scene, m), so that a
 /// tick whose force is braking alone still reports what pushes. Without φ
-/// in the voxmap braking points are not reported.
+/// in the voxmap braking points are not reported. φ is the search's
+/// (hits.braking_fields) when it read it.
 void report_contacts(const PointShell& shell, const PointShellHits& hits, const VoxelLookup& voxmap,
                      const PointShellGains& gains, const RigidBodyState& state,
                      std::vector<Contact>& contacts);

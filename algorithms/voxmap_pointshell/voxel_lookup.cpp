@@ -224,7 +224,9 @@ double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) con
   double c[2][2][2];
   const Eigen::Vector3i v = i0 - voxel_min_;
   constexpr int last = kBlockEdge - 1;
-  const int32_t code = inside(v) ? block_code_[block_index(v)] : -1;
+  const bool corners_inside = inside(v) && v.x() + 1 < voxel_count_.x() &&
+                              v.y() + 1 < voxel_count_.y() && v.z() + 1 < voxel_count_.z();
+  const int32_t code = corners_inside ? block_code_[block_index(v)] : -1;
   if (code >= 0 && (v.x() & last) != last && (v.y() & last) != last && (v.z() & last) != last) {
     // All eight corners in one dense block: x, y, z steps are 64, 8, 1.
     const float* corner =
@@ -233,6 +235,34 @@ double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) con
       for (int b = 0; b < 2; ++b)
         for (int d = 0; d < 2; ++d)
           c[a][b][d] = corner[(a << (2 * kBlockLog2)) + (b << kBlockLog2) + d];
+  } else if (corners_inside) {
+    // The corners span up to two blocks along each axis: per axis, each
+    // corner's block coordinate and place in the block.
+    std::size_t block[3][2];
+    int local[3][2];
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int side = 0; side < 2; ++side) {
+        const int w = v[axis] + side;
+        block[axis][side] = static_cast<std::size_t>(w >> kBlockLog2);
+        local[axis][side] = w & last;
+      }
+    }
+    const auto rows = static_cast<std::size_t>(block_count_.y());
+    const auto layers = static_cast<std::size_t>(block_count_.z());
+    for (int a = 0; a < 2; ++a) {
+      for (int b = 0; b < 2; ++b) {
+        const std::size_t column = (block[0][a] * rows + block[1][b]) * layers;
+        const int offset = (local[0][a] << (2 * kBlockLog2)) | (local[1][b] << kBlockLog2);
+        for (int d = 0; d < 2; ++d) {
+          const std::size_t index = column + block[2][d];
+          const int32_t corner_code = block_code_[index];
+          c[a][b][d] = corner_code < 0
+                           ? uniform_distance_[index]
+                           : distances_[static_cast<std::size_t>(corner_code) * kBlockVoxels +
+                                        static_cast<std::size_t>(offset | local[2][d])];
+        }
+      }
+    }
   } else {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)

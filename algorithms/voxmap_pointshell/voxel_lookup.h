@@ -81,22 +81,55 @@ class VoxelLookup {
         states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
   }
 
+  /// Where a world point falls in the arrays, located once for both its
+  /// state and its clearance (the pointshell's lookup reads both).
+  struct Cell {
+    bool inside = false;                          ///< within the arrays (else free)
+    Eigen::Vector3i v = Eigen::Vector3i::Zero();  ///< voxel, relative to the arrays
+    std::size_t block = 0;                        ///< index of its block
+    int local = 0;                                ///< index within the block
+  };
+  /// The cell of the voxel containing a world point (m).
+  Cell cell_at(const Vec3& world) const {
+    Cell cell;
+    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
+    // Compared before the cast (a far point's index would not fit an int;
+    // NaN fails the test).
+    cell.inside = u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
+                  u.y() < voxel_count_.y() && u.z() < voxel_count_.z();
+    if (!cell.inside) return cell;
+    // Truncation is the floor here: u ≥ 0.
+    cell.v =
+        Eigen::Vector3i(static_cast<int>(u.x()), static_cast<int>(u.y()), static_cast<int>(u.z()));
+    cell.block = block_index(cell.v);
+    cell.local = local_index(cell.v);
+    return cell;
+  }
+  /// The voxel (index) of a cell inside the arrays.
+  Eigen::Vector3i voxel_of(const Cell& cell) const { return cell.v + voxel_min_; }
+  /// State of a cell's voxel (free outside the arrays).
+  VoxelState state(const Cell& cell) const {
+    if (!cell.inside) return VoxelState::kFree;
+    const int32_t code = block_code_[cell.block];
+    if (code < 0) return static_cast<VoxelState>(-(code + 1));
+    return static_cast<VoxelState>(
+        states_[static_cast<std::size_t>(code) * kBlockVoxels + cell.local]);
+  }
+  /// clearance(world) for the cell of `world`.
+  double clearance(const Cell& cell, const Vec3& world) const {
+    if (!cell.inside) return clearance_outside(world);
+    const int32_t code = clearance_code_[cell.block];
+    if (code < 0) return (-code - 1) * kBlockEdge * h_;
+    const int voxels = fine_[static_cast<std::size_t>(code) * kBlockVoxels + cell.local];
+    return voxels <= 1 ? 0.0 : (voxels - 1) * h_;
+  }
+
   /// State of the voxel containing a world point (m), and that voxel's
   /// index; free outside the arrays (voxel then left unset).
   VoxelState state_at(const Vec3& world, Eigen::Vector3i& voxel) const {
-    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
-    if (!(u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
-          u.y() < voxel_count_.y() && u.z() < voxel_count_.z())) {
-      return VoxelState::kFree;
-    }
-    // Truncation is the floor here: u ≥ 0.
-    const Eigen::Vector3i v(static_cast<int>(u.x()), static_cast<int>(u.y()),
-                            static_cast<int>(u.z()));
-    voxel = v + voxel_min_;
-    const int32_t code = block_code_[block_index(v)];
-    if (code < 0) return static_cast<VoxelState>(-(code + 1));
-    return static_cast<VoxelState>(
-        states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
+    const Cell cell = cell_at(world);
+    if (cell.inside) voxel = voxel_of(cell);
+    return state(cell);
   }
 
   /// Signed distance stored at a voxel centre (m, negative inside); the
@@ -116,21 +149,7 @@ class VoxelLookup {
   /// A lower bound (m) on the distance from a world point to any non-free
   /// voxel (the voxel's cube): (k − 1) h for a Chebyshev distance of k
   /// voxels near the scene, (k − 1)·8h for k blocks farther out.
-  double clearance(const Vec3& world) const {
-    // Voxel coordinates relative to the arrays, compared before the cast
-    // (a far point's index would not fit an int; NaN fails the test).
-    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
-    if (!(u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
-          u.y() < voxel_count_.y() && u.z() < voxel_count_.z())) {
-      return clearance_outside(world);
-    }
-    const Eigen::Vector3i v(static_cast<int>(u.x()), static_cast<int>(u.y()),
-                            static_cast<int>(u.z()));
-    const int32_t code = clearance_code_[block_index(v)];
-    if (code < 0) return (-code - 1) * kBlockEdge * h_;
-    const int voxels = fine_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)];
-    return voxels <= 1 ? 0.0 : (voxels - 1) * h_;
-  }
+  double clearance(const Vec3& world) const { return clearance(cell_at(world), world); }
 
   /// Bytes the arrays hold.
   int64_t memory_bytes() const;

@@ -170,6 +170,7 @@ class VoxmapPointShellRenderer : public Renderer {
     voxel_size_m_ = settings.voxmap.voxel_size_m;
     hits_.contacts.reserve(shell_.points.size());
     hits_.braking.reserve(shell_.points.size());
+    hits_.braking_fields.reserve(shell_.points.size());
     contacts_.reserve(shell_.points.size());
   }
 

@@ -184,6 +184,7 @@ Setup make_setup() {
   s.shell = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass);
   s.hits.contacts.reserve(s.shell.points.size());
   s.hits.braking.reserve(s.shell.points.size());
+  s.hits.braking_fields.reserve(s.shell.points.size());
   s.contacts.reserve(s.shell.points.size());
 
   // FCL: the tool in its own frame, the bunny placed in the world.

@@ -319,6 +319,52 @@ TEST_CASE("a braking point that acts is reported with the scene's normal and its
   CHECK(contacts.empty());
 }
 
+TEST_CASE("braking points report what a fresh reading of φ gives, in both variants",
+          "[voxmap_pointshell]") {
+  // A 2 cm sphere sinking into the slab, tilted and turning: contacts below,
+  // a ring of braking points above them. The signed-distance search keeps
+  // φ at its braking points for the report; the voxmap one does not, and
+  // the report reads it. Either way the report is what reading φ afresh
+  // at each acting braking point gives.
+  const double h = 0.001;
+  const PointShell shell = sphere_shell(0.02, h);
+  const SceneVoxmap voxmap = slab_voxmap(h, true);  // with φ, as the renderer keeps it
+  for (const bool signed_distance : {false, true}) {
+    PointShellGains gains;
+    gains.signed_distance = signed_distance;
+    gains.braking_viscosity = 5;
+    RigidBodyState state;
+    state.x = Vec3(0.0003, -0.0007, 0.0195);
+    state.q = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 0).normalized()));
+    state.v = Vec3(0.02, 0, -0.1);
+    state.w = Vec3(1, -2, 3);
+    PointShellHits hits;
+    WorkCounters work;
+    find_pointshell_hits(shell, voxmap.lookup, gains, state, hits, work);
+    INFO((signed_distance ? "signed distance" : "voxmap")
+         << ": " << hits.braking.size() << " braking points");
+    REQUIRE(hits.braking.size() > 20);
+    CHECK(hits.braking_fields.size() == (signed_distance ? hits.braking.size() : 0));
+    std::vector<Contact> reported;
+    report_contacts(shell, hits, voxmap.lookup, gains, state, reported);
+    // The braking points reported follow the contacts; each against φ read now.
+    const std::size_t first_braking = hits.contacts.size();
+    REQUIRE(reported.size() > first_braking + 10);
+    const Mat3 rotation = state.q.toRotationMatrix();
+    std::size_t k = first_braking;
+    for (const int32_t i : hits.braking) {
+      const Vec3 s = rotation * shell.points[i];
+      if (!(braking_speed(rotation * shell.normals[i], s, state) < -1e-9)) continue;
+      while (k < reported.size() && (reported[k].point - (state.x + s)).norm() > 1e-15) ++k;
+      REQUIRE(k < reported.size());
+      Vec3 gradient;
+      const double phi = voxmap.lookup.interpolated_distance(state.x + s, gradient);
+      CHECK(reported[k].depth == -phi);
+      CHECK((reported[k].normal - gradient.normalized()).norm() < 1e-15);
+    }
+  }
+}
+
 TEST_CASE("a tool clear of the scene costs one bounding test", "[voxmap_pointshell]") {
   const SceneVoxmap voxmap = slab_voxmap(0.001, false);
   const PointShell shell = sphere_shell(0.02, 0.001);
