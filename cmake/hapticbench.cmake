@@ -29,6 +29,7 @@ function(hb_library name)
     return()
   endif()
   add_library(${name} STATIC ${ARG_SOURCES})
+  set_property(GLOBAL APPEND PROPERTY HB_LIBRARY_TARGETS ${name})
   # The public headers (include/hapticbench/) and, inside the build only,
   # the source tree.
   target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
@@ -87,6 +88,7 @@ endfunction()
 function(hb_test_folder target)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
   add_executable(${target} ${ARG_SOURCES})
+  set_property(GLOBAL APPEND PROPERTY HB_TEST_TARGETS ${target})
   # The tests' own code (assertions, fixtures, JSON) is compiled at -O1:
   # optimising it at -O3 took 80 % of a test unit's compile time and buys
   # nothing, since the code under test comes optimised from its libraries.
@@ -163,8 +165,77 @@ endfunction()
 # unit is still checked.
 # They never use a target's precompiled headers, whose flags may differ.
 function(hb_heavy_sources)
+  set_property(GLOBAL APPEND PROPERTY HB_HEAVY_SOURCES ${ARGN})
   set_source_files_properties(${ARGN} PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
   if(HAPTICBENCH_SANITIZE_SKIP_HEAVY)
     set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "-fno-sanitize=all;-g0")
   endif()
+endfunction()
+
+# hb_reuse_release_objects(): in a quick sanitizer build (scripts/sanitize
+# --quick) given HAPTICBENCH_REUSE_OBJECTS, a Release build of the same tree,
+# the units this build leaves uninstrumented anyway are linked from that
+# build's objects instead of compiled a second time: the heavy units
+# (hb_heavy_sources) and the tests' own code, but not the end-to-end tests,
+# whose code names the command line tool of its own build (HAPTICBENCH_BIN)
+# and whether it runs sanitized. Only objects that exist are taken (the
+# script builds the Release tree first, so they are current); the rest is
+# compiled here. The tests' own code is compiled at -O1 either way, and the
+# heavy units optimised without sanitizers: the objects do the same work.
+# Called once, after every target is defined.
+function(hb_reuse_release_objects)
+  if(NOT HAPTICBENCH_SANITIZE_SKIP_HEAVY OR NOT HAPTICBENCH_REUSE_OBJECTS)
+    return()
+  endif()
+  set(release ${HAPTICBENCH_REUSE_OBJECTS})
+  if(NOT EXISTS "${release}/CMakeCache.txt")
+    message(FATAL_ERROR "HAPTICBENCH_REUSE_OBJECTS: ${release} holds no CMake build")
+  endif()
+  file(STRINGS "${release}/CMakeCache.txt" home REGEX "^CMAKE_HOME_DIRECTORY:")
+  file(STRINGS "${release}/CMakeCache.txt" type REGEX "^CMAKE_BUILD_TYPE:")
+  if(NOT home STREQUAL "CMAKE_HOME_DIRECTORY:INTERNAL=${PROJECT_SOURCE_DIR}" OR
+     NOT type STREQUAL "CMAKE_BUILD_TYPE:STRING=Release")
+    message(FATAL_ERROR "HAPTICBENCH_REUSE_OBJECTS: ${release} is not a Release build of "
+                        "${PROJECT_SOURCE_DIR} (${home}, ${type})")
+  endif()
+  get_property(heavy GLOBAL PROPERTY HB_HEAVY_SOURCES)
+  get_property(libraries GLOBAL PROPERTY HB_LIBRARY_TARGETS)
+  get_property(tests GLOBAL PROPERTY HB_TEST_TARGETS)
+  list(REMOVE_ITEM tests test_end_to_end)
+  set(reused 0)
+  set(compiled 0)
+  foreach(target ${libraries} ${tests} hb_test_main)
+    if(NOT TARGET ${target})
+      continue()
+    endif()
+    get_target_property(sources ${target} SOURCES)
+    get_target_property(source_dir ${target} SOURCE_DIR)
+    get_target_property(binary_dir ${target} BINARY_DIR)
+    file(RELATIVE_PATH binary_rel ${PROJECT_BINARY_DIR} ${binary_dir})
+    set(kept "")
+    foreach(source ${sources})
+      cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${source_dir} OUTPUT_VARIABLE path)
+      set(take FALSE)
+      if(path MATCHES "\\.cpp$" AND (path IN_LIST heavy OR NOT target IN_LIST libraries))
+        set(take TRUE)
+      endif()
+      if(take)
+        file(RELATIVE_PATH source_rel ${source_dir} ${path})
+        set(object "${release}/${binary_rel}/CMakeFiles/${target}.dir/${source_rel}.o")
+        cmake_path(NORMAL_PATH object)
+        if(EXISTS "${object}")
+          list(APPEND kept "${object}")
+          math(EXPR reused "${reused} + 1")
+          continue()
+        endif()
+        math(EXPR compiled "${compiled} + 1")
+      endif()
+      list(APPEND kept "${source}")
+    endforeach()
+    set_property(TARGET ${target} PROPERTY SOURCES ${kept})
+    # A target left with objects alone names its language itself.
+    set_property(TARGET ${target} PROPERTY LINKER_LANGUAGE CXX)
+  endforeach()
+  message(STATUS "Linking ${reused} uninstrumented objects of ${release}; "
+                 "${compiled} not found there are compiled")
 endfunction()
