@@ -23,6 +23,24 @@ bool usable(const ContactFeatures& features, const FeatureGeometry& geometry,
 
 }  // namespace
 
+std::span<const ContactFeatures> pairs_within_move(const ProximityCertificate& certificate,
+                                                   const Pose& start, const Vec6& move,
+                                                   double radius) {
+  // A pair at distance d at the anchor is at least d − (reach from the
+  // anchor to the start) − (reach of the move) apart anywhere on the move:
+  // no tool point moves farther (point_reach bounds the screw motion's
+  // whole path by its end), and the distance between two features changes
+  // no faster than their points move. The distances ascend, so the pairs
+  // that may touch are the first ones.
+  if (certificate.distances.size() != certificate.pairs.size()) return certificate.pairs;
+  const double reach = point_reach(displacement(certificate.anchor, start), radius) +
+                       point_reach(move, radius) + kPairCullMargin;
+  const auto end =
+      std::upper_bound(certificate.distances.begin(), certificate.distances.end(), reach);
+  const auto count = static_cast<std::size_t>(end - certificate.distances.begin());
+  return std::span<const ContactFeatures>(certificate.pairs).first(count);
+}
+
 GodObjectSolver::GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings)
     : settings_(settings),
       gains_(context.coupling),
@@ -98,7 +116,9 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
     const ScrewMotion motion(start, displaced(start, constrained));
     stats.certified_moves += certified;
     const MeshCcdResult hit =
-        certified ? ccd.first_contact_among(motion, certificate->pairs, settings_.ccd)
+        certified ? ccd.first_contact_among(
+                        motion, pairs_within_move(*certificate, start, constrained, radius),
+                        settings_.ccd)
                   : ccd.first_contact(motion, settings_.ccd);
     ++stats.iterations;
     stats.bv_tests += hit.bv_tests;

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "algorithms/ccd/mesh_ccd.h"
@@ -56,6 +57,21 @@ struct KeptContact {
   ContactFeatures features;
   FeatureGeometry geometry;  ///< at the proxy's current pose
 };
+
+/// Added (m) to the reach within which a listed pair may touch during a
+/// move: room for the rounding of the distances and displacements.
+inline constexpr double kPairCullMargin = 1e-9;
+
+/// The certificate's pairs that may touch while the tool's centre-of-mass
+/// frame moves by `move` (a screw displacement, world) from `start`: those
+/// whose distance at the anchor is within the largest displacement of a
+/// tool point (within `radius`, m, of the centre of mass) from the anchor
+/// to anywhere on the move, plus kPairCullMargin. A prefix of
+/// certificate.pairs (their distances ascend); the others cannot meet on
+/// the move, so its continuous collision check leaves them out.
+std::span<const ContactFeatures> pairs_within_move(const ProximityCertificate& certificate,
+                                                   const Pose& start, const Vec6& move,
+                                                   double radius);
 
 /// What one update did.
 struct GodObjectUpdateStats {

@@ -12,6 +12,7 @@
 
 #include "algorithms/god_object/god_object.h"
 #include "hapticbench/param_set.h"
+#include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
 
 namespace hb {
@@ -227,6 +228,94 @@ TEST_CASE("a late slow result the haptic proxy jumps to adds no damping spike to
   const Vec3 spring = context.coupling.k_t * (jumped.proxy.p - device.pose.p);
   CHECK((jumped.display.force - spring).norm() < 1e-9);
   CHECK(jumped.display.torque.norm() < 1e-9);
+}
+
+TEST_CASE("a move's collision check on the pairs that may touch finds what all listed pairs give") {
+  // A 10 cm box over 8 × 8 tiles 0.2 mm apart (nearly parallel edges,
+  // hundreds of pairs tied when resting), turning up to 0.3 rad about the
+  // vertical while it tilts, descends, slides and presses: at each anchor a
+  // certificate, then moves from starts away from the anchor (as the
+  // update's later moves start), some of them turns in place and some into
+  // the tiles. The check on the pairs pairs_within_move keeps must find
+  // the same first contact, at the same time, as the check on every pair.
+  RenderContext context;
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      const double first = -3.5 * 0.0102;
+      SceneObject tile = test::box_object(
+          Vec3(0.01, 0.01, 0.01),
+          Pose{Vec3(first + 0.0102 * i, first + 0.0102 * j, -0.005), Quat::Identity()});
+      tile.mesh = shape_mesh(*tile.shape);
+      context.scene.push_back(tile);
+    }
+  }
+  context.coupling = test::example_gains();
+  context.tool = test::meshed_box_tool(Vec3(0.1, 0.1, 0.02));
+  GodObjectSettings settings;
+  GodObjectSolver solver(context, settings);
+  const MeshCcd& ccd = solver.geometry().ccd();
+  const ProximityCertifier certifier(ccd, settings, context.tool.mass.centre_of_mass);
+  const double radius = ccd.tool_radius();
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::size_t listed = 0, kept = 0;
+  int moves = 0, contacts = 0;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = k / 60.0;
+    const Quat turn(Eigen::AngleAxisd(0.3 * t, Vec3::UnitZ()) *
+                    Eigen::AngleAxisd(0.003 * std::sin(15 * t), Vec3::UnitX()));
+    const Pose tool_anchor =
+        at(Vec3(0.008 * t, 0.004 * t, 0.0108 - 0.0008 * std::min(1.0, 2 * t)), turn);
+    const ProximityCertificate certificate =
+        certifier.certify(tool_anchor, k % 2 ? settings.haptic_band_m : 0.002);
+    const double reach = certifier.reach(certificate);
+    REQUIRE(reach > 0);
+    for (int m = 0; m < 8; ++m) {
+      // A start away from the anchor, then a move: a turn about the
+      // vertical, a tilt, a push down and aside; to the reach's end, to half
+      // of it, or (half the moves, as an update's moves mostly are) a
+      // twentieth of it.
+      const bool small = m % 2 == 1;
+      const double scale = small ? 0.02 : 0.2;
+      Vec6 offset;
+      offset << scale * reach * Vec3(unit(random), unit(random), unit(random)),
+          scale * reach / radius * Vec3(unit(random), unit(random), unit(random));
+      const Pose start = displaced(certificate.anchor, offset);
+      Vec6 move;
+      move << Vec3(unit(random), unit(random), -std::abs(unit(random))),
+          Vec3(0.1 * unit(random), 0.1 * unit(random), unit(random));
+      const double length = point_reach(move, radius);
+      move *= m == 0  ? fraction_within_reach(certificate.anchor, start, move, radius, reach)
+              : small ? 0.05 * reach / length
+                      : 0.5 * reach / length;
+      const ScrewMotion motion(start, displaced(start, move));
+      const std::span<const ContactFeatures> near =
+          pairs_within_move(certificate, start, move, radius);
+      const MeshCcdResult all = ccd.first_contact_among(motion, certificate.pairs, settings.ccd);
+      const MeshCcdResult some = ccd.first_contact_among(motion, near, settings.ccd);
+      INFO("anchor " << k << ", move " << m << ": " << near.size() << " of "
+                     << certificate.pairs.size() << " pairs kept");
+      REQUIRE(some.contact == all.contact);
+      REQUIRE(some.toi == all.toi);
+      REQUIRE(some.contacts.size() == all.contacts.size());
+      for (std::size_t c = 0; c < all.contacts.size(); ++c)
+        REQUIRE(some.contacts[c].features == all.contacts[c].features);
+      // A prefix of the list: what it leaves out starts beyond the reach.
+      CHECK(near.data() == certificate.pairs.data());
+      if (small) {
+        listed += certificate.pairs.size();
+        kept += near.size();
+      }
+      ++moves;
+      contacts += all.contact;
+    }
+  }
+  // Hard cases were met (contacts on the move), and the small moves left
+  // out over 40 % of the pairs.
+  INFO(contacts << " of " << moves << " moves met a pair; on the small moves " << kept << " of "
+                << listed << " pairs checked");
+  CHECK(contacts * 4 > moves);
+  CHECK(kept * 10 < listed * 6);
 }
 
 TEST_CASE("god-object settings are read with their field names") {
