@@ -1,7 +1,10 @@
 #include "algorithms/contact/constrained_step.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace hb {
@@ -33,16 +36,16 @@ constexpr std::size_t kFewContacts = 32;
 
 // Visits, in ascending order and until visit returns false, the ids of
 // `listed` when `few`, else the window's ids whose key is within `radius`
-// of `key` (the candidates a "within distance" test can accept).
+// of `point`'s (the candidates a "within distance" test can accept).
 template <class Visit>
-void visit_candidates(bool few, std::span<const int> listed, KeyWindow& window, double key,
+void visit_candidates(bool few, std::span<const int> listed, KeyWindow& window, const Vec3& point,
                       double radius, Visit&& visit) {
   if (few) {
     for (const int id : listed)
       if (!visit(id)) return;
     return;
   }
-  window.visit_within(key, radius, visit);
+  window.visit_within(point.dot(KeyWindow::axis()), radius, visit);
 }
 
 // z-component of (b − a) × (c − a): > 0 when a, b, c turn left.
@@ -90,32 +93,36 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
   // final QP, which holds every constraint.
   constexpr std::size_t kKept = 8;
   const double bound_tolerance = 1000 * tolerance_;
-  const Vec3 axis = KeyWindow::axis();
   group_of_.assign(rows_.size(), -1);
   group_first_.clear();
   group_size_.clear();
-  // The groups' first rows as they come (few rows), or every row by normal.
+  // The groups' first rows as they come (few rows), or by normal: a row can
+  // join only a group made before it, so the window holds the groups' first
+  // rows, added as the groups are made (rows on one face would otherwise
+  // fill every row's window).
   const bool few = rows_.size() <= kFewContacts;
-  if (!few) window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(axis); });
+  window_.clear();
   for (std::size_t row = 0; row < rows_.size(); ++row) {
     // The first group (in order of creation, which is the order of their
     // first rows) whose first row matches: only rows with a normal near
     // this one's can.
     int first = -1;
-    const double key = few ? 0.0 : rows_[row].normal.dot(axis);
-    visit_candidates(few, group_first_, window_, key, kSameNormalDistance, [&](int other) {
-      if (other >= static_cast<int>(row)) return false;
-      const FrictionalContactRow& candidate = rows_[other];
-      if (group_first_[group_of_[other]] == other && candidate.friction == rows_[row].friction &&
-          candidate.normal.dot(rows_[row].normal) >= kSameNormalCos &&
-          std::abs(candidate.bound - rows_[row].bound) <= bound_tolerance)
-        first = other;
-      return first < 0;
-    });
+    visit_candidates(few, group_first_, window_, rows_[row].normal, kSameNormalDistance,
+                     [&](int other) {
+                       if (other >= static_cast<int>(row)) return false;
+                       const FrictionalContactRow& candidate = rows_[other];
+                       if (group_first_[group_of_[other]] == other &&
+                           candidate.friction == rows_[row].friction &&
+                           candidate.normal.dot(rows_[row].normal) >= kSameNormalCos &&
+                           std::abs(candidate.bound - rows_[row].bound) <= bound_tolerance)
+                         first = other;
+                       return first < 0;
+                     });
     if (first < 0) {
       group_of_[row] = static_cast<int>(group_first_.size());
       group_first_.push_back(static_cast<int>(row));
       group_size_.push_back(0);
+      if (!few) window_.insert(rows_[row].normal.dot(KeyWindow::axis()), static_cast<int>(row));
     } else {
       group_of_[row] = group_of_[first];
     }
@@ -179,7 +186,6 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   // whose lever lies near its own can.
   // (A row's lever, normal and μ are its first constraint's, and rows are
   // made in the order of their first constraints.)
-  const Vec3 axis = KeyWindow::axis();
   rows_.clear();
   row_of_.assign(constraints.size(), 0);
   row_first_.clear();
@@ -187,20 +193,21 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
   // constraint by lever.
   const bool few = constraints.size() <= kFewContacts;
   if (!few)
-    window_.assign(constraints.size(), [&](int k) { return constraints[k].lever.dot(axis); });
+    window_.assign(constraints.size(),
+                   [&](int k) { return constraints[k].lever.dot(KeyWindow::axis()); });
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const GaussConstraint& c = constraints[k];
     int first = -1;  // the earliest constraint that made a row and matches
-    const double key = few ? 0.0 : c.lever.dot(axis);
-    visit_candidates(few, row_first_, window_, key, kCoincidentM + kLeverKeyMargin, [&](int other) {
-      if (other >= static_cast<int>(k)) return false;
-      const GaussConstraint& candidate = constraints[other];
-      if (row_first_[row_of_[other]] == other && friction[other] == friction[k] &&
-          (candidate.lever - c.lever).norm() <= kCoincidentM &&
-          candidate.normal.dot(c.normal) >= kCoincidentCos)
-        first = other;
-      return first < 0;
-    });
+    visit_candidates(few, row_first_, window_, c.lever, kCoincidentM + kLeverKeyMargin,
+                     [&](int other) {
+                       if (other >= static_cast<int>(k)) return false;
+                       const GaussConstraint& candidate = constraints[other];
+                       if (row_first_[row_of_[other]] == other && friction[other] == friction[k] &&
+                           (candidate.lever - c.lever).norm() <= kCoincidentM &&
+                           candidate.normal.dot(c.normal) >= kCoincidentCos)
+                         first = other;
+                       return first < 0;
+                     });
     if (first < 0) {
       row_of_[k] = static_cast<int>(rows_.size());
       rows_.push_back(FrictionalContactRow{c.normal, c.lever, c.rhs, friction[k]});
@@ -291,24 +298,42 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
 void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {
   // Rows with one normal and one μ share their group's total normal force
   // (the QP's) in the sweeps' proportions; the rows with a normal near a
-  // row's are found by key, and summed in row order.
-  const Vec3 axis = KeyWindow::axis();
+  // row's are found by key, and summed in row order. Rows whose normal and
+  // μ are the same bits (contacts on one face) have the same near rows:
+  // their sums are taken once, for the first of them.
   const bool few = rows_.size() <= kFewContacts;  // every row, or the rows by normal
   all_rows_.resize(rows_.size());
   std::iota(all_rows_.begin(), all_rows_.end(), 0);
-  if (!few) window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(axis); });
+  if (!few)
+    window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(KeyWindow::axis()); });
   shared_normal_.resize(rows_.size());
+  plane_bits_.resize(rows_.size());
   for (std::size_t row = 0; row < rows_.size(); ++row) {
-    double qp_total = 0, sweeps_total = 0;
-    const double key = few ? 0.0 : rows_[row].normal.dot(axis);
-    visit_candidates(few, all_rows_, window_, key, kSameNormalDistance, [&](int other) {
-      if (rows_[other].friction == rows_[row].friction &&
-          rows_[other].normal.dot(rows_[row].normal) >= kSameNormalCos) {
-        qp_total += row_normal_[other];
-        sweeps_total += solution.impulses[other].x();
-      }
-      return true;
-    });
+    const FrictionalContactRow& r = rows_[row];
+    plane_bits_[row] = {std::bit_cast<uint64_t>(r.normal.x()),
+                        std::bit_cast<uint64_t>(r.normal.y()),
+                        std::bit_cast<uint64_t>(r.normal.z()), std::bit_cast<uint64_t>(r.friction)};
+  }
+  const auto bits = [&](int row) -> const std::array<uint64_t, 4>& { return plane_bits_[row]; };
+  plane_order_.assign(all_rows_.begin(), all_rows_.end());
+  std::sort(plane_order_.begin(), plane_order_.end(),
+            [&](int a, int b) { return bits(a) < bits(b) || (bits(a) == bits(b) && a < b); });
+  double qp_total = 0, sweeps_total = 0;
+  for (std::size_t k = 0; k < plane_order_.size(); ++k) {
+    const int row = plane_order_[k];
+    if (k == 0 || bits(plane_order_[k - 1]) != bits(row)) {
+      qp_total = 0;
+      sweeps_total = 0;
+      visit_candidates(few, all_rows_, window_, rows_[row].normal, kSameNormalDistance,
+                       [&](int other) {
+                         if (rows_[other].friction == rows_[row].friction &&
+                             rows_[other].normal.dot(rows_[row].normal) >= kSameNormalCos) {
+                           qp_total += row_normal_[other];
+                           sweeps_total += solution.impulses[other].x();
+                         }
+                         return true;
+                       });
+    }
     shared_normal_[row] = sweeps_total > 0 ? solution.impulses[row].x() * (qp_total / sweeps_total)
                                            : row_normal_[row];
   }

@@ -35,6 +35,11 @@ class KeyWindow {
     }
     std::sort(entries_.begin(), entries_.end());
   }
+  /// Adds id with key `key` (NaN held as +∞), keeping the order.
+  void insert(double key, int id) {
+    const Entry entry(std::isnan(key) ? std::numeric_limits<double>::infinity() : key, id);
+    entries_.insert(std::upper_bound(entries_.begin(), entries_.end(), entry), entry);
+  }
   /// Calls visit(id), in ascending order of id, for every id whose key is
   /// within [key − radius, key + radius], until visit returns false.
   template <class Visit>
@@ -43,7 +48,9 @@ class KeyWindow {
                                [](const Entry& e, double k) { return e.first < k; });
     ids_.clear();
     for (; it != entries_.end() && it->first <= key + radius; ++it) ids_.push_back(it->second);
-    std::sort(ids_.begin(), ids_.end());
+    // Ids of equal keys come in ascending order already: a window of one
+    // key (contacts on one face share a normal) needs no sort.
+    if (!std::is_sorted(ids_.begin(), ids_.end())) std::sort(ids_.begin(), ids_.end());
     for (const int id : ids_)
       if (!visit(id)) return;
   }

@@ -3,6 +3,7 @@
 // of id, and stops when asked.
 #include "algorithms/contact/key_window.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <limits>
 #include <random>
@@ -46,6 +47,34 @@ TEST_CASE("a key window finds every point within the radius, in order of id") {
       });
       CHECK(first == near.front());
     }
+  }
+}
+
+TEST_CASE("a key window filled one id at a time visits what one filled at once does") {
+  // ConstrainedStepSolver adds the groups' first rows as it makes them.
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 300; ++i)  // a third share one point: equal keys
+    points.push_back(i % 3 == 0 ? Vec3(0.2, 0.1, 0) : Vec3(unit(random), unit(random), 0) * 1e-2);
+  const auto key = [&](int i) { return points[i].dot(KeyWindow::axis()); };
+  KeyWindow at_once, one_by_one;
+  at_once.assign(points.size(), key);
+  for (std::size_t i = 0; i < points.size(); ++i) one_by_one.insert(key(i), static_cast<int>(i));
+  REQUIRE(one_by_one.size() == points.size());
+  for (std::size_t q = 0; q < points.size(); q += 5) {
+    std::vector<int> a, b;
+    at_once.visit_within(key(q), 2e-3, [&](int id) {
+      a.push_back(id);
+      return true;
+    });
+    one_by_one.visit_within(key(q), 2e-3, [&](int id) {
+      b.push_back(id);
+      return true;
+    });
+    INFO("query " << q);
+    CHECK(a == b);
+    CHECK(std::is_sorted(a.begin(), a.end()));
   }
 }
 
