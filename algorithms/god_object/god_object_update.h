@@ -50,6 +50,9 @@ namespace hb {
 struct GodObjectSettings : ContactSettings {
   /// Most CCD-limited moves per update, ≥ 1.
   int max_iterations = 8;
+  /// The haptic tick solves every listed pair, not only those that can
+  /// matter within it (HapticProxy::step): what the culling is compared to.
+  bool haptic_all_pairs = false;
 };
 
 /// A contact the proxy keeps between iterations and updates.

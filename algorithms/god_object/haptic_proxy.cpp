@@ -84,7 +84,7 @@ double HapticProxy::least_listed_distance() const {
 
 double HapticProxy::worst_margin(const Pose& com_pose) {
   double worst = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
+  for (std::size_t k = 0; k < constraints_.size(); ++k) {
     const PairContact contact = certifier_.evaluate(certificate_.pairs[k], com_pose);
     end_contacts_[k] = contact;
     // The side each pair started the tick on: a pair whose direction
@@ -96,14 +96,68 @@ double HapticProxy::worst_margin(const Pose& com_pose) {
   return worst;
 }
 
+std::size_t HapticProxy::pairs_within(double distance) const {
+  const std::vector<double>& distances = certificate_.distances;
+  if (distances.size() != certificate_.pairs.size()) return certificate_.pairs.size();
+  return static_cast<std::size_t>(std::upper_bound(distances.begin(), distances.end(), distance) -
+                                  distances.begin());
+}
+
 HapticSolveStats HapticProxy::step(const Pose& target) {
   HapticSolveStats stats;
   const ProxyFrames& frames = certifier_.frames();
   const double radius = certifier_.radius();
   const Pose start = com_pose_current_ ? com_pose_ : frames.com_frame(pose_);
   const Vec6 unconstrained = displacement(start, frames.com_frame(target));
+  const std::size_t listed = certificate_.pairs.size();
+  bool carried = com_pose_current_ && measured_.size() == listed;
+  end_contacts_.resize(listed);
 
-  // The listed pairs at the current pose: one constraint each, asking for
+  // The pairs that can matter this tick: a pair d apart at the anchor is at
+  // least d − (reach from the anchor to the start) − (reach of the step)
+  // apart at the end, and its linearised constraint holds for any step of
+  // less reach than d − standoff; the certificate lists the pairs by
+  // ascending distance. The step's reach is allowed twice the last tick's
+  // (kNearFloorM at least); a solve whose step reaches farther is done
+  // again with every listed pair.
+  const double from_anchor = point_reach(displacement(certificate_.anchor, start), radius);
+  const double matters = std::max(settings_.standoff_m, settings_.contact_distance_m);
+  const double allowance = std::max(2 * last_step_reach_, kNearFloorM);
+  std::size_t near = settings_.haptic_all_pairs
+                         ? listed
+                         : pairs_within(matters + from_anchor + allowance + kPairCullMargin);
+  Vec6 moved = Vec6::Zero();
+  for (;;) {
+    if (solve_near(near, start, unconstrained, allowance, moved, stats, carried) || near == listed)
+      break;
+    near = listed;    // the step reached farther than the pairs left out allow
+    carried = false;  // the near pairs' measurements are the attempt's now
+    ++stats.widened;
+  }
+  stats.pairs_solved = static_cast<int64_t>(near);
+  // The last check measured the near pairs at this pose; the next tick starts here.
+  com_pose_ = displaced(start, moved);
+  com_pose_current_ = true;
+  measured_.assign(listed, 0);
+  std::fill(measured_.begin(), measured_.begin() + static_cast<std::ptrdiff_t>(near), 1);
+  if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(com_pose_);
+
+  // Contacts at the new pose: the pairs within the contact distance, as
+  // measured there by the last check (the others are beyond it).
+  for (std::size_t k = 0; k < near; ++k) {
+    const PairContact& contact = end_contacts_[k];
+    if (contact.distance > settings_.contact_distance_m) continue;
+    contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
+  }
+  return stats;
+}
+
+bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& unconstrained,
+                             double allowance, Vec6& moved, HapticSolveStats& stats, bool carried) {
+  const ProxyFrames& frames = certifier_.frames();
+  const double radius = certifier_.radius();
+  const bool all = near == certificate_.pairs.size();
+  // The near pairs at the current pose: one constraint each, asking for
   // the standoff (a pair found closer is pushed back out: the gap a
   // rotation's second-order motion took is recovered). The last tick's
   // final check measured them there already, unless a certificate came since.
@@ -111,8 +165,7 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   constraint_friction_.clear();
   contacts_.clear();
   floors_.clear();
-  const bool carried = com_pose_current_ && measured_.size() == certificate_.pairs.size();
-  for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
+  for (std::size_t k = 0; k < near; ++k) {
     const ContactFeatures& pair = certificate_.pairs[k];
     const bool measured = carried && measured_[k];
     const PairContact contact = measured ? end_contacts_[k] : certifier_.evaluate(pair, start);
@@ -124,29 +177,34 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
     floors_.push_back(std::min(settings_.standoff_m - kStandoffSlackM, contact.distance));
   }
   end_distances_.assign(constraints_.size(), 0);
-  end_contacts_.resize(constraints_.size());
 
-  // Solve, move, and check every listed pair's exact distance at the end
+  // Solve, move, and check every near pair's exact distance at the end
   // pose; a pair that fell short of its floor (the linearised constraint
   // missed a rotation's second-order motion, or an edge pair's sliding
   // closest points) is asked for its shortfall more in a new solve. What
   // still falls short after kCorrections solves is cut to the largest
   // fraction of the step that keeps every pair above its floor.
-  Vec6 moved = Vec6::Zero();
+  // The last solve's impulses per listed pair (none after a jump): the
+  // warm start, the pairs left out at zero.
+  const std::size_t listed = certificate_.pairs.size();
+  double reached = 0;  // the largest reach of a solve's step
   for (int pass = 0;; ++pass) {
+    const bool warm = warm_impulses_.size() == listed;
     const ConstrainedStep& solved = solver_.solve(
         coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
         constraints_, constraint_friction_, warm_active_,
-        warm_impulses_.size() == constraints_.size() ? std::span<const Vec3>(warm_impulses_)
-                                                     : std::span<const Vec3>());
+        warm ? std::span<const Vec3>(warm_impulses_).first(near) : std::span<const Vec3>());
     // The same pairs, in the same order, until the next certificate.
-    warm_impulses_ = solved.impulses;
+    warm_impulses_.resize(listed, Vec3::Zero());
+    std::copy(solved.impulses.begin(), solved.impulses.end(), warm_impulses_.begin());
     stats.qp_iterations += solved.iterations;
     stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
     // A step the friction sweeps did not finish is still feasible: taken
     // (the proxy only stays when the last QP failed, which it does not for
     // a consistent set of constraints).
     const Vec6 step = solved.feasible ? solved.step : Vec6::Zero();
+    reached = std::max(reached, point_reach(step, radius));
+    if (!all && reached > allowance) return false;
     // Stay within the certificate's reach: the largest fraction of the step
     // that does (the reach bound is continuous in the fraction, and the
     // start lies within it).
@@ -174,19 +232,10 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
         constraints_[k].rhs += settings_.standoff_m - end_distances_[k];
     ++stats.corrections;
   }
-  // The last check measured every pair at this pose; the next tick starts here.
-  com_pose_ = displaced(start, moved);
-  com_pose_current_ = true;
-  measured_.assign(certificate_.pairs.size(), 1);
-  if (moved.squaredNorm() > 0) pose_ = frames.tool_frame(com_pose_);
-
-  // Contacts at the new pose: the pairs within the contact distance, as
-  // measured there by the last check.
-  for (const PairContact& contact : end_contacts_) {
-    if (contact.distance > settings_.contact_distance_m) continue;
-    contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
-  }
-  return stats;
+  std::fill(warm_impulses_.begin() + static_cast<std::ptrdiff_t>(near), warm_impulses_.end(),
+            Vec3::Zero());
+  last_step_reach_ = reached;
+  return true;
 }
 
 }  // namespace hb

@@ -28,6 +28,16 @@
 // shortfall more in a new solve (at most kCorrections times), and what
 // still falls short is cut to the largest fraction of the step that keeps
 // every pair above its floor. The floor holds at every tick.
+//
+// Only the listed pairs that can matter within the tick are solved and
+// measured: a pair d apart at the anchor is at least d − (reach from the
+// anchor to the tick's start) − (reach of the step) apart at its end, and
+// its linearised constraint holds for any step of reach below d − standoff.
+// The step is allowed twice the last tick's reach (kNearFloorM at least);
+// the pairs nearer than max(standoff, contact distance) + those reaches are
+// the solve's (a prefix: the certificate lists pairs by ascending
+// distance), and a solve whose step reaches farther is done again with
+// every listed pair (HapticSolveStats::widened).
 #pragma once
 
 #include <cstdint>
@@ -54,6 +64,11 @@ struct HapticSolveStats {
   bool cut = false;      ///< the step was cut to keep every pair above its floor
   /// frictional solves off Coulomb's law by more than kCoulombResidualTolerance
   int coulomb_violations = 0;
+  /// solves done again with every listed pair: the step reached farther
+  /// than the pairs left out allowed (HapticProxy::step)
+  int widened = 0;
+  int64_t pairs_solved =
+      0;  ///< listed pairs the tick solved and checked (the others cannot matter)
 };
 
 class HapticProxy {
@@ -62,6 +77,9 @@ class HapticProxy {
   static constexpr double kStandoffSlackM = 1e-7;
   /// Solves repeated with corrected right-hand sides before a cut.
   static constexpr int kCorrections = 2;
+  /// The least reach (m) a tick's step is allowed before the pairs that
+  /// cannot matter within it are left out of its solve (HapticProxy::step).
+  static constexpr double kNearFloorM = 1e-6;
   /// Halvings of the fraction when a step is cut.
   static constexpr int kCutBisections = 20;
 
@@ -107,10 +125,19 @@ class HapticProxy {
 
  private:
   double coupling_energy(const Pose& tool_pose, const Pose& target) const;
-  /// The least margin over the listed pairs at the centre-of-mass pose
+  /// The least margin over the solved pairs at the centre-of-mass pose
   /// `com_pose`: signed distance (by the side the pair started the tick on)
   /// minus its floor; fills end_distances_ and end_contacts_.
   double worst_margin(const Pose& com_pose);
+  /// How many listed pairs are at most `distance` (m) apart at the anchor
+  /// (a prefix: the distances ascend); all of them without distances.
+  std::size_t pairs_within(double distance) const;
+  /// The tick's solve on the first `near` listed pairs from the
+  /// centre-of-mass pose `start`: fills `moved`; returns false, having
+  /// moved nothing, when a solve's step reaches farther than `allowance`
+  /// (m) and some pairs were left out.
+  bool solve_near(std::size_t near, const Pose& start, const Vec6& unconstrained, double allowance,
+                  Vec6& moved, HapticSolveStats& stats, bool carried);
   /// After a certificate taken at the same pose: the pairs both certificates
   /// list keep their measurement at com_pose_ (end_contacts_, measured_).
   void carry_measured_pairs(const std::vector<ContactFeatures>& previous);
@@ -136,12 +163,14 @@ class HapticProxy {
   /// last tick's check, carried over a new certificate that lists it too),
   /// so the next tick need not measure it again at its start.
   std::vector<char> measured_;
+  /// m: the largest reach of a solve's step in the last tick (HapticProxy::step).
+  double last_step_reach_ = 0;
   std::vector<char> carried_measured_;  ///< measured_ of the next certificate, being filled
   std::vector<PairContact> carried_contacts_;
   FeaturePairIndex previous_index_;  ///< the last certificate's pairs, to match the next's
   std::vector<Contact> contacts_;
-  std::vector<double> floors_;         ///< per listed pair: the least distance it may end at (m)
-  std::vector<double> end_distances_;  ///< per listed pair at the end pose tried, signed (m)
+  std::vector<double> floors_;         ///< per solved pair: the least distance it may end at (m)
+  std::vector<double> end_distances_;  ///< per solved pair at the end pose tried, signed (m)
   std::vector<PairContact> end_contacts_;  ///< per listed pair at the end pose tried
 };
 
