@@ -307,21 +307,26 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
   if (!few)
     window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(KeyWindow::axis()); });
   shared_normal_.resize(rows_.size());
+  // Few rows: each row's sums in turn. Otherwise rows with the same bits
+  // come together (sorted by them) and share the first one's sums.
+  plane_order_.assign(all_rows_.begin(), all_rows_.end());
   plane_bits_.resize(rows_.size());
-  for (std::size_t row = 0; row < rows_.size(); ++row) {
-    const FrictionalContactRow& r = rows_[row];
-    plane_bits_[row] = {std::bit_cast<uint64_t>(r.normal.x()),
-                        std::bit_cast<uint64_t>(r.normal.y()),
-                        std::bit_cast<uint64_t>(r.normal.z()), std::bit_cast<uint64_t>(r.friction)};
+  if (!few) {
+    for (std::size_t row = 0; row < rows_.size(); ++row) {
+      const FrictionalContactRow& r = rows_[row];
+      plane_bits_[row] = {
+          std::bit_cast<uint64_t>(r.normal.x()), std::bit_cast<uint64_t>(r.normal.y()),
+          std::bit_cast<uint64_t>(r.normal.z()), std::bit_cast<uint64_t>(r.friction)};
+    }
   }
   const auto bits = [&](int row) -> const std::array<uint64_t, 4>& { return plane_bits_[row]; };
-  plane_order_.assign(all_rows_.begin(), all_rows_.end());
-  std::sort(plane_order_.begin(), plane_order_.end(),
-            [&](int a, int b) { return bits(a) < bits(b) || (bits(a) == bits(b) && a < b); });
+  if (!few)
+    std::sort(plane_order_.begin(), plane_order_.end(),
+              [&](int a, int b) { return bits(a) < bits(b) || (bits(a) == bits(b) && a < b); });
   double qp_total = 0, sweeps_total = 0;
   for (std::size_t k = 0; k < plane_order_.size(); ++k) {
     const int row = plane_order_[k];
-    if (k == 0 || bits(plane_order_[k - 1]) != bits(row)) {
+    if (few || k == 0 || bits(plane_order_[k - 1]) != bits(row)) {
       qp_total = 0;
       sweeps_total = 0;
       visit_candidates(few, all_rows_, window_, rows_[row].normal, kSameNormalDistance,

@@ -127,11 +127,19 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
                          ? listed
                          : pairs_within(matters + from_anchor + allowance + kPairCullMargin);
   Vec6 moved = Vec6::Zero();
+  // An attempt that has to be done again starts from the warm start the
+  // tick began with, as a solve of every pair would have.
+  if (near < listed) {
+    tick_warm_impulses_ = warm_impulses_;
+    tick_warm_active_ = warm_active_;
+  }
   for (;;) {
     if (solve_near(near, start, unconstrained, allowance, moved, stats, carried) || near == listed)
       break;
     near = listed;    // the step reached farther than the pairs left out allow
     carried = false;  // the near pairs' measurements are the attempt's now
+    warm_impulses_.swap(tick_warm_impulses_);
+    warm_active_.swap(tick_warm_active_);
     ++stats.widened;
   }
   stats.pairs_solved = static_cast<int64_t>(near);

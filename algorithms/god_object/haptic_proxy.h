@@ -151,6 +151,9 @@ class HapticProxy {
   std::vector<double> constraint_friction_;  ///< μ per constraint
   std::vector<int> warm_active_;
   std::vector<Vec3> warm_impulses_;  ///< the last frictional solve's, per listed pair
+  /// warm_impulses_ and warm_active_ as the tick began (HapticProxy::step).
+  std::vector<Vec3> tick_warm_impulses_;
+  std::vector<int> tick_warm_active_;
   std::vector<Vec3> carried_;
   ProximityCertificate certificate_;
   Pose pose_;
