@@ -1,10 +1,7 @@
 #include "algorithms/contact/constrained_step.h"
 
 #include <algorithm>
-#include <array>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <numeric>
 
 namespace hb {
@@ -298,35 +295,22 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
 void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {
   // Rows with one normal and one μ share their group's total normal force
   // (the QP's) in the sweeps' proportions; the rows with a normal near a
-  // row's are found by key, and summed in row order. Rows whose normal and
-  // μ are the same bits (contacts on one face) have the same near rows:
-  // their sums are taken once, for the first of them.
+  // row's are found by key, and summed in row order. Rows with the same
+  // normal and μ (contacts on one face) have the same near rows: visited in
+  // order of key, where they follow one another, each takes the sums of the
+  // one before it when they match.
   const bool few = rows_.size() <= kFewContacts;  // every row, or the rows by normal
   all_rows_.resize(rows_.size());
   std::iota(all_rows_.begin(), all_rows_.end(), 0);
   if (!few)
     window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(KeyWindow::axis()); });
   shared_normal_.resize(rows_.size());
-  // Few rows: each row's sums in turn. Otherwise rows with the same bits
-  // come together (sorted by them) and share the first one's sums.
-  plane_order_.assign(all_rows_.begin(), all_rows_.end());
-  plane_bits_.resize(rows_.size());
-  if (!few) {
-    for (std::size_t row = 0; row < rows_.size(); ++row) {
-      const FrictionalContactRow& r = rows_[row];
-      plane_bits_[row] = {
-          std::bit_cast<uint64_t>(r.normal.x()), std::bit_cast<uint64_t>(r.normal.y()),
-          std::bit_cast<uint64_t>(r.normal.z()), std::bit_cast<uint64_t>(r.friction)};
-    }
-  }
-  const auto bits = [&](int row) -> const std::array<uint64_t, 4>& { return plane_bits_[row]; };
-  if (!few)
-    std::sort(plane_order_.begin(), plane_order_.end(),
-              [&](int a, int b) { return bits(a) < bits(b) || (bits(a) == bits(b) && a < b); });
   double qp_total = 0, sweeps_total = 0;
-  for (std::size_t k = 0; k < plane_order_.size(); ++k) {
-    const int row = plane_order_[k];
-    if (few || k == 0 || bits(plane_order_[k - 1]) != bits(row)) {
+  int previous = -1;
+  const auto share = [&](int row) {
+    const bool same = previous >= 0 && rows_[previous].normal == rows_[row].normal &&
+                      rows_[previous].friction == rows_[row].friction;
+    if (!same) {
       qp_total = 0;
       sweeps_total = 0;
       visit_candidates(few, all_rows_, window_, rows_[row].normal, kSameNormalDistance,
@@ -339,8 +323,14 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
                          return true;
                        });
     }
+    previous = row;
     shared_normal_[row] = sweeps_total > 0 ? solution.impulses[row].x() * (qp_total / sweeps_total)
                                            : row_normal_[row];
+  };
+  if (few) {
+    for (const int row : all_rows_) share(row);
+  } else {
+    window_.visit_in_key_order(share);
   }
   row_normal_.swap(shared_normal_);
 }

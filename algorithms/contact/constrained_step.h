@@ -38,8 +38,6 @@
 // or slides with μ λ_n against its slip.
 #pragma once
 
-#include <array>
-#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -125,11 +123,9 @@ class ConstrainedStepSolver {
                           std::span<const double> friction, std::span<const double> normal_forces);
 
   double tolerance_;
-  std::vector<int> row_of_;       ///< per constraint, its row of the frictional solve (−1: none)
-  std::vector<int> row_first_;    ///< per row, the constraint that made it
-  std::vector<int> all_rows_;     ///< 0, 1, … (share_planar_loads)
-  std::vector<int> plane_order_;  ///< rows by the bits of their normal and μ (share_planar_loads)
-  std::vector<std::array<uint64_t, 4>> plane_bits_;  ///< per row, those bits
+  std::vector<int> row_of_;     ///< per constraint, its row of the frictional solve (−1: none)
+  std::vector<int> row_first_;  ///< per row, the constraint that made it
+  std::vector<int> all_rows_;   ///< 0, 1, … (share_planar_loads)
   std::vector<int> group_of_, group_first_, group_size_, members_, new_index_;
   KeyWindow window_;  ///< rows or groups by the key of a lever or normal (constrained_step.cpp)
   std::vector<char> keep_;

@@ -55,6 +55,11 @@ class KeyWindow {
       if (!visit(id)) return;
   }
   std::size_t size() const { return entries_.size(); }
+  /// The ids in order of key (equal keys by ascending id).
+  template <class Visit>
+  void visit_in_key_order(Visit&& visit) const {
+    for (const Entry& entry : entries_) visit(entry.second);
+  }
 
  private:
   using Entry = std::pair<double, int>;
