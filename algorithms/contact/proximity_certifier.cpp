@@ -15,6 +15,13 @@ namespace {
 constexpr double kDirectionFloor = 1e-12;
 }  // namespace
 
+std::size_t pairs_within(const ProximityCertificate& certificate, double distance_m) {
+  const std::vector<double>& distances = certificate.distances;
+  if (distances.size() != certificate.pairs.size()) return certificate.pairs.size();
+  return static_cast<std::size_t>(std::upper_bound(distances.begin(), distances.end(), distance_m) -
+                                  distances.begin());
+}
+
 void carry_impulses(std::span<const ContactFeatures> from, std::span<const Vec3> impulses,
                     std::span<const ContactFeatures> to, std::vector<Vec3>& carried) {
   carried.assign(to.size(), Vec3::Zero());

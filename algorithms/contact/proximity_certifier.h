@@ -45,6 +45,11 @@ struct ProximityCertificate {
   int searches = 0;
 };
 
+/// How many of the certificate's pairs are at most `distance_m` apart at
+/// its anchor: a prefix of the list, whose distances ascend (all of them
+/// when the certificate has no distances).
+std::size_t pairs_within(const ProximityCertificate& certificate, double distance_m);
+
 /// A listed pair at one pose.
 struct PairContact {
   Vec3 scene_point = Vec3::Zero();  ///< world, m: the scene feature's closest point

@@ -32,13 +32,10 @@ std::span<const ContactFeatures> pairs_within_move(const ProximityCertificate& c
   // whole path by its end), and the distance between two features changes
   // no faster than their points move. The distances ascend, so the pairs
   // that may touch are the first ones.
-  if (certificate.distances.size() != certificate.pairs.size()) return certificate.pairs;
   const double reach = point_reach(displacement(certificate.anchor, start), radius) +
                        point_reach(move, radius) + kPairCullMargin;
-  const auto end =
-      std::upper_bound(certificate.distances.begin(), certificate.distances.end(), reach);
-  const auto count = static_cast<std::size_t>(end - certificate.distances.begin());
-  return std::span<const ContactFeatures>(certificate.pairs).first(count);
+  return std::span<const ContactFeatures>(certificate.pairs)
+      .first(pairs_within(certificate, reach));
 }
 
 GodObjectSolver::GodObjectSolver(const RenderContext& context, const GodObjectSettings& settings)

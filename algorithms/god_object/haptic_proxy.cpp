@@ -25,6 +25,7 @@ void HapticProxy::reset(const Pose& start) {
   warm_active_.clear();
   warm_impulses_.clear();
   contacts_.clear();
+  last_step_reach_ = 0;
 }
 
 double HapticProxy::coupling_energy(const Pose& tool_pose, const Pose& target) const {
@@ -96,13 +97,6 @@ double HapticProxy::worst_margin(const Pose& com_pose) {
   return worst;
 }
 
-std::size_t HapticProxy::pairs_within(double distance) const {
-  const std::vector<double>& distances = certificate_.distances;
-  if (distances.size() != certificate_.pairs.size()) return certificate_.pairs.size();
-  return static_cast<std::size_t>(std::upper_bound(distances.begin(), distances.end(), distance) -
-                                  distances.begin());
-}
-
 HapticSolveStats HapticProxy::step(const Pose& target) {
   HapticSolveStats stats;
   const ProxyFrames& frames = certifier_.frames();
@@ -123,9 +117,10 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
   const double from_anchor = point_reach(displacement(certificate_.anchor, start), radius);
   const double matters = std::max(settings_.standoff_m, settings_.contact_distance_m);
   const double allowance = std::max(2 * last_step_reach_, kNearFloorM);
-  std::size_t near = settings_.haptic_all_pairs
-                         ? listed
-                         : pairs_within(matters + from_anchor + allowance + kPairCullMargin);
+  std::size_t near =
+      settings_.haptic_all_pairs
+          ? listed
+          : pairs_within(certificate_, matters + from_anchor + allowance + kPairCullMargin);
   Vec6 moved = Vec6::Zero();
   // An attempt that has to be done again starts from the warm start the
   // tick began with, as a solve of every pair would have.
@@ -152,6 +147,7 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
 
   // Contacts at the new pose: the pairs within the contact distance, as
   // measured there by the last check (the others are beyond it).
+  contacts_.clear();
   for (std::size_t k = 0; k < near; ++k) {
     const PairContact& contact = end_contacts_[k];
     if (contact.distance > settings_.contact_distance_m) continue;
@@ -171,7 +167,6 @@ bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& un
   // final check measured them there already, unless a certificate came since.
   constraints_.clear();
   constraint_friction_.clear();
-  contacts_.clear();
   floors_.clear();
   for (std::size_t k = 0; k < near; ++k) {
     const ContactFeatures& pair = certificate_.pairs[k];
@@ -192,8 +187,8 @@ bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& un
   // closest points) is asked for its shortfall more in a new solve. What
   // still falls short after kCorrections solves is cut to the largest
   // fraction of the step that keeps every pair above its floor.
-  // The last solve's impulses per listed pair (none after a jump): the
-  // warm start, the pairs left out at zero.
+  // The warm start: the last solve's impulses per listed pair, the pairs
+  // left out at zero (none after a jump).
   const std::size_t listed = certificate_.pairs.size();
   double reached = 0;  // the largest reach of a solve's step
   for (int pass = 0;; ++pass) {

@@ -67,8 +67,8 @@ struct HapticSolveStats {
   /// solves done again with every listed pair: the step reached farther
   /// than the pairs left out allowed (HapticProxy::step)
   int widened = 0;
-  int64_t pairs_solved =
-      0;  ///< listed pairs the tick solved and checked (the others cannot matter)
+  /// listed pairs the tick solved and checked (the others cannot matter)
+  int64_t pairs_solved = 0;
 };
 
 class HapticProxy {
@@ -129,9 +129,6 @@ class HapticProxy {
   /// `com_pose`: signed distance (by the side the pair started the tick on)
   /// minus its floor; fills end_distances_ and end_contacts_.
   double worst_margin(const Pose& com_pose);
-  /// How many listed pairs are at most `distance` (m) apart at the anchor
-  /// (a prefix: the distances ascend); all of them without distances.
-  std::size_t pairs_within(double distance) const;
   /// The tick's solve on the first `near` listed pairs from the
   /// centre-of-mass pose `start`: fills `moved`; returns false, having
   /// moved nothing, when a solve's step reaches farther than `allowance`

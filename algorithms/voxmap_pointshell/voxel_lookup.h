@@ -71,16 +71,6 @@ class VoxelLookup {
   /// World position of a voxel's centre (m).
   Vec3 centre_of(const Eigen::Vector3i& voxel) const { return h_ * voxel.cast<double>(); }
 
-  /// State of a voxel (free outside the arrays).
-  VoxelState state(const Eigen::Vector3i& voxel) const {
-    const Eigen::Vector3i v = voxel - voxel_min_;
-    if (!inside(v)) return VoxelState::kFree;
-    const int32_t code = block_code_[block_index(v)];
-    if (code < 0) return static_cast<VoxelState>(-(code + 1));
-    return static_cast<VoxelState>(
-        states_[static_cast<std::size_t>(code) * kBlockVoxels + local_index(v)]);
-  }
-
   /// Where a world point falls in the arrays, located once for both its
   /// state and its clearance (the pointshell's lookup reads both).
   struct Cell {
@@ -105,6 +95,16 @@ class VoxelLookup {
     cell.local = local_index(cell.v);
     return cell;
   }
+  /// The cell of a voxel (index).
+  Cell cell_of(const Eigen::Vector3i& voxel) const {
+    Cell cell;
+    cell.v = voxel - voxel_min_;
+    cell.inside = inside(cell.v);
+    if (!cell.inside) return cell;
+    cell.block = block_index(cell.v);
+    cell.local = local_index(cell.v);
+    return cell;
+  }
   /// The voxel (index) of a cell inside the arrays.
   Eigen::Vector3i voxel_of(const Cell& cell) const { return cell.v + voxel_min_; }
   /// State of a cell's voxel (free outside the arrays).
@@ -115,6 +115,8 @@ class VoxelLookup {
     return static_cast<VoxelState>(
         states_[static_cast<std::size_t>(code) * kBlockVoxels + cell.local]);
   }
+  /// State of a voxel (free outside the arrays).
+  VoxelState state(const Eigen::Vector3i& voxel) const { return state(cell_of(voxel)); }
   /// clearance(world) for the cell of `world`.
   double clearance(const Cell& cell, const Vec3& world) const {
     if (!cell.inside) return clearance_outside(world);
@@ -122,14 +124,6 @@ class VoxelLookup {
     if (code < 0) return (-code - 1) * kBlockEdge * h_;
     const int voxels = fine_[static_cast<std::size_t>(code) * kBlockVoxels + cell.local];
     return voxels <= 1 ? 0.0 : (voxels - 1) * h_;
-  }
-
-  /// State of the voxel containing a world point (m), and that voxel's
-  /// index; free outside the arrays (voxel then left unset).
-  VoxelState state_at(const Vec3& world, Eigen::Vector3i& voxel) const {
-    const Cell cell = cell_at(world);
-    if (cell.inside) voxel = voxel_of(cell);
-    return state(cell);
   }
 
   /// Signed distance stored at a voxel centre (m, negative inside); the
