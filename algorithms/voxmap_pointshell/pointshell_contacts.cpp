@@ -353,6 +353,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   Mat3 d_s_n = Mat3::Zero();  // Σ d s nᵀ over field hits (tool)
   double d_n_s = 0;           // Σ d n·s over field hits
   for (const PointHit& hit : hits.contacts) {
+    // A flat spot of φ (a point deep in a uniform block) adds nothing to any
+    // sum below; it still counts for McNeely's averaging.
+    if (hit.field && hit.reference.isZero()) continue;
     const Vec3& r = shell.points[hit.point];
     Vec3 n, m;
     if (hit.field) {

@@ -227,7 +227,15 @@ double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) con
   const bool corners_inside = inside(v) && v.x() + 1 < voxel_count_.x() &&
                               v.y() + 1 < voxel_count_.y() && v.z() + 1 < voxel_count_.z();
   const int32_t code = corners_inside ? block_code_[block_index(v)] : -1;
-  if (code >= 0 && (v.x() & last) != last && (v.y() & last) != last && (v.z() & last) != last) {
+  const bool one_block =
+      corners_inside && (v.x() & last) != last && (v.y() & last) != last && (v.z() & last) != last;
+  if (one_block && code < 0) {
+    // All eight corners in one uniform block: the interpolation below would
+    // give its distance exactly (c + f·0) and a zero gradient.
+    gradient.setZero();
+    return uniform_distance_[block_index(v)];
+  }
+  if (one_block) {
     // All eight corners in one dense block: x, y, z steps are 64, 8, 1.
     const float* corner =
         distances_.data() + static_cast<std::size_t>(code) * kBlockVoxels + local_index(v);

@@ -83,6 +83,35 @@ TEST_CASE("the averaging rule divides the summed wrench by N/10 from N = 10 on",
   }
 }
 
+TEST_CASE("a point on a flat spot of φ counts for the averaging and adds nothing else",
+          "[voxmap_pointshell]") {
+  // A point deep in a uniform block reads φ with no gradient: in contact
+  // (N counts it) but without a direction, so no force, torque or stiffness.
+  PointShellGains gains;
+  gains.stiffness = 3000;
+  gains.braking_viscosity = 0;
+  const double depth = 4e-4;
+  const Vec3 r(0.003, 0, -0.01);
+  for (std::size_t flat = 0; flat <= 30; flat += 5) {
+    const std::size_t pressing = 20;
+    const PointShell shell = repeated_point(pressing + flat, r, Vec3::UnitZ());
+    PointShellHits hits;
+    for (std::size_t i = 0; i < pressing + flat; ++i)
+      hits.contacts.push_back(
+          {static_cast<int32_t>(i), i < pressing ? depth : 0.003, Vec3::Zero(), i >= pressing});
+    const ForceEvaluation f = pointshell_wrench(shell, hits, gains, RigidBodyState{}, true);
+    const double divisor = static_cast<double>(pressing + flat) / 10.0;
+    const Vec3 force =
+        gains.stiffness * depth * static_cast<double>(pressing) / divisor * Vec3::UnitZ();
+    INFO(flat << " flat points");
+    CHECK((f.wrench.force - force).norm() < 1e-12);
+    CHECK((f.wrench.torque - r.cross(force)).norm() < 1e-12);
+    CHECK(f.stiffness(2, 2) ==
+          Approx(-gains.stiffness * static_cast<double>(pressing) / divisor).epsilon(1e-12));
+    CHECK(f.stiffness(0, 0) == 0);
+  }
+}
+
 TEST_CASE("the tangent-plane depth is measured from the voxel centre along the point's normal",
           "[voxmap_pointshell]") {
   const double h = 0.002;

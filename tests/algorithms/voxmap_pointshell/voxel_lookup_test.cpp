@@ -83,7 +83,7 @@ TEST_CASE("φ interpolates the stored distances wherever its corners lie", "[vox
   // dense and uniform blocks, and outside.
   std::mt19937 random(11);
   std::uniform_real_distribution<double> xy(-0.0105, 0.0175), z(-0.0105, 0.0095);
-  int across = 0, outside = 0;
+  int across = 0, outside = 0, in_uniform = 0;
   for (int k = 0; k < 20000; ++k) {
     const Vec3 p(xy(random), xy(random), z(random));
     Vec3 gradient, expected_gradient;
@@ -102,9 +102,18 @@ TEST_CASE("φ interpolates the stored distances wherever its corners lie", "[vox
     }
     outside += beyond;
     across += crosses && !beyond;
+    // Eight corners in one uniform block (blocks with an odd sum of
+    // coordinates): its own distance and no gradient, exactly.
+    const Eigen::Vector3i block = (i0.array() + 8) / 8;
+    if (!crosses && !beyond && block.sum() % 2 == 1) {
+      ++in_uniform;
+      REQUIRE(phi == static_cast<double>(lookup.distance(i0)));
+      REQUIRE(gradient == Vec3::Zero());
+    }
   }
   CHECK(across > 1000);
   CHECK(outside > 1000);
+  CHECK(in_uniform > 1000);
 }
 
 TEST_CASE("a cell reads the same state and clearance as the world point it locates",
