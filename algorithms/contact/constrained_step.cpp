@@ -145,36 +145,8 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
   for (int& row : row_of_) row = new_index_[row];
 }
 
-const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Vec6& unconstrained,
-                                                    std::span<const GaussConstraint> constraints,
-                                                    std::span<const double> friction,
-                                                    std::vector<int>& warm_active,
-                                                    std::span<const Vec3> warm_impulses) {
-  ConstrainedStep& r = result_;
-  r.step = unconstrained;
-  r.impulses.assign(constraints.size(), Vec3::Zero());
-  r.iterations = 0;
-  r.converged = true;
-  r.feasible = true;
-  r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
-  r.coulomb_residual = 0;
-  r.skew_passes = 0;
-  if (constraints.empty()) return r;
-
-  const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
-  if (seed_from_qp) {
-    std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
-    const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
-    r.iterations = solution.iterations;
-    r.converged = solution.converged;
-    r.feasible = solution.converged;
-    warm_active = solution.converged ? solution.active : std::vector<int>{};
-    r.step = solution.acceleration;
-    for (std::size_t k = 0; k < constraints.size(); ++k)
-      r.impulses[k].x() = solution.multipliers[k];
-    if (!r.with_friction) return r;
-  }
-
+void ConstrainedStepSolver::build_rows(std::span<const GaussConstraint> constraints,
+                                       std::span<const double> friction) {
   // Coincident contacts (a vertex–face pair and the edge–edge pairs of that
   // vertex's edges meet at one point with one normal) would make the sweeps
   // trade load between them without end: each point is solved once, with
@@ -215,6 +187,41 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
     }
   }
   reduce_coplanar_rows();
+}
+
+const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Vec6& unconstrained,
+                                                    std::span<const GaussConstraint> constraints,
+                                                    std::span<const double> friction,
+                                                    std::vector<int>& warm_active,
+                                                    std::span<const Vec3> warm_impulses) {
+  ConstrainedStep& r = result_;
+  r.step = unconstrained;
+  r.impulses.assign(constraints.size(), Vec3::Zero());
+  r.iterations = 0;
+  r.converged = true;
+  r.feasible = true;
+  r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
+  r.coulomb_residual = 0;
+  r.skew_passes = 0;
+  if (constraints.empty()) return r;
+
+  const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
+  if (seed_from_qp) {
+    std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
+    const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
+    r.iterations = solution.iterations;
+    r.converged = solution.converged;
+    r.feasible = solution.converged;
+    warm_active = solution.converged ? solution.active : std::vector<int>{};
+    r.step = solution.acceleration;
+    for (std::size_t k = 0; k < constraints.size(); ++k)
+      r.impulses[k].x() = solution.multipliers[k];
+    if (!r.with_friction) return r;
+  }
+
+  // The rows depend on the constraints and μ only: a skew pass of
+  // solve_system takes those of the pass before it.
+  if (!reuse_rows_) build_rows(constraints, friction);
   const std::span<const Vec3> source =
       seed_from_qp ? std::span<const Vec3>(r.impulses) : warm_impulses;
   seed_.assign(rows_.size(), Vec3::Zero());
@@ -345,8 +352,11 @@ const ConstrainedStep& ConstrainedStepSolver::solve_system(
   Vec6 shifted = unconstrained;
   pass_impulses_.assign(warm_impulses.begin(), warm_impulses.end());
   for (int pass = 1;; ++pass) {
+    // Passes after the first solve the same constraints: their rows stand.
+    reuse_rows_ = pass > 1;
     const ConstrainedStep& r =
         solve(symmetric, shifted, constraints, friction, warm_active, pass_impulses_);
+    reuse_rows_ = false;
     result_.skew_passes = pass;
     const Vec6 deflection = r.step - unconstrained;
     const Vec6 skew_force = skew * deflection;

@@ -113,6 +113,9 @@ class ConstrainedStepSolver {
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
+  /// rows_ and row_of_ for the constraints: coincident contacts merged,
+  /// then reduce_coplanar_rows.
+  void build_rows(std::span<const GaussConstraint> constraints, std::span<const double> friction);
   void reduce_coplanar_rows();
   void keep_hull_vertices(const Vec3& normal);
   void share_planar_loads(const FrictionalContactSolution& solution);
@@ -123,6 +126,10 @@ class ConstrainedStepSolver {
                           std::span<const double> friction, std::span<const double> normal_forces);
 
   double tolerance_;
+  /// solve_system's passes after the first: solve keeps the rows it built
+  /// for the same constraints (a pass that built none reached no frictional
+  /// solve, and neither do the passes after it).
+  bool reuse_rows_ = false;
   std::vector<int> row_of_;     ///< per constraint, its row of the frictional solve (−1: none)
   std::vector<int> row_first_;  ///< per row, the constraint that made it
   std::vector<int> all_rows_;   ///< 0, 1, … (share_planar_loads)

@@ -181,5 +181,60 @@ TEST_CASE("a non-symmetric system is solved with its full matrix, as its closed 
   CHECK(row.dot(skewed_step.step) >= contact.rhs - 1e-12);
 }
 
+TEST_CASE("a frictional non-symmetric solve after another gives what a new solver gives") {
+  // The skew passes of one solve share its contact rows; nothing of them
+  // may reach the next solve. Two problems with friction on one solver, in
+  // turn and again, each exactly as a solver of its own solves it.
+  Mat6 system = Mat6::Zero();
+  system.diagonal() << 0.071, 0.071, 0.071, 6.9e-5, 7.2e-5, 7.0e-5;
+  Mat3 spin;
+  spin << 0, -0.8, -0.5, 0.8, 0, 0.3, 0.5, -0.3, 0;
+  system.block<3, 3>(3, 3) += 2.5e-5 * spin;
+  Vec6 unconstrained;
+  unconstrained << 0.01, 0.004, -0.02, 0.5, -0.3, 0.2;
+  // A 5 × 5 face on a plane (rows reduced to the hull's corners) and a
+  // tilted face of 3 × 3.
+  std::vector<GaussConstraint> flat, tilted;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      flat.push_back(
+          GaussConstraint{Vec3::UnitZ(), Vec3(-0.02 + 0.01 * i, -0.02 + 0.01 * j, -0.03), 0});
+  const Vec3 normal = Vec3(0.3, -0.1, 1).normalized();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      tilted.push_back(
+          GaussConstraint{normal, Vec3(-0.01 + 0.01 * i, 0.01 * j, -0.025), -0.0005 * i});
+  const std::vector<double> flat_mu(flat.size(), 0.5), tilted_mu(tilted.size(), 0.3);
+
+  const auto fresh = [&](const std::vector<GaussConstraint>& c, const std::vector<double>& mu) {
+    ConstrainedStepSolver solver;
+    std::vector<int> active;
+    return solver.solve_system(system, unconstrained, c, mu, active);
+  };
+  const ConstrainedStep flat_alone = fresh(flat, flat_mu);
+  const ConstrainedStep tilted_alone = fresh(tilted, tilted_mu);
+  REQUIRE(flat_alone.skew_passes > 1);
+  REQUIRE(tilted_alone.skew_passes > 1);
+  ConstrainedStepSolver shared;
+  for (int round = 0; round < 2; ++round) {
+    std::vector<int> flat_active, tilted_active;
+    const ConstrainedStep flat_step =
+        shared.solve_system(system, unconstrained, flat, flat_mu, flat_active);
+    CHECK(flat_step.step == flat_alone.step);
+    CHECK(flat_step.impulses == flat_alone.impulses);
+    const ConstrainedStep tilted_step =
+        shared.solve_system(system, unconstrained, tilted, tilted_mu, tilted_active);
+    CHECK(tilted_step.step == tilted_alone.step);
+    CHECK(tilted_step.impulses == tilted_alone.impulses);
+    // The symmetric solve of the same solver builds its own rows as well.
+    std::vector<int> active;
+    ConstrainedStepSolver other;
+    std::vector<int> other_active;
+    const Mat6 symmetric = 0.5 * (system + system.transpose());
+    CHECK(shared.solve(symmetric, unconstrained, flat, flat_mu, active).step ==
+          other.solve(symmetric, unconstrained, flat, flat_mu, other_active).step);
+  }
+}
+
 }  // namespace
 }  // namespace hb
