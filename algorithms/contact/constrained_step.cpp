@@ -187,6 +187,11 @@ void ConstrainedStepSolver::build_rows(std::span<const GaussConstraint> constrai
     }
   }
   reduce_coplanar_rows();
+  // The rows by normal, for share_planar_loads (every pass of the cone and
+  // of solve_system visits them).
+  if (rows_.size() > kFewContacts)
+    normal_window_.assign(rows_.size(),
+                          [&](int row) { return rows_[row].normal.dot(KeyWindow::axis()); });
 }
 
 const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Vec6& unconstrained,
@@ -309,8 +314,6 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
   const bool few = rows_.size() <= kFewContacts;  // every row, or the rows by normal
   all_rows_.resize(rows_.size());
   std::iota(all_rows_.begin(), all_rows_.end(), 0);
-  if (!few)
-    window_.assign(rows_.size(), [&](int row) { return rows_[row].normal.dot(KeyWindow::axis()); });
   shared_normal_.resize(rows_.size());
   double qp_total = 0, sweeps_total = 0;
   int previous = -1;
@@ -320,7 +323,7 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
     if (!same) {
       qp_total = 0;
       sweeps_total = 0;
-      visit_candidates(few, all_rows_, window_, rows_[row].normal, kSameNormalDistance,
+      visit_candidates(few, all_rows_, normal_window_, rows_[row].normal, kSameNormalDistance,
                        [&](int other) {
                          if (rows_[other].friction == rows_[row].friction &&
                              rows_[other].normal.dot(rows_[row].normal) >= kSameNormalCos) {
@@ -337,7 +340,7 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
   if (few) {
     for (const int row : all_rows_) share(row);
   } else {
-    window_.visit_in_key_order(share);
+    normal_window_.visit_in_key_order(share);
   }
   row_normal_.swap(shared_normal_);
 }

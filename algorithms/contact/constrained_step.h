@@ -135,6 +135,7 @@ class ConstrainedStepSolver {
   std::vector<int> all_rows_;   ///< 0, 1, … (share_planar_loads)
   std::vector<int> group_of_, group_first_, group_size_, members_, new_index_;
   KeyWindow window_;  ///< rows or groups by the key of a lever or normal (constrained_step.cpp)
+  KeyWindow normal_window_;  ///< the rows by the key of their normal (many rows)
   std::vector<char> keep_;
   std::vector<char> taken_;
   std::vector<std::pair<Eigen::Vector2d, int>> plane_points_;
