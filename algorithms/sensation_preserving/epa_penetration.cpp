@@ -51,25 +51,54 @@ double separating_translation(const Body& a, const Body& b, const Vec3& u) {
   return a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
 }
 
+/// separating_translation(a, b, u) when it is below `bound`, else some
+/// number at least `bound`. The vertices `a_first` and `b_first` (indices,
+/// those nearest the extremes along a nearby direction) are tried first:
+/// the translation is at least what any of a's vertices and b's give, and
+/// floating-point sums are monotone, so a bound reached with them is
+/// reached by the full sums too; otherwise the full sums are taken as in
+/// separating_translation.
+double separating_translation_below(const Body& a, const Body& b, const Vec3& u, double bound,
+                                    const std::vector<int>& a_first,
+                                    const std::vector<int>& b_first) {
+  const Vec3 ua = a.rotation.transpose() * u, ub = b.rotation.transpose() * u;
+  double a_max = -std::numeric_limits<double>::infinity();
+  double b_min = std::numeric_limits<double>::infinity();
+  for (const int i : a_first) a_max = std::max(a_max, ua.dot(a.vertices[i]));
+  for (const int i : b_first) b_min = std::min(b_min, ub.dot(b.vertices[i]));
+  const double lower = a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
+  if (!(lower < bound)) return lower;
+  for (const Vec3& v : a.vertices) a_max = std::max(a_max, ua.dot(v));
+  for (const Vec3& v : b.vertices) b_min = std::min(b_min, ub.dot(v));
+  return a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
+}
+
 /// World positions of the vertices of `body` whose height along `u` (sign
 /// +1) or `-u` (sign -1) is within `band` of the extreme: the nearest
-/// kPolishVertices of them.
-std::vector<Vec3> near_extreme(const Body& body, const Vec3& u, double sign, double band) {
-  std::vector<std::pair<double, Vec3>> heights;
-  for (std::size_t i = 0; i < body.vertices.size(); ++i) {
-    const Vec3 x = body.world(i);
-    heights.emplace_back(sign * u.dot(x), x);
-  }
-  const double top =
-      std::max_element(heights.begin(), heights.end(), [](const auto& p, const auto& q) {
-        return p.first < q.first;
-      })->first;
-  std::stable_sort(heights.begin(), heights.end(),
-                   [](const auto& p, const auto& q) { return p.first > q.first; });
+/// kPolishVertices of them (the highest first, equal heights by index), and
+/// their indices in `indices`.
+std::vector<Vec3> near_extreme(const Body& body, const Vec3& u, double sign, double band,
+                               std::vector<int>& indices) {
+  std::vector<std::pair<double, int>> heights;
+  heights.reserve(body.vertices.size());
+  for (std::size_t i = 0; i < body.vertices.size(); ++i)
+    heights.emplace_back(sign * u.dot(body.world(i)), static_cast<int>(i));
+  // Highest first, equal heights in index order: the order a stable sort by
+  // height gives, for the first kPolishVertices only.
+  const auto higher = [](const std::pair<double, int>& p, const std::pair<double, int>& q) {
+    return p.first > q.first || (!(q.first > p.first) && p.second < q.second);
+  };
+  const std::size_t kept = std::min(kPolishVertices, heights.size());
+  std::partial_sort(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(kept),
+                    heights.end(), higher);
   std::vector<Vec3> out;
-  for (const auto& [height, x] : heights) {
-    if (height < top - band || out.size() == kPolishVertices) break;
-    out.push_back(x);
+  indices.clear();
+  if (heights.empty()) return out;
+  const double top = heights.front().first;
+  for (std::size_t k = 0; k < kept; ++k) {
+    if (heights[k].first < top - band) break;
+    out.push_back(body.world(static_cast<std::size_t>(heights[k].second)));
+    indices.push_back(heights[k].second);
   }
   return out;
 }
@@ -85,15 +114,16 @@ Vec3 polish_normal(const Body& a, const Body& b, Vec3 n, double scale) {
   double best = separating_translation(a, b, n);
   for (int round = 0; round < 3; ++round) {
     const double before = best;
-    const std::vector<Vec3> pa = near_extreme(a, n, +1, kPolishBand * scale);
-    const std::vector<Vec3> pb = near_extreme(b, n, -1, kPolishBand * scale);
+    std::vector<int> ia, ib;
+    const std::vector<Vec3> pa = near_extreme(a, n, +1, kPolishBand * scale, ia);
+    const std::vector<Vec3> pb = near_extreme(b, n, -1, kPolishBand * scale, ib);
     const Vec3 reference = n;
     const auto consider = [&](const Vec3& axis) {
       const double length = axis.norm();
       if (!(length > 1e-12 * scale * scale)) return;
       Vec3 u = axis / length;
       if (u.dot(reference) < 0) u = -u;
-      const double value = separating_translation(a, b, u);
+      const double value = separating_translation_below(a, b, u, best, ia, ib);
       if (value < best) {
         best = value;
         n = u;
