@@ -44,7 +44,15 @@ ConvexProximity convex_proximity(const PlacedConvex& a, const PlacedConvex& b, d
 /// True when the polytopes are proved apart by more than margin_m (m, ≥ 0):
 /// GJK stopped at the first support plane that shows it. Cheaper than
 /// convex_proximity for pairs that are apart.
-bool convex_apart(const PlacedConvex& a, const PlacedConvex& b, double margin_m = 0);
+/// When they are, and `axis` is given, it receives a unit direction (world,
+/// from a towards b) along which they were found apart.
+bool convex_apart(const PlacedConvex& a, const PlacedConvex& b, double margin_m = 0,
+                  Vec3* axis = nullptr);
+
+/// How far apart the polytopes are along the unit direction `axis` (world,
+/// m): b's least height along it less a's greatest; positive only for a
+/// plane between them, and then at most their distance.
+double separation_along(const PlacedConvex& a, const PlacedConvex& b, const Vec3& axis);
 
 /// Euclidean distance (m) between the two polytopes; 0 when they overlap.
 double convex_distance(const PlacedConvex& a, const PlacedConvex& b);

@@ -131,6 +131,7 @@ GjkResult gjk(const Body& a, const Body& b, double scale, double stop_beyond) {
     const double separation = v.dot(p.w);
     if (separation > 0 && separation * separation > stop_beyond * stop_beyond * vv) {
       r.distance = separation / std::sqrt(vv);
+      r.direction = v;
       return r;
     }
     // v·w is a lower bound of |v|·distance: stop once it is within rounding.
@@ -156,6 +157,7 @@ GjkResult gjk(const Body& a, const Body& b, double scale, double stop_beyond) {
     r.on_b += weights[static_cast<std::size_t>(i)] * r.simplex[static_cast<std::size_t>(i)].on_b;
   }
   r.distance = v.norm();
+  r.direction = v;
   return r;
 }
 

@@ -26,6 +26,9 @@ DifferencePoint difference_support(const Body& a, const Body& b, const Vec3& d);
 struct GjkResult {
   double distance = 0;
   Vec3 on_a = Vec3::Zero(), on_b = Vec3::Zero();
+  /// The last search direction: the point of b - a nearest the origin found
+  /// (world, m; a direction from a towards b when they are apart).
+  Vec3 direction = Vec3::Zero();
   std::array<DifferencePoint, 4> simplex;
   int size = 0;
 };

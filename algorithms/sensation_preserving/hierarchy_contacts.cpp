@@ -27,12 +27,36 @@ const ConvexNode& node_at(const ConvexHierarchy& h, int index, const char* which
 
 bool has_children(const ConvexNode& node) { return node.children[0] >= 0; }
 
+// Whether two inner pieces are apart by more than the margin, as
+// convex_apart decides it: first along the direction kept for them, then
+// by GJK (whose direction is kept). `size` (m) bounds the pieces' extents
+// and positions: a direction counts only with 1e-9 of it to spare, far
+// above the rounding of the heights and GJK's touch tolerance (1e-12 of
+// the extent), so that GJK would find such a pair apart too.
+bool pieces_apart(const PlacedConvex& scene_piece, const PlacedConvex& tool_piece, double margin,
+                  int tool_node, int scene_node, double size, SeparatingAxes* axes,
+                  HierarchyContactStats& stats) {
+  if (axes == nullptr) return convex_apart(scene_piece, tool_piece, margin);
+  if (const Vec3* axis = axes->find(tool_node, scene_node)) {
+    if (separation_along(scene_piece, tool_piece, *axis) > margin + 1e-9 * size) {
+      ++stats.axis_separations;
+      axes->keep(tool_node, scene_node, *axis);
+      return true;
+    }
+  }
+  Vec3 axis;
+  if (!convex_apart(scene_piece, tool_piece, margin, &axis)) return false;
+  if (axis.allFinite()) axes->keep(tool_node, scene_node, axis);
+  return true;
+}
+
 }  // namespace
 
 void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
                              const ConvexHierarchy& scene, const Pose& scene_pose,
                              const HierarchyContactSettings& settings,
-                             std::vector<PieceContact>& out, HierarchyContactStats& stats) {
+                             std::vector<PieceContact>& out, HierarchyContactStats& stats,
+                             SeparatingAxes* axes) {
   const double threshold = settings.perceptibility_threshold;
   const double margin = settings.contact_margin_m;
   if (!(threshold >= 0) || !std::isfinite(threshold))
@@ -59,8 +83,9 @@ void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
     if (perceptible && (tool_splits || scene_splits)) {
       // The pieces enclose everything below them: pieces apart, subtrees apart.
       ++stats.piece_tests;
-      if (convex_apart(PlacedConvex{s.vertices, scene_pose}, PlacedConvex{t.vertices, tool_pose},
-                       margin))
+      if (pieces_apart(PlacedConvex{s.vertices, scene_pose}, PlacedConvex{t.vertices, tool_pose},
+                       margin, ti, si,
+                       t.radius + s.radius + tool_centre.norm() + scene_centre.norm(), axes, stats))
         continue;
       // Children pushed in reverse so that child 0 is visited first.
       if (tool_splits && (!scene_splits || t.radius >= s.radius)) {
@@ -89,6 +114,7 @@ void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
     contact.scene_node = si;
     out.push_back(contact);
   }
+  if (axes != nullptr) axes->next_query();
 }
 
 namespace {

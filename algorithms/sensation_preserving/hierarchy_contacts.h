@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "algorithms/sensation_preserving/convex_hierarchy.h"
@@ -47,10 +48,44 @@ struct HierarchyContactStats {
   int64_t node_pairs_tested = 0;  ///< bounding-sphere tests
   int64_t piece_tests = 0;        ///< convex–convex separation tests of inner pieces
   int64_t gjk_calls = 0;          ///< convex–convex queries
+  /// Piece tests answered by a separating direction kept from the last
+  /// query (SeparatingAxes), without GJK.
+  int64_t axis_separations = 0;
   /// Smallest level of detail used (0 = leaves): the least level of the
   /// two nodes of any pair answered by a convex–convex query since the
   /// counters were zero; meaningful once gjk_calls > 0.
   int deepest_level_reached = 0;
+};
+
+/// Directions that separated pairs of inner pieces in one query, kept for
+/// the next, a slow-loop interval later (frame coherence): a pair one of
+/// them still shows apart is not given to GJK again. A direction proves
+/// the pieces apart only with room for the rounding of the test and for
+/// GJK's own tolerance, so the pairs found apart are those GJK finds.
+class SeparatingAxes {
+ public:
+  /// The direction (world, unit, from the scene piece towards the tool's)
+  /// kept for the pair by the last query, or null.
+  const Vec3* find(int tool_node, int scene_node) const {
+    const auto found = found_.find(key(tool_node, scene_node));
+    return found == found_.end() ? nullptr : &found->second;
+  }
+  /// Keeps a direction for the next query.
+  void keep(int tool_node, int scene_node, const Vec3& axis) {
+    kept_[key(tool_node, scene_node)] = axis;
+  }
+  /// The query is over: what it kept is what the next one finds.
+  void next_query() {
+    found_.swap(kept_);
+    kept_.clear();
+  }
+
+ private:
+  static uint64_t key(int tool_node, int scene_node) {
+    return static_cast<uint64_t>(static_cast<uint32_t>(tool_node)) << 32 |
+           static_cast<uint32_t>(scene_node);
+  }
+  std::unordered_map<uint64_t, Vec3> found_, kept_;
 };
 
 /// Appends the contacts between the tool (hierarchy in tool coordinates, at
@@ -60,11 +95,15 @@ struct HierarchyContactStats {
 /// nodes has children: the node with the larger radius (the tool's on a
 /// tie) when it has children, else the other. An empty hierarchy (root -1)
 /// has no contacts. Throws InputError for a negative or non-finite setting,
-/// a node index out of range or a node without vertices.
+/// a node index out of range or a node without vertices. With `axes` (one
+/// per tool–scene pair of hierarchies, kept across queries), inner piece
+/// pairs are first tried along the directions that separated them in the
+/// last query: the same contacts, fewer GJK calls.
 void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
                              const ConvexHierarchy& scene, const Pose& scene_pose,
                              const HierarchyContactSettings& settings,
-                             std::vector<PieceContact>& out, HierarchyContactStats& stats);
+                             std::vector<PieceContact>& out, HierarchyContactStats& stats,
+                             SeparatingAxes* axes = nullptr);
 
 /// A representative contact of a cluster: the k-means centroid of its
 /// members' points, their depth-weighted mean normal (unit), their largest

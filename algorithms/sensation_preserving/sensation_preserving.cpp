@@ -55,8 +55,10 @@ struct SensationPreservingWork {
     kNodePairsTested,
     kPieceTests,
     kGjkCalls,
+    kAxisSeparations,
   };
-  static constexpr WorkCounters::Names kNames = {"node_pairs_tested", "piece_tests", "gjk_calls"};
+  static constexpr WorkCounters::Names kNames = {"node_pairs_tested", "piece_tests", "gjk_calls",
+                                                 "axis_separations"};
 };
 
 class SensationPreservingRenderer : public Renderer, public SlowLoop {
@@ -86,6 +88,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
                                     object.name.empty() ? "scene object" : object.name));
       scene_poses_.push_back(object.pose);
     }
+    axes_.resize(scene_.size());
     report_.cache_hit = all_cached;
     auto add_size = [&](const ConvexHierarchy& h) {
       double vertices = 0;
@@ -102,6 +105,8 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
 
   void reset(const Pose& start) override {
     proxy_.reset(start);
+    // A replay starts as a new renderer does: no directions kept.
+    axes_.assign(scene_.size(), SeparatingAxes());
     planes_.clear();
     contacts_.clear();
     mailbox_.clear();
@@ -116,6 +121,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
                       installed->stats.node_pairs_tested);
       result.work.add(SensationPreservingWork::kPieceTests, installed->stats.piece_tests);
       result.work.add(SensationPreservingWork::kGjkCalls, installed->stats.gjk_calls);
+      result.work.add(SensationPreservingWork::kAxisSeparations, installed->stats.axis_separations);
     }
     // The installed planes' penalty forces, clamped over the implicit step.
     contact_forces_.use(planes_, settings_.gains);
@@ -144,7 +150,7 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
     raw_.clear();
     for (std::size_t i = 0; i < scene_.size(); ++i)
       find_hierarchy_contacts(tool_, tool_pose, scene_[i], scene_poses_[i], settings_.query, raw_,
-                              update.stats);
+                              update.stats, &axes_[i]);
     update.raw_contacts = static_cast<int>(raw_.size());
     const Mat3 rotation_t = state.q.conjugate().toRotationMatrix();
     auto add_plane = [&](const Vec3& point, const Vec3& normal, double depth) {
@@ -179,6 +185,9 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
   ConvexHierarchy tool_;
   std::vector<ConvexHierarchy> scene_;
   std::vector<Pose> scene_poses_;
+  /// Per scene object, the directions that separated inner pieces in the
+  /// last contact query (the slow loop's; SeparatingAxes).
+  std::vector<SeparatingAxes> axes_;
   BuildReport report_;
   std::vector<PieceContact> raw_;      ///< the slow loop's scratch
   std::vector<ContactPlane> planes_;   ///< installed, evaluated by every haptic step

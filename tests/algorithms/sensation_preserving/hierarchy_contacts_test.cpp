@@ -831,5 +831,63 @@ TEST_CASE("k-means: a cluster's depth is signed, pairs within the margin count m
   CHECK(std::min(each[0].depth, each[1].depth) == -0.0007);
 }
 
+TEST_CASE("directions kept from the last query give the same contacts with fewer GJK calls") {
+  // Two knots, the tool walked through the scene in small steps (turning
+  // and pressing, as the slow loop sees it), with jumps between far poses:
+  // every query with the kept directions finds exactly what a query
+  // without them finds, and the directions answer many piece tests.
+  const std::string path =
+      (std::filesystem::path(HAPTICBENCH_SOURCE_DIR) / "models/knot1.off").string();
+  if (!std::filesystem::exists(path))
+    FAIL(path << " is missing: run scripts/extract-models (CMake's configure step runs it)");
+  const ConvexHierarchy knot =
+      build_convex_hierarchy(read_mesh_file(path, 0.05), ConvexHierarchySettings{});
+  const double size = 2 * knot.nodes[static_cast<std::size_t>(knot.root)].radius;
+  const Pose scene_pose{Vec3(0.1, 0, 0), Quat(Eigen::AngleAxisd(0.4, Vec3::UnitY()))};
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> step(-0.004 * size, 0.004 * size), turn(-0.02, 0.02);
+  std::uniform_real_distribution<double> jump(-0.2 * size, 0.2 * size);
+  SeparatingAxes axes;
+  Pose tool_pose{scene_pose.p + Vec3(0.1 * size, 0, 0.05 * size), random_rotation(rng)};
+  int64_t by_axis = 0, piece_tests = 0, contacts_found = 0;
+  for (const double margin : {0.0, 0.002 * size}) {
+    const HierarchyContactSettings settings{0.05, margin};
+    for (int query = 0; query < 40; ++query) {
+      if (query % 20 == 19) {
+        tool_pose.p = scene_pose.p + Vec3(jump(rng), jump(rng), jump(rng));
+        tool_pose.q = random_rotation(rng);
+      } else {
+        tool_pose.p += Vec3(step(rng), step(rng), step(rng));
+        tool_pose.q =
+            (tool_pose.q * Quat(Eigen::AngleAxisd(turn(rng), Vec3::UnitZ()))).normalized();
+      }
+      std::vector<PieceContact> plain, kept;
+      HierarchyContactStats plain_stats, kept_stats;
+      find_hierarchy_contacts(knot, tool_pose, knot, scene_pose, settings, plain, plain_stats);
+      find_hierarchy_contacts(knot, tool_pose, knot, scene_pose, settings, kept, kept_stats, &axes);
+      INFO("margin " << margin << ", query " << query);
+      REQUIRE(kept.size() == plain.size());
+      for (std::size_t k = 0; k < kept.size(); ++k) {
+        CHECK(kept[k].tool_node == plain[k].tool_node);
+        CHECK(kept[k].scene_node == plain[k].scene_node);
+        CHECK(kept[k].point == plain[k].point);
+        CHECK(kept[k].normal == plain[k].normal);
+        CHECK(kept[k].depth == plain[k].depth);
+        CHECK(kept[k].gap_m == plain[k].gap_m);
+      }
+      CHECK(kept_stats.node_pairs_tested == plain_stats.node_pairs_tested);
+      CHECK(kept_stats.piece_tests == plain_stats.piece_tests);
+      CHECK(plain_stats.axis_separations == 0);
+      by_axis += kept_stats.axis_separations;
+      piece_tests += kept_stats.piece_tests;
+      contacts_found += static_cast<int64_t>(kept.size());
+    }
+  }
+  INFO(by_axis << " of " << piece_tests << " piece tests by a kept direction, " << contacts_found
+               << " contacts");
+  CHECK(contacts_found > 200);
+  CHECK(by_axis > piece_tests / 10);
+}
+
 }  // namespace
 }  // namespace hb
