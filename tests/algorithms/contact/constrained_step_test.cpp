@@ -21,6 +21,23 @@ Mat6 coupling_metric(double k_t, double k_r) {
   return metric;
 }
 
+// The skew-symmetric pattern of a spin's gyroscopic Jacobian (unitless).
+Mat3 spin_matrix() {
+  Mat3 spin;
+  spin << 0, -0.8, -0.5, 0.8, 0, 0.3, 0.5, -0.3, 0;
+  return spin;
+}
+
+// A 64 g cube's implicit-step matrix at 1 kHz (mass and inertia plus
+// Δt b + Δt² k on the diagonal) with `gyroscopic` times spin_matrix() on
+// its rotational block.
+Mat6 spinning_cube_system(double gyroscopic) {
+  Mat6 system = Mat6::Zero();
+  system.diagonal() << 0.071, 0.071, 0.071, 6.9e-5, 7.2e-5, 7.0e-5;
+  system.block<3, 3>(3, 3) += gyroscopic * spin_matrix();
+  return system;
+}
+
 // One frictional solve with at most `sweeps` Gauss–Seidel sweeps.
 ConstrainedStep solve_with_sweeps(int sweeps, const Mat6& metric, const Vec6& unconstrained,
                                   const std::vector<GaussConstraint>& constraints,
@@ -127,11 +144,8 @@ TEST_CASE("a non-symmetric system is solved with its full matrix, as its closed 
   // cross product of a 2.5 N·m coupling torque (Δt² ½ [τ]×), a few per cent
   // of the rotational diagonal. One contact, pushed into: the exact answer
   // is λ = (b − J a_u) / (J A⁻¹ Jᵀ), a = a_u + A⁻¹ Jᵀ λ.
-  Mat6 system = Mat6::Zero();
-  system.diagonal() << 0.071, 0.071, 0.071, 6.9e-5, 7.2e-5, 7.0e-5;
-  Mat3 spin;
-  spin << 0, -0.8, -0.5, 0.8, 0, 0.3, 0.5, -0.3, 0;
-  system.block<3, 3>(3, 3) += 2.5e-6 * spin;
+  Mat6 system = spinning_cube_system(2.5e-6);
+  const Mat3 spin = spin_matrix();
   Mat3 cross;
   cross << 0, 2e-6, -1e-6, 1e-6, 0, 3e-6, -2e-6, 1e-6, 0;
   system.block<3, 3>(0, 3) += cross;
@@ -185,11 +199,7 @@ TEST_CASE("a frictional non-symmetric solve after another gives what a new solve
   // The skew passes of one solve share its contact rows; nothing of them
   // may reach the next solve. Two problems with friction on one solver, in
   // turn and again, each exactly as a solver of its own solves it.
-  Mat6 system = Mat6::Zero();
-  system.diagonal() << 0.071, 0.071, 0.071, 6.9e-5, 7.2e-5, 7.0e-5;
-  Mat3 spin;
-  spin << 0, -0.8, -0.5, 0.8, 0, 0.3, 0.5, -0.3, 0;
-  system.block<3, 3>(3, 3) += 2.5e-5 * spin;
+  const Mat6 system = spinning_cube_system(2.5e-5);
   Vec6 unconstrained;
   unconstrained << 0.01, 0.004, -0.02, 0.5, -0.3, 0.2;
   // A 5 × 5 face on a plane (rows reduced to the hull's corners) and a
