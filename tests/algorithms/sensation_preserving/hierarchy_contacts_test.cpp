@@ -379,7 +379,7 @@ TEST_CASE("thin overlapping pieces: the depth is the least separating translatio
     return v;
   };
   int overlapping = 0;
-  for (int trial = 0; trial < 150; ++trial) {
+  for (int trial = 0; trial < 100; ++trial) {
     const std::vector<Vec3> a_body = plate(), b_body = plate();
     const Pose a_pose{Vec3::Zero(), random_rotation(rng)};
     const Pose b_pose{Vec3(offset(rng), offset(rng), offset(rng)), random_rotation(rng)};
@@ -395,7 +395,7 @@ TEST_CASE("thin overlapping pieces: the depth is the least separating translatio
     REQUIRE(r.in_contact);
     CHECK(r.signed_depth == Approx(depth).margin(1e-9 * scale));
   }
-  CHECK(overlapping > 60);
+  CHECK(overlapping > 40);
 }
 
 // ---------------------------------------------------------------------------
@@ -852,8 +852,8 @@ TEST_CASE("directions kept from the last query give the same contacts with fewer
   int64_t by_axis = 0, piece_tests = 0, contacts_found = 0;
   for (const double margin : {0.0, 0.002 * size}) {
     const HierarchyContactSettings settings{0.05, margin};
-    for (int query = 0; query < 40; ++query) {
-      if (query % 20 == 19) {
+    for (int query = 0; query < 20; ++query) {
+      if (query % 10 == 9) {
         tool_pose.p = scene_pose.p + Vec3(jump(rng), jump(rng), jump(rng));
         tool_pose.q = random_rotation(rng);
       } else {
@@ -866,15 +866,14 @@ TEST_CASE("directions kept from the last query give the same contacts with fewer
       find_hierarchy_contacts(knot, tool_pose, knot, scene_pose, settings, plain, plain_stats);
       find_hierarchy_contacts(knot, tool_pose, knot, scene_pose, settings, kept, kept_stats, &axes);
       INFO("margin " << margin << ", query " << query);
-      REQUIRE(kept.size() == plain.size());
-      for (std::size_t k = 0; k < kept.size(); ++k) {
-        CHECK(kept[k].tool_node == plain[k].tool_node);
-        CHECK(kept[k].scene_node == plain[k].scene_node);
-        CHECK(kept[k].point == plain[k].point);
-        CHECK(kept[k].normal == plain[k].normal);
-        CHECK(kept[k].depth == plain[k].depth);
-        CHECK(kept[k].gap_m == plain[k].gap_m);
-      }
+      const bool same_contacts = std::equal(kept.begin(), kept.end(), plain.begin(), plain.end(),
+                                            [](const PieceContact& a, const PieceContact& b) {
+                                              return a.tool_node == b.tool_node &&
+                                                     a.scene_node == b.scene_node &&
+                                                     a.point == b.point && a.normal == b.normal &&
+                                                     a.depth == b.depth && a.gap_m == b.gap_m;
+                                            });
+      REQUIRE(same_contacts);
       CHECK(kept_stats.node_pairs_tested == plain_stats.node_pairs_tested);
       CHECK(kept_stats.piece_tests == plain_stats.piece_tests);
       CHECK(plain_stats.axis_separations == 0);
