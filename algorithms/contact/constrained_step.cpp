@@ -199,6 +199,14 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
                                                     std::span<const double> friction,
                                                     std::vector<int>& warm_active,
                                                     std::span<const Vec3> warm_impulses) {
+  return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
+                    false);
+}
+
+const ConstrainedStep& ConstrainedStepSolver::solve_pass(
+    const Mat6& metric, const Vec6& unconstrained, std::span<const GaussConstraint> constraints,
+    std::span<const double> friction, std::vector<int>& warm_active,
+    std::span<const Vec3> warm_impulses, bool rows_built) {
   ConstrainedStep& r = result_;
   r.step = unconstrained;
   r.impulses.assign(constraints.size(), Vec3::Zero());
@@ -226,7 +234,7 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
 
   // The rows depend on the constraints and μ only: a skew pass of
   // solve_system takes those of the pass before it.
-  if (!reuse_rows_) build_rows(constraints, friction);
+  if (!rows_built) build_rows(constraints, friction);
   const std::span<const Vec3> source =
       seed_from_qp ? std::span<const Vec3>(r.impulses) : warm_impulses;
   seed_.assign(rows_.size(), Vec3::Zero());
@@ -356,10 +364,8 @@ const ConstrainedStep& ConstrainedStepSolver::solve_system(
   pass_impulses_.assign(warm_impulses.begin(), warm_impulses.end());
   for (int pass = 1;; ++pass) {
     // Passes after the first solve the same constraints: their rows stand.
-    reuse_rows_ = pass > 1;
-    const ConstrainedStep& r =
-        solve(symmetric, shifted, constraints, friction, warm_active, pass_impulses_);
-    reuse_rows_ = false;
+    const ConstrainedStep& r = solve_pass(symmetric, shifted, constraints, friction, warm_active,
+                                          pass_impulses_, pass > 1);
     result_.skew_passes = pass;
     const Vec6 deflection = r.step - unconstrained;
     const Vec6 skew_force = skew * deflection;

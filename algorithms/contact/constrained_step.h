@@ -113,6 +113,14 @@ class ConstrainedStepSolver {
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
+  /// `solve`, building the contact rows or, with `rows_built`, keeping those
+  /// of the last call (solve_system's passes after the first: the same
+  /// constraints and μ; a pass that built none reached no frictional solve,
+  /// and neither do the passes after it).
+  const ConstrainedStep& solve_pass(const Mat6& metric, const Vec6& unconstrained,
+                                    std::span<const GaussConstraint> constraints,
+                                    std::span<const double> friction, std::vector<int>& warm_active,
+                                    std::span<const Vec3> warm_impulses, bool rows_built);
   /// rows_ and row_of_ for the constraints: coincident contacts merged,
   /// then reduce_coplanar_rows.
   void build_rows(std::span<const GaussConstraint> constraints, std::span<const double> friction);
@@ -126,10 +134,6 @@ class ConstrainedStepSolver {
                           std::span<const double> friction, std::span<const double> normal_forces);
 
   double tolerance_;
-  /// solve_system's passes after the first: solve keeps the rows it built
-  /// for the same constraints (a pass that built none reached no frictional
-  /// solve, and neither do the passes after it).
-  bool reuse_rows_ = false;
   std::vector<int> row_of_;     ///< per constraint, its row of the frictional solve (−1: none)
   std::vector<int> row_first_;  ///< per row, the constraint that made it
   std::vector<int> all_rows_;   ///< 0, 1, … (share_planar_loads)

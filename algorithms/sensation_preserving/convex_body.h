@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <span>
 
 #include "algorithms/sensation_preserving/convex_proximity.h"
@@ -67,5 +68,17 @@ struct Body {
   Mat3 rotation;
   Vec3 translation;
 };
+
+/// Translation (m) along the unit direction u that separates b from a:
+/// h_a(u) + h_b(−u), a's greatest height along u less b's least; negative
+/// when a plane normal to u lies between them (minus their gap along u).
+inline double separating_translation(const Body& a, const Body& b, const Vec3& u) {
+  const Vec3 ua = a.rotation.transpose() * u, ub = b.rotation.transpose() * u;
+  double a_max = -std::numeric_limits<double>::infinity();
+  double b_min = std::numeric_limits<double>::infinity();
+  for (const Vec3& v : a.vertices) a_max = std::max(a_max, ua.dot(v));
+  for (const Vec3& v : b.vertices) b_min = std::min(b_min, ub.dot(v));
+  return a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
+}
 
 }  // namespace hb::convex_detail

@@ -105,14 +105,7 @@ bool convex_apart(const PlacedConvex& a, const PlacedConvex& b, double margin_m,
 }
 
 double separation_along(const PlacedConvex& a, const PlacedConvex& b, const Vec3& axis) {
-  // Heights in each piece's own axes: u_local · v + u · p.
-  const Vec3 on_a = a.pose.q.normalized().conjugate() * axis;
-  const Vec3 on_b = b.pose.q.normalized().conjugate() * axis;
-  double a_top = -std::numeric_limits<double>::infinity();
-  double b_bottom = std::numeric_limits<double>::infinity();
-  for (const Vec3& v : a.vertices) a_top = std::max(a_top, on_a.dot(v));
-  for (const Vec3& v : b.vertices) b_bottom = std::min(b_bottom, on_b.dot(v));
-  return (b_bottom + axis.dot(b.pose.p)) - (a_top + axis.dot(a.pose.p));
+  return -separating_translation(Body(a), Body(b), axis);
 }
 
 double convex_distance(const PlacedConvex& a, const PlacedConvex& b) {

@@ -41,23 +41,12 @@ bool usable_direction(const Vec3& d) {
 
 // ---------------------------------------------------------------- polishing
 
-/// Translation along unit u that separates b from a: h_a(u) + h_b(-u).
-double separating_translation(const Body& a, const Body& b, const Vec3& u) {
-  const Vec3 ua = a.rotation.transpose() * u, ub = b.rotation.transpose() * u;
-  double a_max = -std::numeric_limits<double>::infinity();
-  double b_min = std::numeric_limits<double>::infinity();
-  for (const Vec3& v : a.vertices) a_max = std::max(a_max, ua.dot(v));
-  for (const Vec3& v : b.vertices) b_min = std::min(b_min, ub.dot(v));
-  return a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
-}
-
 /// separating_translation(a, b, u) when it is below `bound`, else some
 /// number at least `bound`. The vertices `a_first` and `b_first` (indices,
 /// those nearest the extremes along a nearby direction) are tried first:
 /// the translation is at least what any of a's vertices and b's give, and
 /// floating-point sums are monotone, so a bound reached with them is
-/// reached by the full sums too; otherwise the full sums are taken as in
-/// separating_translation.
+/// reached by the full sums too; otherwise the full sums are taken.
 double separating_translation_below(const Body& a, const Body& b, const Vec3& u, double bound,
                                     const std::vector<int>& a_first,
                                     const std::vector<int>& b_first) {
@@ -68,9 +57,7 @@ double separating_translation_below(const Body& a, const Body& b, const Vec3& u,
   for (const int i : b_first) b_min = std::min(b_min, ub.dot(b.vertices[i]));
   const double lower = a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
   if (!(lower < bound)) return lower;
-  for (const Vec3& v : a.vertices) a_max = std::max(a_max, ua.dot(v));
-  for (const Vec3& v : b.vertices) b_min = std::min(b_min, ub.dot(v));
-  return a_max + u.dot(a.translation) - b_min - u.dot(b.translation);
+  return separating_translation(a, b, u);
 }
 
 /// World positions of the vertices of `body` whose height along `u` (sign
