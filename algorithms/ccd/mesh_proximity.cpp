@@ -13,10 +13,10 @@
 #include <limits>
 #include <queue>
 #include <span>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
+#include "algorithms/ccd/key_set.h"
 #include "hapticbench/closest_points.h"
 
 namespace hb::ccd_detail {
@@ -243,7 +243,7 @@ class ProximitySearch {
   void consider(const ContactFeatures& features, double distance) {
     ++result_.pair_tests;
     if (!(distance <= threshold_)) return;
-    if (!seen_.insert(pair_key(features)).second) return;
+    if (!seen_.insert(pair_key(features))) return;
     nearest_.push(ProximityPair{features, distance});
     if (nearest_.size() > max_pairs_ + 1) nearest_.pop();
     // With max_pairs + 1 pairs known, nothing farther than the farthest of
@@ -264,7 +264,7 @@ class ProximitySearch {
   double threshold_;
   std::size_t max_pairs_;
   std::priority_queue<ProximityPair, std::vector<ProximityPair>, Farther> nearest_;
-  std::unordered_set<uint64_t> seen_;
+  KeySet seen_;
   std::priority_queue<NodePair, std::vector<NodePair>, Nearer> open_;
   ProximityResult result_;
 };
