@@ -174,15 +174,20 @@ endfunction()
 
 # hb_reuse_release_objects(): in a quick sanitizer build (scripts/sanitize
 # --quick) given HAPTICBENCH_REUSE_OBJECTS, a Release build of the same tree,
-# the units this build leaves uninstrumented anyway are linked from that
-# build's objects instead of compiled a second time: the heavy units
-# (hb_heavy_sources) and the tests' own code, but not the end-to-end tests,
-# whose code names the command line tool of its own build (HAPTICBENCH_BIN)
-# and whether it runs sanitized. Only objects that exist are taken (the
-# script builds the Release tree first, so they are current); the rest is
-# compiled here. The tests' own code is compiled at -O1 either way, and the
-# heavy units optimised without sanitizers: the objects do the same work.
-# Called once, after every target is defined.
+# the units this build leaves uninstrumented are linked from that build's
+# objects instead of compiled a second time: the heavy units
+# (hb_heavy_sources), the tests' own code but the end-to-end tests' (whose
+# code names the command line tool of its own build, HAPTICBENCH_BIN, and
+# whether it runs sanitized), and the harness libraries other than
+# HB_QUICK_SANITIZE_HARNESS. The quick pass checks the algorithms and the
+# code that reads the user's files or drives the haptic loop; the rest of
+# the harness (run folders, reports' inputs, sweeps, comparisons, the
+# references, the command line) is checked by the full pass
+# (scripts/sanitize without --quick). Only objects that exist are taken
+# (the script builds the Release tree first, so they are current); the rest
+# is compiled here. Called once, after every target is defined.
+set(HB_QUICK_SANITIZE_HARNESS hb_json_fields hb_scenario hb_mesh_io hb_trace hb_replay
+    hb_metrics hb_metric_table)
 function(hb_reuse_release_objects)
   if(NOT HAPTICBENCH_SANITIZE_SKIP_HEAVY OR NOT HAPTICBENCH_REUSE_OBJECTS)
     return()
@@ -217,11 +222,18 @@ function(hb_reuse_release_objects)
     get_target_property(source_dir ${target} SOURCE_DIR)
     get_target_property(binary_dir ${target} BINARY_DIR)
     file(RELATIVE_PATH binary_rel ${PROJECT_BINARY_DIR} ${binary_dir})
+    file(RELATIVE_PATH source_rel_dir ${PROJECT_SOURCE_DIR} ${source_dir})
+    set(uninstrumented_library FALSE)
+    if(target IN_LIST libraries AND source_rel_dir MATCHES "^harness/" AND
+       NOT target IN_LIST HB_QUICK_SANITIZE_HARNESS)
+      set(uninstrumented_library TRUE)
+    endif()
     set(kept "")
     foreach(source ${sources})
       cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${source_dir} OUTPUT_VARIABLE path)
       set(take FALSE)
-      if(path MATCHES "\\.cpp$" AND (path IN_LIST heavy OR NOT target IN_LIST libraries))
+      if(path MATCHES "\\.cpp$" AND (path IN_LIST heavy OR NOT target IN_LIST libraries OR
+                                       uninstrumented_library))
         set(take TRUE)
       endif()
       if(take)
