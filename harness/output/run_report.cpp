@@ -169,6 +169,10 @@ json noise_json(const NoiseFloor& n) {
           {"load_average_1m", n.load_average_1m},
           {"logical_cores", n.logical_cores},
           {"other_runnable", n.other_runnable},
+          {"interruptions",
+           {{"rate_hz", n.interruptions.rate_hz},
+            {"p50_ns", n.interruptions.p50_ns},
+            {"max_ns", n.interruptions.max_ns}}},
           {"rule",
            "quiet: cpu_share >= 0.97, calibration spread and drift <= 0.10, "
            "load average <= cores - 0.5, other runnable tasks <= max(0, cores - 2)"}};

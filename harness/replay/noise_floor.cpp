@@ -56,7 +56,35 @@ CalibrationBatch time_calibration() {
   return {ns[kRepetitions / 2], ns[kRepetitions * 9 / 10]};
 }
 
+// Reads the monotonic clock back to back for spin_ns.
+Interruptions measure_interruptions(int64_t spin_ns) {
+  InterruptionCounter counter;
+  const int64_t start = clock_ns(CLOCK_MONOTONIC);
+  for (int64_t now = start; now - start < spin_ns; now = clock_ns(CLOCK_MONOTONIC))
+    counter.add(now);
+  return counter.result();
+}
+
 }  // namespace
+
+void InterruptionCounter::add(int64_t read_ns) {
+  if (started_ && read_ns - last_ns_ >= kInterruptionGapNs) gaps_ns_.push_back(read_ns - last_ns_);
+  if (!started_) first_ns_ = read_ns;
+  started_ = true;
+  last_ns_ = read_ns;
+}
+
+Interruptions InterruptionCounter::result() const {
+  Interruptions out;
+  const int64_t span = last_ns_ - first_ns_;
+  if (span <= 0 || gaps_ns_.empty()) return out;
+  std::vector<int64_t> sorted = gaps_ns_;
+  std::sort(sorted.begin(), sorted.end());
+  out.rate_hz = static_cast<double>(sorted.size()) * 1e9 / static_cast<double>(span);
+  out.p50_ns = static_cast<double>(sorted[(sorted.size() - 1) / 2]);
+  out.max_ns = static_cast<double>(sorted.back());
+  return out;
+}
 
 NoiseFloorProbe::NoiseFloorProbe() {
   std::ifstream("/proc/loadavg") >> load_average_1m_;
@@ -76,6 +104,7 @@ NoiseFloor NoiseFloorProbe::finish() const {
   noise.cpu_share =
       wall > 0 ? std::min(1.0, static_cast<double>(cpu) / static_cast<double>(wall)) : 1.0;
   const CalibrationBatch after = time_calibration();
+  noise.interruptions = measure_interruptions(kInterruptionSpinNs);
   noise.calibration_before_ns = calibration_before_ns_;
   noise.calibration_after_ns = after.p50_ns;
   const double p50 = std::min(calibration_before_ns_, after.p50_ns);
