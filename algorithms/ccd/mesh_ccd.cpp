@@ -263,7 +263,18 @@ ProximityResult MeshCcd::proximity(const Pose& tool_pose, double max_distance,
 PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
                                           const Pose& tool_pose) const {
   return ccd_detail::pair_closest_points(
-      data_->tool, checked_scene(data_->tool, data_->scene, features), features, tool_pose);
+      data_->tool, checked_scene(data_->tool, data_->scene, features), features,
+      tool_pose.q.normalized().toRotationMatrix(), tool_pose.p);
+}
+
+void MeshCcd::closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
+                             std::vector<PairClosestPoints>& points) const {
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  points.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    points[i] = ccd_detail::pair_closest_points(data_->tool,
+                                                checked_scene(data_->tool, data_->scene, pairs[i]),
+                                                pairs[i], rotation, tool_pose.p);
 }
 
 FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {

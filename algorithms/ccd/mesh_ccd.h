@@ -172,6 +172,10 @@ class MeshCcd {
   /// Closest points of the pair's two closed features, the tool's frame at
   /// `tool_pose`. Indices are checked as by evaluate().
   PairClosestPoints closest_points(const ContactFeatures& features, const Pose& tool_pose) const;
+  /// closest_points(pairs[i], tool_pose) for every i, in `points` (resized
+  /// to the pairs): the same values, the tool's rotation worked out once.
+  void closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
+                      std::vector<PairClosestPoints>& points) const;
 
   /// Unique undirected edges (vertex index pairs, smaller first) of the tool
   /// and of scene object `object`, as indexed by ContactFeatures.

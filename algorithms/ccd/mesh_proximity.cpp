@@ -280,9 +280,9 @@ ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshF
 }
 
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
-                                      const ContactFeatures& features, const Pose& tool_pose) {
-  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
-  auto tool_world = [&](int v) -> Vec3 { return tool_pose.p + rotation * tool.vertex(v); };
+                                      const ContactFeatures& features, const Mat3& rotation,
+                                      const Vec3& translation) {
+  auto tool_world = [&](int v) -> Vec3 { return translation + rotation * tool.vertex(v); };
   PairClosestPoints out;
   switch (features.kind) {
     case ContactFeatureKind::kToolVertexSceneFace: {

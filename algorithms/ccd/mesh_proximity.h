@@ -15,8 +15,11 @@ namespace hb::ccd_detail {
 ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshFeatures> scene,
                                  const Pose& tool_pose, double max_distance, std::size_t max_pairs);
 
-/// Closest points of one feature pair (indices already checked).
+/// Closest points of one feature pair (indices already checked), the tool's
+/// pose given as the rotation of its normalised quaternion and its
+/// translation (worked out once for many pairs at one pose).
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
-                                      const ContactFeatures& features, const Pose& tool_pose);
+                                      const ContactFeatures& features, const Mat3& rotation,
+                                      const Vec3& translation);
 
 }  // namespace hb::ccd_detail

@@ -193,14 +193,18 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     const double window = std::max(settings_.contacts.contact_distance_m,
                                    2 * point_reach(dt_s_ * free_velocity_, radius));
     double limit = certifier_.reach(certificate_);
-    for (std::size_t k = 0; k < certificate_.pairs.size(); ++k) {
-      if (certificate_.distances[k] - reach > standoff + window) {
-        limit = std::min(limit, certificate_.distances[k] - standoff);
+    std::size_t near = 0;  // the pairs that may come within the window, a prefix
+    for (; near < certificate_.pairs.size(); ++near)
+      if (certificate_.distances[near] - reach > standoff + window) {
+        limit = std::min(limit, certificate_.distances[near] - standoff);
         break;
       }
+    certifier_.evaluate(std::span<const ContactFeatures>(certificate_.pairs).first(near), start,
+                        evaluated_);
+    work.add(ConstrainedDynamicsWork::kPairsEvaluated, static_cast<int64_t>(near));
+    for (std::size_t k = 0; k < near; ++k) {
       const ContactFeatures& pair = certificate_.pairs[k];
-      const PairContact contact = certifier_.evaluate(pair, start);
-      work.add(ConstrainedDynamicsWork::kPairsEvaluated);
+      const PairContact& contact = evaluated_[k];
       const double gap = contact.distance - standoff;
       const double bound =
           gap >= 0 ? -gap / dt_s_
@@ -268,9 +272,10 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   std::vector<Vec3> carried_;
   ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> rows_;
-  std::vector<double> friction_;   ///< μ per row
-  std::vector<int> warm_active_;   ///< the frictionless solve's last active set
-  std::vector<double> distances_;  ///< per listed pair at the start of the tick (m)
+  std::vector<double> friction_;        ///< μ per row
+  std::vector<int> warm_active_;        ///< the frictionless solve's last active set
+  std::vector<double> distances_;       ///< per listed pair at the start of the tick (m)
+  std::vector<PairContact> evaluated_;  ///< the near pairs at the start of the tick (scratch)
   Vec6 free_velocity_ = Vec6::Zero();
   Vec6 moved_ = Vec6::Zero();
   std::vector<Contact> contacts_;

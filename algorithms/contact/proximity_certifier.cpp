@@ -157,14 +157,15 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   const double within = std::min(complete, band_m);
   // A pair's distance has changed by `moved` at most: only those that can
   // be within reach are measured again.
+  to_measure_.clear();
+  for (const ProximityPair& pair : searched_.pairs)
+    if (!(pair.distance - moved > within + kRoundingSlack)) to_measure_.push_back(pair.features);
+  const auto pair_tests = static_cast<int64_t>(to_measure_.size());
+  ccd_.closest_points(to_measure_, anchor, measured_points_);
   measured_.clear();
-  int64_t pair_tests = 0;
-  for (const ProximityPair& pair : searched_.pairs) {
-    if (pair.distance - moved > within + kRoundingSlack) continue;
-    ++pair_tests;
-    const double distance = ccd_.closest_points(pair.features, anchor).distance;
-    if (distance <= within) measured_.push_back(ProximityPair{pair.features, distance});
-  }
+  for (std::size_t i = 0; i < to_measure_.size(); ++i)
+    if (measured_points_[i].distance <= within)
+      measured_.push_back(ProximityPair{to_measure_[i], measured_points_[i].distance});
   std::stable_sort(
       measured_.begin(), measured_.end(),
       [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
@@ -187,7 +188,20 @@ bool ProximityCertifier::within_reach(const ProximityCertificate& certificate,
 }
 
 PairContact ProximityCertifier::evaluate(const ContactFeatures& pair, const Pose& com_pose) const {
-  const PairClosestPoints points = ccd_.closest_points(pair, com_pose);
+  return contact_of(pair, ccd_.closest_points(pair, com_pose), com_pose);
+}
+
+void ProximityCertifier::evaluate(std::span<const ContactFeatures> pairs, const Pose& com_pose,
+                                  std::vector<PairContact>& contacts) const {
+  ccd_.closest_points(pairs, com_pose, evaluated_points_);
+  contacts.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    contacts[k] = contact_of(pairs[k], evaluated_points_[k], com_pose);
+}
+
+PairContact ProximityCertifier::contact_of(const ContactFeatures& pair,
+                                           const PairClosestPoints& points,
+                                           const Pose& com_pose) const {
   PairContact contact;
   contact.scene_point = points.scene_point;
   contact.tool_point = points.tool_point;

@@ -100,6 +100,10 @@ class ProximityCertifier {
 
   /// The pair at the tool's centre-of-mass frame `com_pose` (world).
   PairContact evaluate(const ContactFeatures& pair, const Pose& com_pose) const;
+  /// evaluate(pairs[k], com_pose) for every k, in `contacts` (resized): the
+  /// same values, the tool's rotation worked out once.
+  void evaluate(std::span<const ContactFeatures> pairs, const Pose& com_pose,
+                std::vector<PairContact>& contacts) const;
 
   const ProxyFrames& frames() const { return frames_; }
   /// The tool's radius about its centre of mass (m; 0 for a point tool).
@@ -121,6 +125,9 @@ class ProximityCertifier {
   /// `searches`).
   ProximityResult listed_pairs(const Pose& anchor, double band_m, std::size_t max_pairs,
                                int& searches) const;
+  /// The pair as `points` (its closest points at com_pose) give it.
+  PairContact contact_of(const ContactFeatures& pair, const PairClosestPoints& points,
+                         const Pose& com_pose) const;
   /// The answer from searched_ at `anchor`, if its pairs hold it.
   std::optional<ProximityResult> answer_from_searched(const Pose& anchor, double band_m,
                                                       std::size_t max_pairs) const;
@@ -140,7 +147,12 @@ class ProximityCertifier {
   mutable bool widen_ = true;
   mutable int plain_searches_ = 0;
   mutable bool last_search_widened_ = false;
-  mutable std::vector<ProximityPair> measured_;  ///< scratch of answer_from_searched
+  /// Scratch of answer_from_searched: the searched pairs that may be within
+  /// reach, their distances at the query's pose, and those within it.
+  mutable std::vector<ContactFeatures> to_measure_;
+  mutable std::vector<PairClosestPoints> measured_points_;
+  mutable std::vector<PairClosestPoints> evaluated_points_;  ///< scratch of evaluate(pairs)
+  mutable std::vector<ProximityPair> measured_;
 };
 
 }  // namespace hb

@@ -172,6 +172,7 @@ class HapticProxy {
   std::vector<double> floors_;         ///< per solved pair: the least distance it may end at (m)
   std::vector<double> end_distances_;  ///< per solved pair at the end pose tried, signed (m)
   std::vector<PairContact> end_contacts_;  ///< per listed pair at the end pose tried
+  std::vector<PairContact> evaluated_;     ///< scratch of worst_margin
 };
 
 }  // namespace hb

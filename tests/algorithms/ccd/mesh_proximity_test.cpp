@@ -115,5 +115,44 @@ TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest
   CHECK(crowded > 10);  // the cap was exercised
 }
 
+// The batch measure (one rotation for all pairs) against the pair-by-pair
+// one: the same closest points and distances, bit for bit, for every kind
+// of pair the search lists, at random poses.
+TEST_CASE("closest points of many pairs at one pose are those of each pair alone") {
+  const TriangleMesh sphere = shape_mesh(test::sphere_tool(0.01).shape.value());
+  SceneObject object;
+  object.name = "scene";
+  object.mesh = shape_mesh(*test::box_object(Vec3(0.04, 0.04, 0.04), Pose{}).shape);
+  const std::vector<SceneObject> scene = {object};
+  const MeshCcd ccd(sphere, scene);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.004), angle(-3, 3);
+  std::size_t kinds_seen[3] = {0, 0, 0};
+  for (int trial = 0; trial < 20; ++trial) {
+    const Pose pose{Vec3(lateral(rng), lateral(rng), 0.03 + gap(rng)),
+                    quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
+    const ProximityResult found = ccd.proximity(pose, 0.005, 100000);
+    std::vector<ContactFeatures> pairs;
+    for (const ProximityPair& p : found.pairs) pairs.push_back(p.features);
+    // Measured at another pose than the search's, as the certifier does.
+    const Pose moved{pose.p + Vec3(0.0003, -0.0002, 0.0001),
+                     (pose.q * quat_from_rotation_vector(Vec3(0.01, 0.02, -0.01))).normalized()};
+    std::vector<PairClosestPoints> batch;
+    ccd.closest_points(pairs, moved, batch);
+    REQUIRE(batch.size() == pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const PairClosestPoints alone = ccd.closest_points(pairs[i], moved);
+      INFO("trial " << trial << ", pair " << i);
+      CHECK(batch[i].distance == alone.distance);
+      CHECK(batch[i].tool_point == alone.tool_point);
+      CHECK(batch[i].scene_point == alone.scene_point);
+      ++kinds_seen[static_cast<int>(pairs[i].kind)];
+    }
+  }
+  CHECK(kinds_seen[0] > 0);
+  CHECK(kinds_seen[1] > 0);
+  CHECK(kinds_seen[2] > 0);
+}
+
 }  // namespace
 }  // namespace hb
