@@ -30,18 +30,16 @@ class KeySet {
     if (key == kEmpty) {  // the empty slot's marker, kept apart
       const bool added = !holds_empty_key_;
       holds_empty_key_ = true;
-      size_ += added;
       return added;
     }
     if (2 * (stored_ + 1) > slots_.size()) grow();
     if (!place(key)) return false;
     ++stored_;
-    ++size_;
     return true;
   }
 
   /// Keys held.
-  std::size_t size() const { return size_; }
+  std::size_t size() const { return stored_ + (holds_empty_key_ ? 1 : 0); }
 
  private:
   static constexpr uint64_t kEmpty = ~uint64_t{0};
@@ -75,7 +73,6 @@ class KeySet {
   std::vector<uint64_t> slots_;
   int shift_ = 0;           ///< 64 − log2(slots): the hash's top bits index the table
   std::size_t stored_ = 0;  ///< keys in the table (the empty marker aside)
-  std::size_t size_ = 0;
   bool holds_empty_key_ = false;
 };
 

@@ -101,7 +101,8 @@ class ProximityCertifier {
   /// The pair at the tool's centre-of-mass frame `com_pose` (world).
   PairContact evaluate(const ContactFeatures& pair, const Pose& com_pose) const;
   /// evaluate(pairs[k], com_pose) for every k, in `contacts` (resized): the
-  /// same values, the tool's rotation worked out once.
+  /// same values, the tool's rotation worked out once. It may run beside
+  /// certify (the haptic loop beside the slow loop), not beside itself.
   void evaluate(std::span<const ContactFeatures> pairs, const Pose& com_pose,
                 std::vector<PairContact>& contacts) const;
 
@@ -147,12 +148,16 @@ class ProximityCertifier {
   mutable bool widen_ = true;
   mutable int plain_searches_ = 0;
   mutable bool last_search_widened_ = false;
-  /// Scratch of answer_from_searched: the searched pairs that may be within
-  /// reach, their distances at the query's pose, and those within it.
+  /// Scratch of answer_from_searched (the slow loop's certify): the searched
+  /// pairs that may be within reach, their closest points at the query's
+  /// pose, and those within it.
   mutable std::vector<ContactFeatures> to_measure_;
   mutable std::vector<PairClosestPoints> measured_points_;
-  mutable std::vector<PairClosestPoints> evaluated_points_;  ///< scratch of evaluate(pairs)
   mutable std::vector<ProximityPair> measured_;
+  /// Scratch of evaluate(pairs), which the haptic loop calls while the slow
+  /// loop may be in certify: a vector of its own, shared with nothing
+  /// certify touches (evaluate(pairs) itself is for one thread at a time).
+  mutable std::vector<PairClosestPoints> evaluated_points_;
 };
 
 }  // namespace hb
