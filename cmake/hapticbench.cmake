@@ -3,6 +3,8 @@
 set(HAPTICBENCH_WARNINGS -Wall -Wextra -Wpedantic)
 # Optimisation of test code (hb_test_folder); the libraries keep the build type's.
 set(HB_TEST_OPTIMIZATION -O1)
+# Test files compiled together in one unit (hb_test_folder).
+set(HB_TEST_UNITY_BATCH 8)
 # The quick sanitizer pass checks the code under test, which the libraries
 # and the command line tool hold; the tests' own code (assertions, fixtures,
 # the end-to-end tests that start the tool) goes uninstrumented: it was
@@ -89,6 +91,14 @@ function(hb_test_folder target)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
   add_executable(${target} ${ARG_SOURCES})
   set_property(GLOBAL APPEND PROPERTY HB_TEST_TARGETS ${target})
+  # The files of one folder are compiled together, up to HB_TEST_UNITY_BATCH
+  # per unit (a unity build): each test unit paid seconds for the same
+  # headers and template instantiations, and the tests' compile time
+  # halved. A test file's helpers in its anonymous namespace therefore share
+  # one scope with the other files of its batch: give them names of their
+  # own, or take shared ones from tests/support/.
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON
+                        UNITY_BUILD_BATCH_SIZE ${HB_TEST_UNITY_BATCH})
   # The tests' own code (assertions, fixtures, JSON) is compiled at -O1:
   # optimising it at -O3 took 80 % of a test unit's compile time and buys
   # nothing, since the code under test comes optimised from its libraries.
@@ -166,7 +176,10 @@ endfunction()
 # They never use a target's precompiled headers, whose flags may differ.
 function(hb_heavy_sources)
   set_property(GLOBAL APPEND PROPERTY HB_HEAVY_SOURCES ${ARGN})
-  set_source_files_properties(${ARGN} PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
+  # Nor are they compiled together with other test files: each takes as long
+  # as a whole batch and runs beside the others on the second core.
+  set_source_files_properties(${ARGN} PROPERTIES SKIP_PRECOMPILE_HEADERS ON
+                                                 SKIP_UNITY_BUILD_INCLUSION ON)
   if(HAPTICBENCH_SANITIZE_SKIP_HEAVY)
     set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "-fno-sanitize=all;-g0")
   endif()
@@ -186,6 +199,61 @@ endfunction()
 # (scripts/sanitize without --quick). Only objects that exist are taken
 # (the script builds the Release tree first, so they are current); the rest
 # is compiled here. Called once, after every target is defined.
+# hb_release_batches(TARGET SOURCES SOURCE_DIR RELEASE_TARGET_DIR OBJECTS_VAR
+# FILES_VAR): the objects of the Release build's batches of TARGET's test
+# files (hb_test_folder's unity build) that hold exactly the files this
+# build would put in them, and those files. CMake fills batches in source
+# order with the files not excluded from them; a batch the Release build
+# made differently (a file added or removed since) is compiled here.
+function(hb_release_batches target sources source_dir release_dir objects_var files_var)
+  get_target_property(size ${target} UNITY_BUILD_BATCH_SIZE)
+  set(batch "")
+  set(batches "")
+  set(count 0)
+  foreach(source ${sources})
+    cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${source_dir} OUTPUT_VARIABLE path)
+    get_source_file_property(skip ${path} TARGET_DIRECTORY ${target} SKIP_UNITY_BUILD_INCLUSION)
+    if(NOT path MATCHES "\\.cpp$" OR skip)
+      continue()
+    endif()
+    list(APPEND batch ${path})
+    math(EXPR count "${count} + 1")
+    if(count EQUAL size)
+      string(REPLACE ";" "|" joined "${batch}")
+      list(APPEND batches "${joined}")
+      set(batch "")
+      set(count 0)
+    endif()
+  endforeach()
+  if(batch)
+    string(REPLACE ";" "|" joined "${batch}")
+    list(APPEND batches "${joined}")
+  endif()
+  set(objects "")
+  set(files "")
+  set(index 0)
+  foreach(joined ${batches})
+    string(REPLACE "|" ";" batch "${joined}")
+    set(unit "${release_dir}/Unity/unity_${index}_cxx.cxx")
+    math(EXPR index "${index} + 1")
+    if(NOT EXISTS "${unit}" OR NOT EXISTS "${unit}.o")
+      continue()
+    endif()
+    file(STRINGS "${unit}" lines REGEX "^#include \"")
+    set(included "")
+    foreach(line ${lines})
+      string(REGEX REPLACE "^#include \"(.*)\"$" "\\1" included_path "${line}")
+      list(APPEND included "${included_path}")
+    endforeach()
+    if(included STREQUAL batch)
+      list(APPEND objects "${unit}.o")
+      list(APPEND files ${batch})
+    endif()
+  endforeach()
+  set(${objects_var} ${objects} PARENT_SCOPE)
+  set(${files_var} ${files} PARENT_SCOPE)
+endfunction()
+
 set(HB_QUICK_SANITIZE_HARNESS hb_json_fields hb_scenario hb_mesh_io hb_trace hb_replay
     hb_metrics hb_metric_table)
 function(hb_reuse_release_objects)
@@ -229,8 +297,20 @@ function(hb_reuse_release_objects)
       set(uninstrumented_library TRUE)
     endif()
     set(kept "")
+    set(batched "")
+    get_target_property(unity ${target} UNITY_BUILD)
+    if(unity AND NOT target IN_LIST libraries)
+      hb_release_batches(${target} "${sources}" "${source_dir}"
+                         "${release}/${binary_rel}/CMakeFiles/${target}.dir" objects batched)
+      list(APPEND kept ${objects})
+      list(LENGTH objects count)
+      math(EXPR reused "${reused} + ${count}")
+    endif()
     foreach(source ${sources})
       cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${source_dir} OUTPUT_VARIABLE path)
+      if(path IN_LIST batched)
+        continue()
+      endif()
       set(take FALSE)
       if(path MATCHES "\\.cpp$" AND (path IN_LIST heavy OR NOT target IN_LIST libraries OR
                                        uninstrumented_library))

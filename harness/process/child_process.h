@@ -43,7 +43,7 @@ class ChildProcess {
   /// written to the two files.
   ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& stdout_path,
                const std::filesystem::path& stderr_path)
-      : ChildProcess(argv, ChildOptions{stdout_path, stderr_path}) {}
+      : ChildProcess(argv, ChildOptions{stdout_path, stderr_path, false, {}}) {}
   /// Kills and reaps a process still running (an interrupted caller leaves
   /// no orphan behind).
   ~ChildProcess();

@@ -11,11 +11,13 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 TEST_CASE("the smoke suite passes the gate against the committed baselines") {
   const hb::test::ScratchDir work("e2e_baseline_gate");

@@ -11,8 +11,11 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::write_file;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -51,11 +54,6 @@ std::vector<json> json_lines(const std::string& text) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty()) lines.push_back(json::parse(line));
   return lines;
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
 }
 
 // One vertex-face query: the vertex drops through the middle of a triangle

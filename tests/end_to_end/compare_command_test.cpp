@@ -12,40 +12,25 @@
 #include <string>
 #include <system_error>
 
+#include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/scratch_dir.h"
 
 namespace {
 
+using hb::test::CommandResult;
+
+using hb::test::contains;
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-
-struct CommandResult {
-  int exit_code;
-  std::string stdout_text;
-  std::string stderr_text;
-};
-
 using ScratchFolder = hb::test::ScratchDir;
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-CommandResult hapticbench(const std::string& args, const fs::path& work) {
-  const fs::path out = work / "stdout.txt";
-  const fs::path err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
-                              "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
-}
 
 // Runs a shipped smoke scenario into work/<folder>.
 void run_scenario(const std::string& scenario, const std::string& folder, const fs::path& work) {
-  const CommandResult result = hapticbench(
+  const CommandResult result = hb::test::run_hapticbench(
       "run " + (kSource / "scenarios/smoke" / (scenario + ".json")).string() + " --out " + folder,
       work);
   INFO("stdout: " << result.stdout_text << "\nstderr: " << result.stderr_text);
@@ -66,13 +51,9 @@ std::string table_line(const std::string& table, const std::string& label,
 }
 
 void edit_summary(const fs::path& summary_file, const std::function<void(json&)>& edit) {
-  json summary = json::parse(read_file(summary_file));
+  json summary = json::parse(hb::test::read_text_file(summary_file));
   edit(summary);
   std::ofstream(summary_file) << summary.dump(2);
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 TEST_CASE("two runs of one build pass the gate") {
@@ -81,7 +62,8 @@ TEST_CASE("two runs of one build pass the gate") {
   run_scenario("sphere_press_box", "first", work);
   run_scenario("sphere_press_box", "second", work);
 
-  const CommandResult result = hapticbench("compare first second --gate --no-timing", work);
+  const CommandResult result =
+      hb::test::run_hapticbench("compare first second --gate --no-timing", work);
   INFO(result.stdout_text << result.stderr_text);
   CHECK(result.exit_code == 0);
   CHECK(contains(result.stdout_text, "verdict: pass"));
@@ -96,19 +78,21 @@ TEST_CASE("two runs of one build pass the gate") {
 
   // With timing the verdict depends on the machine's noise; only the rows
   // are certain.
-  const CommandResult timed = hapticbench("compare first second --gate", work);
+  const CommandResult timed = hb::test::run_hapticbench("compare first second --gate", work);
   CHECK((timed.exit_code == 0 || timed.exit_code == 1));
   CHECK_FALSE(table_line(timed.stdout_text, "penalty_implicit", "timing.step_ns.p50").empty());
   CHECK(contains(table_line(timed.stdout_text, "penalty_implicit", "timing.step_ns.mann_whitney"),
                  "2000"));
 
   // A summary.json file and a suite folder are accepted too.
-  CHECK(hapticbench("compare first/summary.json second --gate --no-timing", work).exit_code == 0);
+  CHECK(hb::test::run_hapticbench("compare first/summary.json second --gate --no-timing", work)
+            .exit_code == 0);
   fs::create_directories(work / "suite_a");
   fs::create_directories(work / "suite_b");
   fs::copy(work / "first", work / "suite_a/sphere_press_box", fs::copy_options::recursive);
   fs::copy(work / "second", work / "suite_b/sphere_press_box", fs::copy_options::recursive);
-  CHECK(hapticbench("compare suite_a suite_b --gate --no-timing", work).exit_code == 0);
+  CHECK(hb::test::run_hapticbench("compare suite_a suite_b --gate --no-timing", work).exit_code ==
+        0);
 }
 
 TEST_CASE("a 20 percent worse force error fails the gate and the table names it") {
@@ -126,7 +110,8 @@ TEST_CASE("a 20 percent worse force error fails the gate and the table names it"
   });
   REQUIRE(baseline_error > 0);
 
-  const CommandResult gated = hapticbench("compare baseline candidate --gate --no-timing", work);
+  const CommandResult gated =
+      hb::test::run_hapticbench("compare baseline candidate --gate --no-timing", work);
   INFO(gated.stdout_text << gated.stderr_text);
   CHECK(gated.exit_code == 1);
   const std::string line =
@@ -139,15 +124,16 @@ TEST_CASE("a 20 percent worse force error fails the gate and the table names it"
                  "pass"));
 
   // An accuracy regression fails whatever the timing does.
-  CHECK(hapticbench("compare baseline candidate --gate", work).exit_code == 1);
+  CHECK(hb::test::run_hapticbench("compare baseline candidate --gate", work).exit_code == 1);
   // Without --gate: the same report, exit 0.
-  const CommandResult report = hapticbench("compare baseline candidate --no-timing", work);
+  const CommandResult report =
+      hb::test::run_hapticbench("compare baseline candidate --no-timing", work);
   CHECK(report.exit_code == 0);
   CHECK(contains(report.stdout_text, "REGRESSION"));
   // A looser tolerance lets it through.
-  CHECK(
-      hapticbench("compare baseline candidate --gate --no-timing --rel-tol 0.25", work).exit_code ==
-      0);
+  CHECK(hb::test::run_hapticbench("compare baseline candidate --gate --no-timing --rel-tol 0.25",
+                                  work)
+            .exit_code == 0);
 }
 
 TEST_CASE("the out folder gets compare.json and compare.md and junit.xml") {
@@ -160,11 +146,11 @@ TEST_CASE("the out folder gets compare.json and compare.md and junit.xml") {
       if (run["label"] == "penalty_explicit") run["stability"]["diverged"] = true;
   });
   const CommandResult result =
-      hapticbench("compare baseline candidate --gate --no-timing --out report", work);
+      hb::test::run_hapticbench("compare baseline candidate --gate --no-timing --out report", work);
   INFO(result.stdout_text << result.stderr_text);
   CHECK(result.exit_code == 1);
 
-  const json report = json::parse(read_file(work / "report/compare.json"));
+  const json report = json::parse(hb::test::read_text_file(work / "report/compare.json"));
   CHECK(report["verdict"] == "regression");
   CHECK(report["failing"] == 1);
   int failing_rows = 0;
@@ -176,11 +162,11 @@ TEST_CASE("the out folder gets compare.json and compare.md and junit.xml") {
     }
   CHECK(failing_rows == 1);
 
-  const std::string md = read_file(work / "report/compare.md");
+  const std::string md = hb::test::read_text_file(work / "report/compare.md");
   CHECK(md.rfind("**hapticbench compare: REGRESSION", 0) == 0);
   CHECK(md.find("stability.diverged") < md.find("<details>"));
 
-  const std::string junit = read_file(work / "report/junit.xml");
+  const std::string junit = hb::test::read_text_file(work / "report/junit.xml");
   CHECK(contains(junit, "failures=\"1\""));
   CHECK(contains(junit, "tests=\"" + std::to_string(report["rows"].size()) + "\""));
   // Written all at once: no staging folder left beside it.
@@ -196,7 +182,7 @@ TEST_CASE("bad input exits with 2 naming the file and writes nothing") {
   {
     INFO("runs of different scenarios");
     run_scenario("box_press_box", "box", work);
-    const CommandResult result = hapticbench("compare sphere box --out report", work);
+    const CommandResult result = hb::test::run_hapticbench("compare sphere box --out report", work);
     CHECK(result.exit_code == 2);
     CHECK(contains(result.stderr_text,
                    "different scenarios: baseline sphere_press_box, candidate box_press_box"));
@@ -205,9 +191,10 @@ TEST_CASE("bad input exits with 2 naming the file and writes nothing") {
   {
     INFO("a corrupt summary.json");
     fs::copy(work / "sphere", work / "corrupt", fs::copy_options::recursive);
-    const std::string text = read_file(work / "corrupt/summary.json");
+    const std::string text = hb::test::read_text_file(work / "corrupt/summary.json");
     std::ofstream(work / "corrupt/summary.json") << text.substr(0, text.size() / 2);
-    const CommandResult result = hapticbench("compare sphere corrupt --out report", work);
+    const CommandResult result =
+        hb::test::run_hapticbench("compare sphere corrupt --out report", work);
     CHECK(result.exit_code == 2);
     CHECK(contains(result.stderr_text, "corrupt/summary.json"));
     CHECK(contains(result.stderr_text, "line "));
@@ -218,7 +205,8 @@ TEST_CASE("bad input exits with 2 naming the file and writes nothing") {
     fs::copy(work / "sphere", work / "future", fs::copy_options::recursive);
     edit_summary(work / "future/summary.json",
                  [](json& summary) { summary["schema_version"] = 2; });
-    const CommandResult result = hapticbench("compare future sphere --out report", work);
+    const CommandResult result =
+        hb::test::run_hapticbench("compare future sphere --out report", work);
     CHECK(result.exit_code == 2);
     CHECK(contains(result.stderr_text, "future/summary.json"));
     CHECK(contains(result.stderr_text, "/schema_version"));
@@ -229,25 +217,26 @@ TEST_CASE("bad input exits with 2 naming the file and writes nothing") {
     fs::copy(work / "sphere", work / "partial", fs::copy_options::recursive);
     edit_summary(work / "partial/summary.json",
                  [](json& summary) { summary["runs"][1]["stability"].erase("diverged"); });
-    const CommandResult result = hapticbench("compare sphere partial", work);
+    const CommandResult result = hb::test::run_hapticbench("compare sphere partial", work);
     CHECK(result.exit_code == 2);
     CHECK(contains(result.stderr_text, "partial/summary.json: /runs/1/stability/diverged"));
   }
   {
     INFO("a missing path");
-    const CommandResult result = hapticbench("compare sphere nowhere", work);
+    const CommandResult result = hb::test::run_hapticbench("compare sphere nowhere", work);
     CHECK(result.exit_code == 2);
     CHECK(contains(result.stderr_text, "nowhere"));
   }
   {
     INFO("usage");
-    CHECK(hapticbench("compare sphere", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere extra", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere --bogus", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere --alpha 2", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere --rel-tol -1", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere --timing-ratio 0.5", work).exit_code == 2);
-    CHECK(hapticbench("compare sphere sphere --out", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere extra", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere --bogus", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere --alpha 2", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere --rel-tol -1", work).exit_code == 2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere --timing-ratio 0.5", work).exit_code ==
+          2);
+    CHECK(hb::test::run_hapticbench("compare sphere sphere --out", work).exit_code == 2);
   }
 }
 

@@ -11,11 +11,13 @@
 
 #include "harness/trace/generators.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 // The doc holds `listed` verbatim, starting at its header line.
 void check_doc_holds(const fs::path& doc_path, const std::string& listed) {

@@ -12,14 +12,15 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::kSource;
 
 namespace fs = std::filesystem;
 using hb::test::run_hapticbench;
 using nlohmann::json;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 TEST_CASE("export --format gbench follows Google Benchmark's JSON field rules") {
   const hb::test::ScratchDir work("e2e_export");

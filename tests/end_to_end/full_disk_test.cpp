@@ -12,15 +12,16 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::kPress;
+using hb::test::kSource;
 
 namespace fs = std::filesystem;
 using hb::test::CommandResult;
 using hb::test::run_hapticbench;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-const std::string kPress = (kSource / "scenarios/smoke/sphere_press_box.json").string();
 
 /// A small tmpfs at `path` for the life of the object.
 class SmallFilesystem {

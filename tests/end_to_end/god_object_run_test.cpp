@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/summary_runs.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 // One numeric column of a ticks CSV.
 std::vector<double> ticks_column(const fs::path& path, const std::string& name) {

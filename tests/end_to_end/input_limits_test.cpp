@@ -11,8 +11,14 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::contains;
+using hb::test::kPress;
+using hb::test::kSource;
+using hb::test::write_file;
 
 namespace fs = std::filesystem;
 using hb::test::CommandResult;
@@ -21,17 +27,7 @@ using hb::test::run_hapticbench;
 using hb::test::run_hapticbench_limited;
 using hb::test::ScratchDir;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-const std::string kPress = (kSource / "scenarios/smoke/sphere_press_box.json").string();
 constexpr long kBudgetKib = 2L * 1024 * 1024;  // the stated memory budget, 2 GiB
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
 
 void check_refused(const CommandResult& result, std::initializer_list<const char*> parts) {
   INFO(result.stdout_text << result.stderr_text);
@@ -51,35 +47,35 @@ std::string press_with(const std::string& from, const std::string& to) {
 
 TEST_CASE("JSON nested 200,000 deep is refused at its 65th level") {
   const ScratchDir work("limits_deep_json");
-  write_text(work.path() / "deep.json", std::string(200000, '[') + std::string(200000, ']'));
+  write_file(work.path() / "deep.json", std::string(200000, '[') + std::string(200000, ']'));
   check_refused(run_hapticbench_limited("validate deep.json", work.path(), kBudgetKib),
                 {"deep.json", "line 1, column 65", "nested deeper than 64"});
-  write_text(work.path() / "deep_sweep.json", std::string(100, '{') + std::string(100, '}'));
+  write_file(work.path() / "deep_sweep.json", std::string(100, '{') + std::string(100, '}'));
   check_refused(run_hapticbench_limited("sweep deep_sweep.json", work.path(), kBudgetKib),
                 {"deep_sweep.json", "nested deeper"});
 }
 
 TEST_CASE("a number beyond a double's range names its line") {
   const ScratchDir work("limits_number");
-  write_text(work.path() / "big.json", press_with("\"duration_s\": 2.0", "\"duration_s\": 1e999"));
+  write_file(work.path() / "big.json", press_with("\"duration_s\": 2.0", "\"duration_s\": 1e999"));
   check_refused(run_hapticbench_limited("validate big.json", work.path(), kBudgetKib),
                 {"big.json", "line ", "too large for a double"});
 }
 
 TEST_CASE("mesh headers that claim more elements than the file holds are refused") {
   const ScratchDir work("limits_mesh_header");
-  write_text(work.path() / "huge.off", "OFF\n2147483647 1 0\n0 0 0\n");
+  write_file(work.path() / "huge.off", "OFF\n2147483647 1 0\n0 0 0\n");
   check_refused(run_hapticbench_limited("validate huge.off", work.path(), kBudgetKib),
                 {"huge.off", "header", "2147483647 vertices", "bytes"});
-  write_text(work.path() / "faces.off", "OFF\n3 900000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  write_file(work.path() / "faces.off", "OFF\n3 900000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   check_refused(run_hapticbench_limited("validate faces.off", work.path(), kBudgetKib),
                 {"faces.off", "900000000 faces"});
-  write_text(work.path() / "huge.ply",
+  write_file(work.path() / "huge.ply",
              "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
              "property float y\nproperty float z\nend_header\n");
   check_refused(run_hapticbench_limited("validate huge.ply", work.path(), kBudgetKib),
                 {"huge.ply", "4000000000", "\"vertex\""});
-  write_text(work.path() / "valence.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
+  write_file(work.path() / "valence.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
   check_refused(run_hapticbench_limited("validate valence.off", work.path(), kBudgetKib),
                 {"valence.off", "line 6", "declares 2000000000 corners"});
 }
@@ -91,7 +87,7 @@ TEST_CASE("an OFF vertex line with an extra number shifts nothing after it") {
   // never comes near (a reader that allocated for the count would hit it
   // and say so instead).
   const ScratchDir work("limits_off_shift");
-  write_text(work.path() / "shift.off",
+  write_file(work.path() / "shift.off",
              "OFF\n3  10\n00000000 00 0 0\n1 0 0\n0 1 0\n2000000000 0 1\n3 0 1 2\n");
   const CommandResult result =
       run_hapticbench("validate shift.off --memory-limit 512", work.path());
@@ -105,7 +101,7 @@ TEST_CASE("a memory ceiling: an allocation beyond it is exit 2 saying so") {
   // much under a 64 MB ceiling, fine under the default.
   std::string csv = "t_ns,px,py,pz,qw,qx,qy,qz\n";
   for (int i = 0; i < 2000000; ++i) csv += std::to_string(i * 1000000LL) + ",0,0,0.1,1,0,0,0\n";
-  write_text(work.path() / "long.csv", csv);
+  write_file(work.path() / "long.csv", csv);
   check_refused(run_hapticbench("validate long.csv --memory-limit 64", work.path()),
                 {"needs more than 64 MB of memory", "--memory-limit"});
   CHECK(run_hapticbench("validate long.csv", work.path()).exit_code == 0);
@@ -141,7 +137,7 @@ TEST_CASE(
   scenario["budgets"] = nlohmann::json::object();
   for (const double size : {1e-5, 2e-5}) {
     scenario["algorithms"] = {{{"name", "voxmap_pointshell"}, {"params", {{"voxel_size", size}}}}};
-    write_text(work.path() / "tiny.json", scenario.dump());
+    write_file(work.path() / "tiny.json", scenario.dump());
     const CommandResult result = run_hapticbench("validate tiny.json", work.path());
     INFO(size << ": " << result.stderr_text);
     if (size < 2e-5) {
@@ -157,7 +153,7 @@ TEST_CASE("implausible physical settings are warned about, and still run") {
   nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
   scenario["coupling"]["k_t"] = 1e9;
   scenario["tool"]["density"] = 1e9;
-  write_text(work.path() / "absurd.json", scenario.dump());
+  write_file(work.path() / "absurd.json", scenario.dump());
   const CommandResult result = run_hapticbench("validate absurd.json", work.path());
   INFO(result.stderr_text);
   CHECK(result.exit_code == 0);
@@ -168,23 +164,23 @@ TEST_CASE("implausible physical settings are warned about, and still run") {
 
 TEST_CASE("OFF parse errors name the line and say why") {
   const ScratchDir work("limits_off_lines");
-  write_text(work.path() / "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+  write_file(work.path() / "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
   check_refused(run_hapticbench("validate nan.off", work.path()),
                 {"nan.off", "line 4", "three finite coordinates", "\"1 nan 0\""});
-  write_text(work.path() / "index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  write_file(work.path() / "index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
   check_refused(run_hapticbench("validate index.off", work.path()),
                 {"index.off", "line 6", "vertex index 7", "0 to 2"});
 }
 
 TEST_CASE("a trace whose rows are a day apart is refused before resampling") {
   const ScratchDir work("limits_trace_span");
-  write_text(work.path() / "gap.csv",
+  write_file(work.path() / "gap.csv",
              "t_ns,px,py,pz,qw,qx,qy,qz\n0,0,0,0.1,1,0,0,0\n100000000000000,0,0,0.1,1,0,0,0\n");
   check_refused(run_hapticbench_limited("validate gap.csv", work.path(), kBudgetKib),
                 {"gap.csv", "100000 s", "at most 3600 s"});
   nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
   scenario["trace"] = {{"file", "gap.csv"}};
-  write_text(work.path() / "gap_scenario.json", scenario.dump());
+  write_file(work.path() / "gap_scenario.json", scenario.dump());
   const CommandResult run =
       run_hapticbench_limited("run gap_scenario.json --out out", work.path(), kBudgetKib);
   check_refused(run, {"gap.csv", "at most 3600 s"});
@@ -204,7 +200,7 @@ TEST_CASE("an oracle sample spacing far below the tool's size is refused with th
   text.insert(at + key.size(), "\"sample_spacing_m\": 1e-5, ");
   // Mesh paths in the scenario are relative to its folder.
   const fs::path scenario = kSource / "scenarios/meshes" / ".limits_spacing_test.json";
-  write_text(scenario, text);
+  write_file(scenario, text);
   const CommandResult result =
       run_hapticbench_limited("validate '" + scenario.string() + "'", work.path(), kBudgetKib);
   fs::remove(scenario);
@@ -221,7 +217,7 @@ TEST_CASE("output paths that cannot be written are exit 2 with the path") {
         {"/proc/"});
   }
   check_refused(run_hapticbench("run " + kPress + " --out ''", work.path()), {"empty"});
-  write_text(work.path() / "a_file", "x");
+  write_file(work.path() / "a_file", "x");
   check_refused(run_hapticbench("run " + kPress + " --out a_file/run", work.path()),
                 {"a_file/run"});
   check_refused(run_hapticbench("list /nonexistent_scenarios", work.path()),

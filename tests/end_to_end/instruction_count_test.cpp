@@ -12,15 +12,16 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/summary_runs.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using hb::test::run_hapticbench;
 using nlohmann::json;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 // The smoke press with one implicit-Euler penalty proxy; `integrator` and
 // `duration_s` change the work per tick and the number of ticks.

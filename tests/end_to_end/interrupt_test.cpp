@@ -17,10 +17,13 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 extern char** environ;
 
 namespace {
+
+using hb::test::write_file;
 
 namespace fs = std::filesystem;
 using hb::test::ScratchDir;
@@ -41,11 +44,6 @@ std::string press_scenario(double duration_s) {
     { "name": "penalty_analytic", "label": "penalty", "params": { "proxy": "quasi_static" } }
   ]
 })";
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
 }
 
 // hapticbench ARGS started in `work`, stderr to work/stderr.txt.

@@ -9,11 +9,13 @@
 
 #include "harness/metrics/metric_table.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 TEST_CASE("docs/metric-table.md holds the output of list --metrics") {
   const hb::test::ScratchDir work("e2e_metric_table");

@@ -13,8 +13,16 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::contains;
+using hb::test::kBoxPress;
+using hb::test::kPress;
+using hb::test::kSource;
+using hb::test::listing;
+using hb::test::write_file;
 
 namespace fs = std::filesystem;
 using hb::test::CommandResult;
@@ -22,27 +30,7 @@ using hb::test::read_text_file;
 using hb::test::run_hapticbench;
 using hb::test::ScratchDir;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-const std::string kPress = (kSource / "scenarios/smoke/sphere_press_box.json").string();
-const std::string kBoxPress = (kSource / "scenarios/smoke/box_press_box.json").string();
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-// What is in `folder`, but the command runner's own stdout/stderr files.
-std::set<std::string> listing(const fs::path& folder) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (name != "stdout.txt" && name != "stderr.txt") names.insert(name);
-  }
-  return names;
-}
-
-void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-void check_refused(const CommandResult& result, const std::string& path) {
+void check_refused_naming(const CommandResult& result, const std::string& path) {
   INFO(result.stdout_text << result.stderr_text);
   CHECK(result.exit_code == 2);
   CHECK(contains(result.stderr_text, path));
@@ -53,15 +41,15 @@ TEST_CASE("run --out never replaces a folder, file, symlink or FIFO of the user'
   const ScratchDir work_dir("e2e_out_run");
   const fs::path& work = work_dir.path();
   fs::create_directory(work / "mine");
-  write_text(work / "mine/precious.txt", "keep me");
-  write_text(work / "file.csv", "a,b\n");
+  write_file(work / "mine/precious.txt", "keep me");
+  write_file(work / "file.csv", "a,b\n");
   fs::create_directory_symlink(work / "mine", work / "link");
   REQUIRE(::mkfifo((work / "fifo").c_str(), 0600) == 0);
   const std::set<std::string> before = listing(work);
 
   for (const char* out : {"mine", "file.csv", "link", "fifo"}) {
     INFO(out);
-    check_refused(run_hapticbench("run " + kPress + " --out " + out, work), out);
+    check_refused_naming(run_hapticbench("run " + kPress + " --out " + out, work), out);
   }
   CHECK(listing(work) == before);
   CHECK(read_text_file(work / "mine/precious.txt") == "keep me");
@@ -80,7 +68,7 @@ TEST_CASE("run --out onto a device node leaves the device in place") {
   const fs::path& work = work_dir.path();
   // A second name for /dev/null (character device 1:3), inside the scratch folder.
   if (::mknod((work / "null").c_str(), S_IFCHR | 0600, makedev(1, 3)) != 0) return;
-  check_refused(run_hapticbench("run " + kPress + " --out null", work), "null");
+  check_refused_naming(run_hapticbench("run " + kPress + " --out null", work), "null");
   CHECK(fs::is_character_file(work / "null"));
 }
 
@@ -98,8 +86,8 @@ TEST_CASE("run replaces its own earlier run folder, and says so") {
   CHECK(fs::exists(work / "empty/summary.json"));
 
   // Once the user keeps a file of theirs in it, it is theirs.
-  write_text(work / "empty/notes.txt", "analysis");
-  check_refused(run_hapticbench("run " + kPress + " --out empty", work), "empty");
+  write_file(work / "empty/notes.txt", "analysis");
+  check_refused_naming(run_hapticbench("run " + kPress + " --out empty", work), "empty");
   CHECK(read_text_file(work / "empty/notes.txt") == "analysis");
 }
 
@@ -107,13 +95,13 @@ TEST_CASE("several scenarios: one folder in the way stops every run before any i
   const ScratchDir work_dir("e2e_out_several");
   const fs::path& work = work_dir.path();
   fs::create_directories(work / "runs/box_press_box");
-  write_text(work / "runs/box_press_box/precious.txt", "keep me");
-  check_refused(run_hapticbench("run " + kPress + " " + kBoxPress + " --out runs", work),
-                "runs/box_press_box");
+  write_file(work / "runs/box_press_box/precious.txt", "keep me");
+  check_refused_naming(run_hapticbench("run " + kPress + " " + kBoxPress + " --out runs", work),
+                       "runs/box_press_box");
   CHECK(listing(work / "runs") == std::set<std::string>{"box_press_box"});
   CHECK(listing(work / "runs/box_press_box") == std::set<std::string>{"precious.txt"});
 
-  write_text(work / "a_file", "x");
+  write_file(work / "a_file", "x");
   const CommandResult into_file =
       run_hapticbench("run " + kPress + " " + kBoxPress + " --out a_file", work);
   CHECK(into_file.exit_code == 2);
@@ -132,13 +120,13 @@ TEST_CASE(
   CHECK(contains(json_name.stderr_text, "t.json"));
   CHECK(listing(work).empty());
 
-  write_text(work / "recorded.csv", "t_ns,px,py,pz,qw,qx,qy,qz\n");
-  check_refused(run_hapticbench(generate + "recorded.csv", work), "recorded.csv");
+  write_file(work / "recorded.csv", "t_ns,px,py,pz,qw,qx,qy,qz\n");
+  check_refused_naming(run_hapticbench(generate + "recorded.csv", work), "recorded.csv");
   CHECK(read_text_file(work / "recorded.csv") == "t_ns,px,py,pz,qw,qx,qy,qz\n");
   CHECK_FALSE(fs::exists(work / "recorded.json"));
 
-  write_text(work / "other.json", "{\"mine\": true}");
-  check_refused(run_hapticbench(generate + "other.csv", work), "other.json");
+  write_file(work / "other.json", "{\"mine\": true}");
+  check_refused_naming(run_hapticbench(generate + "other.csv", work), "other.json");
   CHECK(read_text_file(work / "other.json") == "{\"mine\": true}");
   CHECK_FALSE(fs::exists(work / "other.csv"));
 
@@ -146,8 +134,8 @@ TEST_CASE(
   CHECK(run_hapticbench("generate press --duration 0.2 --out gen.csv", work).exit_code == 0);
   CHECK(contains(read_text_file(work / "gen.json"), "\"samples\": 201"));
   // Edited by hand, it is no longer what generate wrote.
-  write_text(work / "gen.csv", read_text_file(work / "gen.csv") + "\n");
-  check_refused(run_hapticbench(generate + "gen.csv", work), "gen.csv");
+  write_file(work / "gen.csv", read_text_file(work / "gen.csv") + "\n");
+  check_refused_naming(run_hapticbench(generate + "gen.csv", work), "gen.csv");
 }
 
 TEST_CASE("export and generate write through temporary names of their own, never a neighbour's") {
@@ -156,10 +144,10 @@ TEST_CASE("export and generate write through temporary names of their own, never
   const ScratchDir work_dir("e2e_out_neighbours");
   const fs::path& work = work_dir.path();
   REQUIRE(run_hapticbench("run " + kPress + " --out run", work).exit_code == 0);
-  write_text(work / "victim.txt", "precious");
-  write_text(work / "bench.json.partial", "mine");
+  write_file(work / "victim.txt", "precious");
+  write_file(work / "bench.json.partial", "mine");
   fs::create_symlink("victim.txt", work / "other.json.partial");
-  write_text(work / "t.csv.tmp", "mine too");
+  write_file(work / "t.csv.tmp", "mine too");
   fs::create_symlink("victim.txt", work / "t.json.tmp");
   const std::set<std::string> before = listing(work);
 
@@ -189,16 +177,16 @@ TEST_CASE("the next run removes what a killed run left: its staging and scratch 
   fs::create_directories(work / "tmp");
   const fs::path staging = work / "run.partial-99999999";
   fs::create_directories(staging);
-  write_text(staging / ".hapticbench-output",
+  write_file(staging / ".hapticbench-output",
              R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
-  write_text(staging / "ticks_a.csv", "tick\n");
+  write_file(staging / "ticks_a.csv", "tick\n");
   const fs::path scratch = work / "tmp/hapticbench-run-99999999-AbC123";
   fs::create_directories(scratch);
-  write_text(scratch / ".hapticbench-scratch", "scratch folder of hapticbench process 99999999\n");
-  write_text(scratch / "ticks_penalty.csv", std::string(100000, 'x'));
+  write_file(scratch / ".hapticbench-scratch", "scratch folder of hapticbench process 99999999\n");
+  write_file(scratch / "ticks_penalty.csv", std::string(100000, 'x'));
   const fs::path foreign = work / "tmp/hapticbench-run-99999998-mine";
   fs::create_directories(foreign);
-  write_text(foreign / "notes.txt", "mine");
+  write_file(foreign / "notes.txt", "mine");
 
   const CommandResult result = hb::test::run_hapticbench_after(
       "TMPDIR='" + (work / "tmp").string() + "'", "run " + kPress + " --out run --quiet", work);
@@ -215,10 +203,10 @@ TEST_CASE("report and compare never replace a file or folder of the user's") {
   const ScratchDir work_dir("e2e_out_report");
   const fs::path& work = work_dir.path();
   REQUIRE(run_hapticbench("run " + kPress + " --out run", work).exit_code == 0);
-  write_text(work / "page.html", "<html>mine</html>");
-  check_refused(run_hapticbench("report run --out page.html", work), "page.html");
+  write_file(work / "page.html", "<html>mine</html>");
+  check_refused_naming(run_hapticbench("report run --out page.html", work), "page.html");
   CHECK(read_text_file(work / "page.html") == "<html>mine</html>");
-  check_refused(run_hapticbench("report run --out run", work), "run");
+  check_refused_naming(run_hapticbench("report run --out run", work), "run");
 
   // compare --out onto a run folder: a run folder is not a comparison.
   const CommandResult onto_run = run_hapticbench("compare run run --no-timing --out run", work);
@@ -226,8 +214,8 @@ TEST_CASE("report and compare never replace a file or folder of the user's") {
   CHECK(contains(onto_run.stderr_text, "run folder"));
   CHECK(fs::exists(work / "run/summary.json"));
   fs::create_directory(work / "notes");
-  write_text(work / "notes/todo.txt", "x");
-  check_refused(run_hapticbench("compare run run --no-timing --out notes", work), "notes");
+  write_file(work / "notes/todo.txt", "x");
+  check_refused_naming(run_hapticbench("compare run run --no-timing --out notes", work), "notes");
   CHECK(read_text_file(work / "notes/todo.txt") == "x");
   // Its own comparison folder is replaced.
   CHECK(run_hapticbench("compare run run --no-timing --out cmp", work).exit_code == 0);
@@ -237,18 +225,18 @@ TEST_CASE("report and compare never replace a file or folder of the user's") {
 TEST_CASE("sweep never replaces a job folder or sweep.json of the user's") {
   const ScratchDir work_dir("e2e_out_sweep");
   const fs::path& work = work_dir.path();
-  write_text(work / "grid.json", "{ \"name\": \"grid\", \"scenarios\": [\"" + kPress +
+  write_file(work / "grid.json", "{ \"name\": \"grid\", \"scenarios\": [\"" + kPress +
                                      "\"], \"grid\": { \"/coupling/k_t\": [1000, 2000] } }");
   fs::create_directories(work / "out");
-  write_text(work / "out/sweep.json", "{\"mine\": true}");
-  check_refused(run_hapticbench("sweep grid.json --out out", work), "sweep.json");
+  write_file(work / "out/sweep.json", "{\"mine\": true}");
+  check_refused_naming(run_hapticbench("sweep grid.json --out out", work), "sweep.json");
   CHECK(read_text_file(work / "out/sweep.json") == "{\"mine\": true}");
   CHECK(listing(work / "out") == std::set<std::string>{"sweep.json"});
 
   const std::string job = "sphere_press_box__k_t=2000";
   fs::create_directories(work / "out2" / job);
-  write_text(work / "out2" / job / "precious.txt", "keep me");
-  check_refused(run_hapticbench("sweep grid.json --out out2", work), job);
+  write_file(work / "out2" / job / "precious.txt", "keep me");
+  check_refused_naming(run_hapticbench("sweep grid.json --out out2", work), job);
   CHECK(listing(work / "out2" / job) == std::set<std::string>{"precious.txt"});
   CHECK_FALSE(fs::exists(work / "out2/sphere_press_box__k_t=1000"));
 }

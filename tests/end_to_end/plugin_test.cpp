@@ -11,14 +11,16 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::kSource;
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using hb::test::CommandResult;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 const fs::path kPlugins = HAPTICBENCH_TEST_PLUGINS_DIR;
 const fs::path kExample = kSource / "examples/out_of_tree_renderer";
 const std::string kVertexPenalty = (kPlugins / "vertex_penalty.so").string();

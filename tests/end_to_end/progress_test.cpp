@@ -17,21 +17,23 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
 
+using hb::test::contains;
+using hb::test::kBoxPress;
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using hb::test::run_hapticbench;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
-const std::string kPress = (kSource / "scenarios/smoke/box_press_box.json").string();
 
 // The smoke box press for one god-object, 60 s long and without the
 // oracle: both passes last long enough (tenths of a second) to be redrawn
 // with ticks done whatever the machine, since a phase shorter than the
 // 0.1 s between redraws may never be drawn.
 fs::path write_long_press(const fs::path& work) {
-  nlohmann::json scenario = nlohmann::json::parse(hb::test::read_text_file(kPress));
+  nlohmann::json scenario = nlohmann::json::parse(hb::test::read_text_file(kBoxPress));
   scenario["trace"]["duration_s"] = 60;
   scenario["reference"] = {{"oracle", "none"}, {"analytic", "auto"}};
   nlohmann::json kept = nlohmann::json::array();
@@ -85,10 +87,6 @@ TerminalRun run_on_terminal(const std::vector<std::string>& args, const fs::path
   return run;
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
 }  // namespace
 
 TEST_CASE("on a terminal, run shows one live line with phase, ticks and ETA, then erases it") {
@@ -118,18 +116,19 @@ TEST_CASE("on a terminal, run shows one live line with phase, ticks and ETA, the
 
 TEST_CASE("on a terminal, --quiet and --progress plain draw nothing in place") {
   const hb::test::ScratchDir work("e2e_progress_terminal_quiet");
-  const TerminalRun quiet = run_on_terminal({"run", kPress, "--out", "a", "--quiet"}, work.path());
+  const TerminalRun quiet =
+      run_on_terminal({"run", kBoxPress, "--out", "a", "--quiet"}, work.path());
   CHECK(quiet.exit_code == 0);
   CHECK(quiet.terminal.empty());
   const TerminalRun plain =
-      run_on_terminal({"run", kPress, "--out", "b", "--progress", "plain"}, work.path());
+      run_on_terminal({"run", kBoxPress, "--out", "b", "--progress", "plain"}, work.path());
   CHECK(plain.exit_code == 0);
   CHECK_FALSE(contains(plain.terminal, "\033["));
 }
 
 TEST_CASE("to a file, run redraws nothing, --quiet says nothing, --progress bar forces the bar") {
   const hb::test::ScratchDir work("e2e_progress_pipe");
-  const auto plain = run_hapticbench("run " + kPress + " --out a", work.path());
+  const auto plain = run_hapticbench("run " + kBoxPress + " --out a", work.path());
   INFO(plain.stderr_text);
   REQUIRE(plain.exit_code == 0);
   CHECK_FALSE(contains(plain.stderr_text, "\r"));
@@ -138,11 +137,11 @@ TEST_CASE("to a file, run redraws nothing, --quiet says nothing, --progress bar 
   CHECK(std::regex_search(
       plain.stderr_text,
       std::regex("^(\\[[0-9]{2}:[0-9]{2}\\] box_press_box / [a-z_]+: [^\\n]+\\n)*$")));
-  const auto quiet = run_hapticbench("run " + kPress + " --out b --quiet", work.path());
+  const auto quiet = run_hapticbench("run " + kBoxPress + " --out b --quiet", work.path());
   CHECK(quiet.exit_code == 0);
   CHECK(quiet.stderr_text.empty());
   CHECK(contains(quiet.stdout_text, "scenario box_press_box -> b/"));
-  const auto bar = run_hapticbench("run " + kPress + " --out c --progress bar", work.path());
+  const auto bar = run_hapticbench("run " + kBoxPress + " --out c --progress bar", work.path());
   CHECK(bar.exit_code == 0);
   CHECK(contains(bar.stderr_text, "\r\033[Kbox_press_box / "));
 }
@@ -160,8 +159,9 @@ TEST_CASE("a bad --progress style is a usage error naming the styles") {
 
 TEST_CASE("report on a terminal draws only in place, and writes the page") {
   const hb::test::ScratchDir work("e2e_progress_report");
-  REQUIRE(run_hapticbench("run " + kPress + " --out runs/press --quiet", work.path()).exit_code ==
-          0);
+  REQUIRE(
+      run_hapticbench("run " + kBoxPress + " --out runs/press --quiet", work.path()).exit_code ==
+      0);
   const TerminalRun report =
       run_on_terminal({"report", "runs", "--out", "report.html", "--progress", "bar"}, work.path());
   INFO(report.terminal);

@@ -17,21 +17,21 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/scratch_dir.h"
 
 namespace {
 
+using hb::test::CommandResult;
+
+using hb::test::kSource;
+using hb::test::listing;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 const fs::path kChromium = "/usr/bin/chromium";
-
-struct CommandResult {
-  int exit_code;
-  std::string stdout_text;
-  std::string stderr_text;
-};
 
 // Runs a shell command in `work`; its output goes to files outside `work`'s
 // listing checks (stdout.txt and stderr.txt are named in them).
@@ -48,16 +48,6 @@ CommandResult shell(const std::string& command, const fs::path& work) {
 CommandResult hapticbench(const std::string& args, const fs::path& work,
                           const std::string& environment = "") {
   return shell(environment + " '" + std::string(HAPTICBENCH_BIN) + "' " + args, work);
-}
-
-// Names in `dir` other than the command's captured output.
-std::set<std::string> listing(const fs::path& dir) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name != "stdout.txt" && name != "stderr.txt") names.insert(name);
-  }
-  return names;
 }
 
 // Whether any tick of a ticks CSV has a penetration value (column penetration_m).

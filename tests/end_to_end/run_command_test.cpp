@@ -13,15 +13,16 @@
 
 #include "harness/output/ticks_csv.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/shortened_scenario.h"
 #include "tests/support/summary_runs.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 // Rows of a ticks CSV as column name -> values.
 std::map<std::string, std::vector<std::string>> read_ticks(const fs::path& path) {

@@ -20,14 +20,16 @@
 #include <thread>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
+
+using hb::test::kSource;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 const fs::path kSweep = kSource / "tests/end_to_end/data/slurm_sweep.json";
 constexpr int kJobs = 8;
 constexpr int kShards = 4;
@@ -44,8 +46,8 @@ std::string quoted(const fs::path& path) {
 
 // Runs a shell command in `work` with the cluster's environment (and
 // slurm-sweep polling squeue every 0.5 s).
-hb::test::CommandResult shell(const std::string& command, const fs::path& state,
-                              const fs::path& work) {
+hb::test::CommandResult cluster_shell(const std::string& command, const fs::path& state,
+                                      const fs::path& work) {
   const fs::path out = work / "shell_stdout.txt", err = work / "shell_stderr.txt";
   const std::string line = "cd " + quoted(work) + " && export " + kPorts +
                            " HB_SLURM_POLL=0.5 SLURM_CONF=" + quoted(state / "slurm.conf") +
@@ -70,8 +72,8 @@ class ClusterGuard {
  public:
   ClusterGuard(fs::path state, fs::path work) : state_(std::move(state)), work_(std::move(work)) {}
   ~ClusterGuard() {
-    shell(quoted(kSource / "scripts/local-slurm") + " stop --clean " + quoted(state_), state_,
-          work_);
+    cluster_shell(quoted(kSource / "scripts/local-slurm") + " stop --clean " + quoted(state_),
+                  state_, work_);
   }
   ClusterGuard(const ClusterGuard&) = delete;
   ClusterGuard& operator=(const ClusterGuard&) = delete;
@@ -88,14 +90,14 @@ std::string poll(const std::string& command, const fs::path& state, const fs::pa
   const auto until = Clock::now() + std::chrono::duration<double>(seconds);
   std::string last;
   for (;;) {
-    last = trimmed(shell(command, state, work).stdout_text);
+    last = trimmed(cluster_shell(command, state, work).stdout_text);
     if (done(last) || Clock::now() > until) return last;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
 }
 
 // Job name -> (run label -> ticks hash), for every run folder of `out`.
-std::map<std::string, std::map<std::string, std::string>> ticks_hashes(const fs::path& out) {
+std::map<std::string, std::map<std::string, std::string>> ticks_hashes_by_job(const fs::path& out) {
   std::map<std::string, std::map<std::string, std::string>> hashes;
   for (const auto& entry : fs::directory_iterator(out)) {
     const fs::path summary_file = entry.path() / "summary.json";
@@ -139,7 +141,8 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
   const ClusterGuard guard(state, work);
   const std::string local_slurm = quoted(kSource / "scripts/local-slurm");
 
-  const hb::test::CommandResult start = shell(local_slurm + " start " + quoted(state), state, work);
+  const hb::test::CommandResult start =
+      cluster_shell(local_slurm + " start " + quoted(state), state, work);
   if (start.exit_code != 0)
     FAIL("the local Slurm cluster did not start (scripts/local-slurm start, exit "
          << start.exit_code << "):\n"
@@ -151,7 +154,8 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
                                     " --shards " + std::to_string(kShards) + " --out " +
                                     quoted(out) + " --hapticbench '" +
                                     std::string(HAPTICBENCH_BIN) + "'";
-  const hb::test::CommandResult submitted = shell(sweep_command + " --no-wait", state, work);
+  const hb::test::CommandResult submitted =
+      cluster_shell(sweep_command + " --no-wait", state, work);
   INFO(submitted.stderr_text);
   REQUIRE(submitted.exit_code == 0);
   const std::string job = trimmed(submitted.stdout_text);
@@ -176,7 +180,7 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
       if (started || Clock::now() > until) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    const hb::test::CommandResult cancel = shell("scancel " + shard1, state, work);
+    const hb::test::CommandResult cancel = cluster_shell("scancel " + shard1, state, work);
     INFO(cancel.stderr_text);
     REQUIRE(cancel.exit_code == 0);
   } else {
@@ -208,7 +212,8 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
   if (missing_before == 0) WARN("shard 1 finished before the cancel: nothing to resubmit");
 
   // The same command again submits only shard 1 and waits for it.
-  const hb::test::CommandResult resumed = shell("timeout 120 " + sweep_command, state, work);
+  const hb::test::CommandResult resumed =
+      cluster_shell("timeout 120 " + sweep_command, state, work);
   INFO(resumed.stderr_text);
   REQUIRE(resumed.exit_code == 0);
   if (missing_before > 0)
@@ -224,7 +229,7 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
       hb::test::run_hapticbench("sweep " + quoted(kSweep) + " --jobs 1 --out local_out", work);
   INFO(local_run.stderr_text);
   REQUIRE(local_run.exit_code == 0);
-  const auto slurm_hashes = ticks_hashes(out), local_hashes = ticks_hashes(local);
+  const auto slurm_hashes = ticks_hashes_by_job(out), local_hashes = ticks_hashes_by_job(local);
   CHECK(slurm_hashes.size() == std::size_t(kJobs));
   CHECK(slurm_hashes == local_hashes);
 

@@ -9,13 +9,14 @@
 #include <string>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 
 namespace {
 
+using hb::test::kSource;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const fs::path kSource = HAPTICBENCH_SOURCE_DIR;
 
 // The free-space 1 cm pose jump of the smoke suite (0.2 kg proxy, b_t =
 // 5 N·s/m), 10 s long so that slow growth near the limit shows.
@@ -28,13 +29,14 @@ void write_jump_scenario(const fs::path& path) {
 
 // Runs `hapticbench stability ARGS --out OUT` in `work`; requires exit 0
 // and returns OUT/stability.json with the command's output.
-struct Margin {
+struct SearchedMargin {
   hb::test::CommandResult result;
   json search;
   double stable = 0, unstable = 0;
 };
-Margin search_margin(const std::string& args, const std::string& out, const fs::path& work) {
-  Margin margin;
+SearchedMargin searched_margin(const std::string& args, const std::string& out,
+                               const fs::path& work) {
+  SearchedMargin margin;
   margin.result = hb::test::run_hapticbench("stability " + args + " --out " + out, work);
   INFO(margin.result.stderr_text);
   REQUIRE(margin.result.exit_code == 0);
@@ -49,7 +51,7 @@ TEST_CASE("the stability search finds explicit Euler's coupling limit k_t < b_t 
   const hb::test::ScratchDir work_dir("e2e_stability_coupling");
   const fs::path& work = work_dir.path();
   write_jump_scenario(work / "jump.json");
-  const Margin found = search_margin(
+  const SearchedMargin found = searched_margin(
       "jump.json --label explicit_euler --param /coupling/k_t --range 1000 100000 "
       "--tolerance 0.02",
       "margin", work);
@@ -103,11 +105,11 @@ TEST_CASE("the stability search finds explicit Euler's contact limit (k_t + k_c)
   // held still; the chatter criterion sees it.
   const hb::test::ScratchDir work_dir("e2e_stability_contact");
   const fs::path& work = work_dir.path();
-  const Margin found =
-      search_margin((kSource / "scenarios/margins/sphere_on_box.json").string() +
-                        " --label penalty_explicit --param /algorithms/0/params/contact_stiffness"
-                        " --range 1000 100000 --tolerance 0.02",
-                    "contact", work);
+  const SearchedMargin found =
+      searched_margin((kSource / "scenarios/margins/sphere_on_box.json").string() +
+                          " --label penalty_explicit --param /algorithms/0/params/contact_stiffness"
+                          " --range 1000 100000 --tolerance 0.02",
+                      "contact", work);
   const json& margin = found.search;
   const double stable = found.stable, unstable = found.unstable;
   const double limit = (5.0 + 2.0) / 1e-3 - 2000.0;
@@ -158,7 +160,7 @@ TEST_CASE("the held-force port energy changes sign at the sampled wall's limit k
   const hb::test::ScratchDir work_dir("e2e_stability_wall");
   const fs::path& work = work_dir.path();
   write_wall_scenario(work);
-  const Margin found = search_margin(
+  const SearchedMargin found = searched_margin(
       "wall.json --label god_object --param /coupling/k_t --range 2000 50000 --tolerance 0.01",
       "margin", work);
   const json& margin = found.search;

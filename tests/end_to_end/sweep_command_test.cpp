@@ -15,30 +15,18 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/cli_runner.h"
+#include "tests/support/end_to_end.h"
 #include "tests/support/scratch_dir.h"
 
 namespace {
 
+using hb::test::CommandResult;
+
+using hb::test::write_file;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-struct CommandResult {
-  int exit_code;
-  std::string stderr_text;
-};
-
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << text;
-}
-
-CommandResult hapticbench(const std::string& args, const fs::path& work) {
-  const fs::path err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && '" + std::string(HAPTICBENCH_BIN) +
-                              "' " + args + " > stdout.txt 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, hb::test::read_text_file(err)};
-}
 
 // A sphere pressed 5 mm into a box over 0.2 s: coupling_only, and a
 // quasi-static penalty proxy whose held force has a closed form.
@@ -106,7 +94,7 @@ std::set<std::string> run_folders(const fs::path& out) {
 }
 
 // Rows of a ticks CSV as column name -> values.
-std::map<std::string, std::vector<double>> read_ticks(const fs::path& path) {
+std::map<std::string, std::vector<double>> read_tick_values(const fs::path& path) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
@@ -129,7 +117,7 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
   const hb::test::ScratchDir work_dir("e2e_sweep_grid");
   const fs::path& work = work_dir.path();
   write_grid(work);
-  const CommandResult result = hapticbench("sweep sweeps/grid.json --out runs", work);
+  const CommandResult result = hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work);
   INFO(result.stderr_text);
   REQUIRE(result.exit_code == 0);
   CHECK(result.stderr_text.find("4 to run") != std::string::npos);
@@ -154,7 +142,7 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
       // The values reached the physics: held at the deepest point, the
       // quasi-static proxy pushes back with coupling and contact springs in
       // series, k_t k_c / (k_t + k_c) per metre of depth.
-      auto ticks = read_ticks(folder / "ticks_penalty.csv");
+      auto ticks = read_tick_values(folder / "ticks_penalty.csv");
       REQUIRE(ticks["dev_pz"].size() == 200);
       std::size_t deepest = 0;
       for (std::size_t k = 0; k < ticks["dev_pz"].size(); ++k)
@@ -182,7 +170,7 @@ TEST_CASE("a job's scenario.json reruns with `hapticbench run` to the same ticks
   const hb::test::ScratchDir work_dir("e2e_sweep_rerun");
   const fs::path& work = work_dir.path();
   write_grid(work);
-  REQUIRE(hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
+  REQUIRE(hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
   // From another folder: the mesh and trace paths in scenario.json do not
   // depend on where it is read from.
   const fs::path elsewhere = work / "elsewhere";
@@ -190,8 +178,8 @@ TEST_CASE("a job's scenario.json reruns with `hapticbench run` to the same ticks
   for (const std::string& name : expected_job_names()) {
     INFO(name);
     const fs::path folder = work / "runs" / name;
-    const CommandResult result =
-        hapticbench("run '" + (folder / "scenario.json").string() + "' --out again", elsewhere);
+    const CommandResult result = hb::test::run_hapticbench(
+        "run '" + (folder / "scenario.json").string() + "' --out again", elsewhere);
     INFO(result.stderr_text);
     REQUIRE(result.exit_code == 0);
     CHECK(ticks_hashes(elsewhere / "again") == ticks_hashes(folder));
@@ -204,8 +192,10 @@ TEST_CASE("two jobs at a time (--jobs 2) give every job the same ticks as one at
   const hb::test::ScratchDir work_dir("e2e_sweep_parallel");
   const fs::path& work = work_dir.path();
   write_grid(work);
-  REQUIRE(hapticbench("sweep sweeps/grid.json --jobs 1 --out one", work).exit_code == 0);
-  const CommandResult result = hapticbench("sweep sweeps/grid.json --jobs 2 --out two", work);
+  REQUIRE(hb::test::run_hapticbench("sweep sweeps/grid.json --jobs 1 --out one", work).exit_code ==
+          0);
+  const CommandResult result =
+      hb::test::run_hapticbench("sweep sweeps/grid.json --jobs 2 --out two", work);
   INFO(result.stderr_text);
   REQUIRE(result.exit_code == 0);
   CHECK(result.stderr_text.find("2 at a time") != std::string::npos);
@@ -226,7 +216,7 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
   const fs::path& work = work_dir.path();
   write_grid(work);
   // Without --out: out/sweeps/<sweep name>/.
-  REQUIRE(hapticbench("sweep sweeps/grid.json", work).exit_code == 0);
+  REQUIRE(hb::test::run_hapticbench("sweep sweeps/grid.json", work).exit_code == 0);
   const fs::path out = work / "out" / "sweeps" / "grid";
   const std::vector<std::string> names = expected_job_names();
   REQUIRE(run_folders(out).size() == 4);
@@ -235,7 +225,7 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
     written[name] = fs::last_write_time(out / name / "summary.json");
   const auto first_hashes = ticks_hashes(out / names[2]);
 
-  const CommandResult again = hapticbench("sweep sweeps/grid.json", work);
+  const CommandResult again = hb::test::run_hapticbench("sweep sweeps/grid.json", work);
   INFO(again.stderr_text);
   REQUIRE(again.exit_code == 0);
   CHECK(again.stderr_text.find("4 done earlier, 0 to run") != std::string::npos);
@@ -257,7 +247,7 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
   write_file(staging / "ticks_a.csv", "tick\n");
   const fs::path foreign = out / (names[2] + ".partial-99999998");
   write_file(foreign / "notes.txt", "mine");
-  const CommandResult resumed = hapticbench("sweep sweeps/grid.json", work);
+  const CommandResult resumed = hb::test::run_hapticbench("sweep sweeps/grid.json", work);
   INFO(resumed.stderr_text);
   REQUIRE(resumed.exit_code == 0);
   CHECK(resumed.stderr_text.find("3 done earlier, 1 to run") != std::string::npos);
@@ -280,8 +270,9 @@ TEST_CASE("another sweep into the same folder runs its own jobs, reusing none of
     "only_algorithms": ["penalty"],
     "grid": { "/coupling/k_t": [1000, 2000], "/algorithms/1/params/contact_stiffness": [1000, 3000] }
   })");
-  REQUIRE(hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
-  const CommandResult other = hapticbench("sweep sweeps/penalty_only.json --out runs", work);
+  REQUIRE(hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 0);
+  const CommandResult other =
+      hb::test::run_hapticbench("sweep sweeps/penalty_only.json --out runs", work);
   INFO(other.stderr_text);
   REQUIRE(other.exit_code == 0);
   CHECK(other.stderr_text.find("0 done earlier, 4 to run") != std::string::npos);
@@ -291,7 +282,8 @@ TEST_CASE("another sweep into the same folder runs its own jobs, reusing none of
     CHECK(runs[0].at("label") == "penalty");
   }
   // Run again, the second sweep's jobs are its own: all reused.
-  const CommandResult again = hapticbench("sweep sweeps/penalty_only.json --out runs", work);
+  const CommandResult again =
+      hb::test::run_hapticbench("sweep sweeps/penalty_only.json --out runs", work);
   CHECK(again.stderr_text.find("4 done earlier, 0 to run") != std::string::npos);
 }
 
@@ -303,7 +295,7 @@ TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
   std::set<std::string> all;
   for (int shard = 0; shard < 3; ++shard) {
     const std::string out = "shard" + std::to_string(shard);
-    const CommandResult result = hapticbench(
+    const CommandResult result = hb::test::run_hapticbench(
         "sweep sweeps/grid.json --shard " + std::to_string(shard) + "/3 --out " + out, work);
     INFO(result.stderr_text);
     REQUIRE(result.exit_code == 0);
@@ -323,7 +315,7 @@ TEST_CASE("shards are disjoint, follow index % N, and together run every job") {
 
   // Shards sharing one output folder, as a job array does, fill it.
   for (int shard = 0; shard < 2; ++shard)
-    REQUIRE(hapticbench(
+    REQUIRE(hb::test::run_hapticbench(
                 "sweep sweeps/grid.json --shard " + std::to_string(shard) + "/2 --out shared", work)
                 .exit_code == 0);
   CHECK(run_folders(work / "shared") == all);
@@ -335,7 +327,8 @@ TEST_CASE("a failed budget is reported, not gated: every job runs and the exit c
   const hb::test::ScratchDir work_dir("e2e_sweep_budget");
   const fs::path& work = work_dir.path();
   write_grid(work, R"(, "/budgets/nonfinite": [0, -1])");
-  const CommandResult result = hapticbench("sweep sweeps/grid.json --jobs 2 --out runs", work);
+  const CommandResult result =
+      hb::test::run_hapticbench("sweep sweeps/grid.json --jobs 2 --out runs", work);
   INFO(result.stderr_text);
   CHECK(result.exit_code == 1);
   const json index = json::parse(hb::test::read_text_file(work / "runs" / "sweep.json"));
@@ -347,7 +340,7 @@ TEST_CASE("a failed budget is reported, not gated: every job runs and the exit c
     CHECK(job.at("status") == (fails ? "budget_failed" : "ok"));
   }
   // Still failed when every job was done earlier.
-  CHECK(hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 1);
+  CHECK(hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 1);
 }
 
 TEST_CASE("a bad value in any job stops the sweep before anything runs") {
@@ -359,7 +352,7 @@ TEST_CASE("a bad value in any job stops the sweep before anything runs") {
     "name": "grid", "scenarios": ["../scenarios/press.json"],
     "grid": { "/coupling/k_t": [1000, 2000], "/algorithms/1/params/contact_stiffness": [1000, -3] }
   })");
-  const CommandResult result = hapticbench("sweep sweeps/grid.json --out runs", work);
+  const CommandResult result = hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work);
   CHECK(result.exit_code == 2);
   CHECK(result.stderr_text.find("sweeps/grid.json: job press__k_t=1000__contact_stiffness=-3") !=
         std::string::npos);
@@ -390,11 +383,12 @@ TEST_CASE("bad sweep files and arguments exit 2 naming the file and the field") 
        }) {
     INFO(c.sweep << " " << c.args);
     write_file(work / "sweeps" / "grid.json", c.sweep);
-    const CommandResult result = hapticbench("sweep sweeps/grid.json --out runs " + c.args, work);
+    const CommandResult result =
+        hb::test::run_hapticbench("sweep sweeps/grid.json --out runs " + c.args, work);
     CHECK(result.exit_code == 2);
     CHECK(result.stderr_text.find(c.says) != std::string::npos);
     CHECK_FALSE(fs::exists(work / "runs"));
   }
-  CHECK(hapticbench("sweep", work).exit_code == 2);
-  CHECK(hapticbench("sweep sweeps/missing.json", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("sweep", work).exit_code == 2);
+  CHECK(hb::test::run_hapticbench("sweep sweeps/missing.json", work).exit_code == 2);
 }

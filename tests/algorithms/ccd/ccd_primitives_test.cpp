@@ -18,9 +18,12 @@
 #include "algorithms/ccd/screw_motion.h"
 #include "hapticbench/closest_points.h"
 #include "hapticbench/input_error.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
+
+using test::pose;
 
 constexpr double kTolerance = 1e-6;  // the default time tolerance
 // The screw kernels bound positions to first order in the width of the time
@@ -632,10 +635,6 @@ TEST_CASE("with a small budget random queries still never answer later", "[ccd][
 
 // ---------------------------------------------------------------------------
 // Screw motion
-
-Pose pose(const Vec3& p, double angle, const Vec3& axis) {
-  return Pose{p, Quat(Eigen::AngleAxisd(angle, axis.normalized()))};
-}
 
 TEST_CASE("a screw motion runs from the start pose to the end pose", "[screw]") {
   const Pose start = pose(Vec3(0.1, -0.2, 0.3), 0.4, Vec3(1, 2, 3));

@@ -19,9 +19,12 @@
 #include "hapticbench/mass_properties.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/support/cgal_mesh_intersection.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
+
+using test::pose;
 
 // ---------------------------------------------------------------------------
 // Boxes
@@ -74,10 +77,6 @@ SceneObject box_object(const Vec3& half, const Vec3& centre) {
   object.mesh = box_mesh(half);
   object.pose.p = centre;
   return object;
-}
-
-Pose pose(const Vec3& p, double angle = 0, const Vec3& axis = Vec3::UnitZ()) {
-  return Pose{p, Quat(Eigen::AngleAxisd(angle, axis.normalized()))};
 }
 
 Pose pose_at(const ScrewMotion& motion, double t) {

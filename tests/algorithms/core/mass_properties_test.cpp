@@ -10,32 +10,18 @@
 
 #include "hapticbench/input_error.h"
 #include "hapticbench/shapes.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using test::capsule_shape;
+using test::kPi;
+using test::sphere_shape;
 
 // Inertia of a point mass m at offset r (about the origin): m (|r|² 1 − r rᵀ).
 Mat3 point_mass_inertia(double m, const Vec3& r) {
   return m * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
-}
-
-Shape sphere_shape(double radius, int subdivisions) {
-  Shape s;
-  s.type = ShapeType::kSphere;
-  s.radius = radius;
-  s.subdivisions = subdivisions;
-  return s;
-}
-
-Shape capsule_shape(double radius, double length, int subdivisions) {
-  Shape s;
-  s.type = ShapeType::kCapsule;
-  s.radius = radius;
-  s.length = length;
-  s.subdivisions = subdivisions;
-  return s;
 }
 
 // Every vertex on the inner side of every face plane: the mesh is the

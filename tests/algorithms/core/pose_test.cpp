@@ -8,10 +8,12 @@
 #include <numbers>
 #include <random>
 
+#include "tests/support/shape_fixtures.h"
+
 namespace hb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using test::kPi;
 
 // Angle between the rotations of two unit quaternions (rad).
 double rotation_angle_between(const Quat& a, const Quat& b) { return a.angularDistance(b); }

@@ -13,33 +13,14 @@
 #include "hapticbench/closest_points.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/mass_properties.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
 
-Shape box_shape(const Vec3& size) {
-  Shape s;
-  s.type = ShapeType::kBox;
-  s.size = size;
-  return s;
-}
-
-Shape sphere_shape(double radius, int subdivisions) {
-  Shape s;
-  s.type = ShapeType::kSphere;
-  s.radius = radius;
-  s.subdivisions = subdivisions;
-  return s;
-}
-
-Shape capsule_shape(double radius, double length, int subdivisions) {
-  Shape s;
-  s.type = ShapeType::kCapsule;
-  s.radius = radius;
-  s.length = length;
-  s.subdivisions = subdivisions;
-  return s;
-}
+using test::box_shape;
+using test::capsule_shape;
+using test::sphere_shape;
 
 Shape box_with_hole_shape(const Vec3& size, double hole_x, double hole_y) {
   Shape s;

@@ -14,9 +14,12 @@
 #include "hapticbench/param_set.h"
 #include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
+
+using test::at;
 
 constexpr double kCube = 0.04;  // cube tool edge (m)
 
@@ -38,8 +41,6 @@ Tool cube_tool() { return test::meshed_box_tool(Vec3::Constant(kCube)); }
 double lowest_vertex_z(const Tool& tool, const Pose& pose) {
   return test::lowest_vertex_z(tool.mesh, pose);
 }
-
-Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
 
 TEST_CASE("a cube pressed into a slab rests on the face within the standoff") {
   const RenderContext context = slab_context(cube_tool());

@@ -14,11 +14,14 @@
 #include "hapticbench/mass_properties.h"
 #include "hapticbench/shapes.h"
 #include "tests/support/proxy_fixtures.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
 
-constexpr double kCube = 0.04;  // cube tool edge (m)
+using test::at;
+
+constexpr double kCubeEdge = 0.04;  // cube tool edge (m)
 
 // A 0.4 × 0.4 m slab `thickness` thick whose top face is the plane z = 0,
 // with the example coupling; the tool is the caller's.
@@ -62,13 +65,11 @@ struct CubeOnSlab : ProxyRig {
   // A 4 cm cube over a 2 cm slab.
   static RenderContext make_context() {
     RenderContext context = slab_context(0.02);
-    context.tool = test::box_tool(Vec3::Constant(kCube));
+    context.tool = test::box_tool(Vec3::Constant(kCubeEdge));
     context.tool.mesh = shape_mesh(*context.tool.shape);
     return context;
   }
 };
-
-Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
 
 TEST_CASE("in free space the proxy is the device's pose until it would leave the certificate") {
   CubeOnSlab rig;
@@ -199,7 +200,7 @@ TEST_CASE(
   for (double rate : {0.5, 2.0}) {
     CubeOnSlab rig;
     const Vec3 slab_centre(0, 0, -0.01), slab_half(0.2, 0.2, 0.01);
-    const double ridge_below_centre = kCube / std::sqrt(2.0);
+    const double ridge_below_centre = kCubeEdge / std::sqrt(2.0);
     const Quat roll = quat_from_rotation_vector(Vec3(0, M_PI / 4, 0));
     const Vec3 centre(0.2, 0, ridge_below_centre);
     auto pose_at = [&](double yaw, double depth) {
@@ -514,7 +515,7 @@ TEST_CASE("the band follows the device's speed between slow updates, within its 
   CHECK(rig.proxy.band_for(still, at(Vec3(2e-4, 0, 0.1))) == Approx(1.2e-3));  // 6 × 0.2 mm
   CHECK(rig.proxy.band_for(still, at(Vec3(0.01, 0, 0.1))) == rig.settings.haptic_band_m);
   // A turn counts by how far it moves the cube's corners: 0.01 rad × 3.46 cm.
-  const double corner = std::sqrt(3.0) * kCube / 2;
+  const double corner = std::sqrt(3.0) * kCubeEdge / 2;
   CHECK(
       rig.proxy.band_for(still, at(Vec3(0, 0, 0.1), quat_from_rotation_vector(Vec3(0, 0, 0.01)))) ==
       Approx(6 * 0.01 * corner).epsilon(1e-6));

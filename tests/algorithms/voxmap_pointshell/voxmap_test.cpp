@@ -26,7 +26,7 @@ namespace {
 
 const double kSqrt3 = std::sqrt(3.0);
 
-CacheSettings no_cache() { return CacheSettings{false, {}}; }
+CacheSettings uncached() { return CacheSettings{false, {}}; }
 
 SceneObject bunny_object() {
   const std::string path = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/bunny00.off";
@@ -72,7 +72,7 @@ TEST_CASE("voxmap states agree with CGAL's inside/outside except within one voxe
     VoxmapSettings settings;
     settings.voxel_size_m = h;
     settings.proximity_layers = 2;
-    const SceneVoxmap voxmap = build_scene_voxmap(scene, grown(bounds, 0.01), settings, no_cache());
+    const SceneVoxmap voxmap = build_scene_voxmap(scene, grown(bounds, 0.01), settings, uncached());
     REQUIRE(voxmap.objects_voxelised == 1);
 
     // Uniform points over the bounds, and points near the surface.
@@ -153,7 +153,7 @@ TEST_CASE("each voxel's state is the closed-form signed distance at its centre, 
     settings.proximity_layers = 1;
     settings.signed_distance = signed_distance;
     const SceneVoxmap voxmap =
-        build_scene_voxmap(scene, grown(world_bounds(scene[0]), 0.01), settings, no_cache());
+        build_scene_voxmap(scene, grown(world_bounds(scene[0]), 0.01), settings, uncached());
     int checked = 0;
     for (int i = -25; i <= 25; ++i) {
       for (int j = -25; j <= 25; ++j) {
@@ -197,7 +197,7 @@ TEST_CASE("the signed-distance variant interpolates φ trilinearly with its exac
   settings.signed_distance = true;
   const SceneVoxmap voxmap = build_scene_voxmap(
       scene, Eigen::AlignedBox3d(Vec3(-0.03, -0.03, -0.02), Vec3(0.03, 0.03, 0.03)), settings,
-      no_cache());
+      uncached());
   std::mt19937 random(3);
   std::uniform_real_distribution<double> xy(-0.02, 0.02), z(0.01 - 0.005, 0.01 + 0.004);
   for (int n = 0; n < 200; ++n) {
@@ -225,13 +225,13 @@ TEST_CASE("the voxmap covers only objects whose band meets the region", "[voxmap
   settings.voxel_size_m = 0.002;
   const SceneVoxmap near_first = build_scene_voxmap(
       scene, Eigen::AlignedBox3d(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05)), settings,
-      no_cache());
+      uncached());
   CHECK(near_first.objects_voxelised == 1);
   CHECK(near_first.lookup.state(near_first.lookup.voxel_of(Vec3::Zero())) == VoxelState::kInterior);
   // Outside the region everything reads free, even inside the second box.
   CHECK(near_first.lookup.state(near_first.lookup.voxel_of(Vec3(0.5, 0, 0))) == VoxelState::kFree);
   const SceneVoxmap nothing = build_scene_voxmap(
-      scene, Eigen::AlignedBox3d(Vec3(0.2, 0.2, 0.2), Vec3(0.3, 0.3, 0.3)), settings, no_cache());
+      scene, Eigen::AlignedBox3d(Vec3(0.2, 0.2, 0.2), Vec3(0.3, 0.3, 0.3)), settings, uncached());
   CHECK(nothing.objects_voxelised == 0);
   CHECK(nothing.lookup.state(nothing.lookup.voxel_of(Vec3::Zero())) == VoxelState::kFree);
 }
@@ -250,7 +250,7 @@ TEST_CASE("an open surface marked distance_only has surface voxels but no interi
   VoxmapSettings settings;
   settings.voxel_size_m = 0.002;
   const SceneVoxmap voxmap =
-      build_scene_voxmap({open}, grown(world_bounds(open), 0.01), settings, no_cache());
+      build_scene_voxmap({open}, grown(world_bounds(open), 0.01), settings, uncached());
   const std::vector<int64_t> counts = voxmap.lookup.state_counts();
   CHECK(counts[static_cast<int>(VoxelState::kInterior)] == 0);
   CHECK(counts[static_cast<int>(VoxelState::kSurface)] > 0);
@@ -267,7 +267,7 @@ TEST_CASE("clearance is a lower bound on the distance to every non-free voxel",
   settings.proximity_layers = 2;
   const SceneVoxmap voxmap =
       build_scene_voxmap(scene, Eigen::AlignedBox3d(Vec3(-0.2, -0.2, -0.2), Vec3(0.2, 0.2, 0.2)),
-                         settings, no_cache());
+                         settings, uncached());
   // Non-free voxels reach out to (L + 1/2) h beyond the box, plus half a
   // voxel for the cube: distance from p to the region is at least the
   // distance to the grown box.
@@ -295,7 +295,7 @@ TEST_CASE("near the scene, clearance is within a voxel of the distance to the no
   settings.voxel_size_m = 0.001;
   settings.signed_distance = true;
   const Eigen::AlignedBox3d bounds = world_bounds(scene[0]);
-  const SceneVoxmap voxmap = build_scene_voxmap(scene, grown(bounds, 0.01), settings, no_cache());
+  const SceneVoxmap voxmap = build_scene_voxmap(scene, grown(bounds, 0.01), settings, uncached());
   const VoxelLookup& lookup = voxmap.lookup;
   const double h = settings.voxel_size_m;
   const int window = VoxelLookup::kFineCap + 2;
@@ -345,7 +345,7 @@ TEST_CASE("pointshell points are surface voxel centres with inward normals",
   sphere.subdivisions = 4;
   const TriangleMesh mesh = shape_mesh(sphere);
   const double spacing = 0.001;
-  const PointShellPoints shell = build_pointshell(mesh, spacing, no_cache());
+  const PointShellPoints shell = build_pointshell(mesh, spacing, uncached());
   // The centres within s/2 of the surface fill a shell of volume ≈ area·s:
   // about one point per s² of surface.
   const double area = 4 * M_PI * sphere.radius * sphere.radius;
@@ -389,7 +389,7 @@ TEST_CASE("the pointshell covers a closed tool at the spacing whatever its align
   tools.emplace_back("sphere of radius 7.5 mm", shape_mesh(sphere));
   for (const auto& [name, mesh] : tools) {
     INFO(name);
-    const PointShellPoints shell = build_pointshell(mesh, h, no_cache());
+    const PointShellPoints shell = build_pointshell(mesh, h, uncached());
     double area = 0;
     for (const auto& t : mesh.triangles)
       area += 0.5 * (mesh.vertices[t[1]] - mesh.vertices[t[0]])

@@ -8,7 +8,7 @@
 namespace hb {
 namespace {
 
-constexpr double kTickS = 1e-3;
+constexpr double kDeviceTickS = 1e-3;
 
 // A model without friction, encoders, filter or damping, to compare with
 // closed forms; tests switch on what they need.
@@ -44,7 +44,7 @@ TEST_CASE("without damping or friction, the intent's work is the change of store
   const double inertia = model.hand.inertia_kgm2 + model.device.inertia_kgm2;
   const Vec3 w(0.02, -0.01, 0.005);
   const double turn_rate = 0.8;  // rad/s about z
-  ClosedLoopDevice device(model, kTickS);
+  ClosedLoopDevice device(model, kDeviceTickS);
   device.reset(intent_at(Vec3::Zero(), 0));
   auto stored = [&](const Pose& intent) {
     const Vec3 y = device.pose().p - intent.p;
@@ -57,7 +57,7 @@ TEST_CASE("without damping or friction, the intent's work is the change of store
   Pose intent = intent_at(Vec3::Zero(), 0);
   const double start = stored(intent);
   for (int n = 0; n < 800; ++n) {
-    const Pose next = intent_at(w * (n + 1) * kTickS, turn_rate * (n + 1) * kTickS);
+    const Pose next = intent_at(w * (n + 1) * kDeviceTickS, turn_rate * (n + 1) * kDeviceTickS);
     const Vec3 v0 = device.velocity(), omega0 = device.angular_velocity();
     device.advance(Wrench{}, intent, next);
     work += w.dot(mass * (device.velocity() - v0)) +
@@ -71,7 +71,7 @@ TEST_CASE("without damping or friction, the intent's work is the change of store
 TEST_CASE("a held force and torque move a free device by F t² / 2M and τ t² / 2I") {
   ClosedLoopModel model = ideal_model();
   model.hand = {0, 0, 0, 0, 0, 0};
-  ClosedLoopDevice device(model, kTickS);
+  ClosedLoopDevice device(model, kDeviceTickS);
   const Pose still = intent_at(Vec3(0.1, 0.2, 0.3), 0);
   device.reset(still);
   Wrench wrench;
@@ -79,7 +79,7 @@ TEST_CASE("a held force and torque move a free device by F t² / 2M and τ t² /
   wrench.torque = Vec3(0, 0, 0.002);
   const int ticks = 300;
   for (int n = 0; n < ticks; ++n) device.advance(wrench, still, still);
-  const double t = ticks * kTickS;
+  const double t = ticks * kDeviceTickS;
   const Vec3 moved = device.pose().p - still.p;
   CHECK((moved - wrench.force * t * t / (2 * model.device.mass_kg)).norm() < 1e-14);
   const double turned = rotation_vector(device.pose().q).z();
@@ -93,7 +93,7 @@ TEST_CASE("Coulomb friction holds a device whose push stays within it and brakes
   const Pose still = intent_at(Vec3::Zero(), 0);
   Wrench wrench;
   SECTION("within: the device does not move") {
-    ClosedLoopDevice device(model, kTickS);
+    ClosedLoopDevice device(model, kDeviceTickS);
     device.reset(still);
     wrench.force = Vec3(0.05, 0.01, 0);
     for (int n = 0; n < 200; ++n) device.advance(wrench, still, still);
@@ -101,18 +101,18 @@ TEST_CASE("Coulomb friction holds a device whose push stays within it and brakes
     CHECK(device.velocity().norm() == 0);
   }
   SECTION("beyond: it accelerates by (F − F_c) / M") {
-    ClosedLoopDevice device(model, kTickS);
+    ClosedLoopDevice device(model, kDeviceTickS);
     device.reset(still);
     wrench.force = Vec3(0.1, 0, 0);
     const int ticks = 100;
     for (int n = 0; n < ticks; ++n) device.advance(wrench, still, still);
-    const double t = ticks * kTickS;
+    const double t = ticks * kDeviceTickS;
     CHECK(device.pose().p.x() ==
           Approx((0.1 - 0.06) * t * t / (2 * model.device.mass_kg)).epsilon(1e-12));
   }
   SECTION("a hand spring pulling it stops within the friction band") {
     model.hand = {0.1, 1e-3, 300, 0, 1, 0};
-    ClosedLoopDevice device(model, kTickS);
+    ClosedLoopDevice device(model, kDeviceTickS);
     device.reset(still);
     const Pose away = intent_at(Vec3(0.01, 0, 0), 0);
     device.advance(Wrench{}, still, away);
@@ -131,7 +131,7 @@ TEST_CASE("the device reports its encoders' pose and a filtered backward differe
   const double a = 0.05 / model.device.mass_kg;  // m/s²
   SECTION("encoders: the reading is the nearest multiple of the resolution") {
     model.device.encoder_m = 1e-4;
-    ClosedLoopDevice device(model, kTickS);
+    ClosedLoopDevice device(model, kDeviceTickS);
     device.reset(still);
     for (int n = 0; n < 400; ++n) {
       device.advance(wrench, still, still);
@@ -143,13 +143,13 @@ TEST_CASE("the device reports its encoders' pose and a filtered backward differe
   SECTION("velocity: the backward difference lags a ramp by T/2, the filter by αT/(1−α) more") {
     for (double cutoff_hz : {0.0, 100.0}) {
       model.device.velocity_filter_hz = cutoff_hz;
-      const double alpha = cutoff_hz > 0 ? std::exp(-2 * M_PI * cutoff_hz * kTickS) : 0;
-      ClosedLoopDevice device(model, kTickS);
+      const double alpha = cutoff_hz > 0 ? std::exp(-2 * M_PI * cutoff_hz * kDeviceTickS) : 0;
+      ClosedLoopDevice device(model, kDeviceTickS);
       device.reset(still);
       const int ticks = 300;
       for (int n = 0; n < ticks; ++n) device.advance(wrench, still, still);
-      const double t = ticks * kTickS;
-      const double lag = kTickS / 2 + alpha * kTickS / (1 - alpha);
+      const double t = ticks * kDeviceTickS;
+      const double lag = kDeviceTickS / 2 + alpha * kDeviceTickS / (1 - alpha);
       CHECK(device.report(ticks).twist.v.x() == Approx(a * (t - lag)).epsilon(1e-9));
       CHECK(device.report(ticks).tick == ticks);
     }
@@ -168,7 +168,7 @@ TEST_CASE(
   for (double friction : {0.0, 0.02}) {
     model.device.friction_n = friction;
     model.device.friction_nm = friction / 100;
-    ClosedLoopDevice device(model, kTickS);
+    ClosedLoopDevice device(model, kDeviceTickS);
     const Pose still = intent_at(Vec3::Zero(), 0);
     device.reset(still);
     double work = 0;

@@ -114,7 +114,7 @@ TEST_CASE("20 values a side: the normal approximation against the exact distribu
 
 // Step-time-like values: 800..1199 ns, spread evenly by a multiplicative
 // stride (7919 is prime, so i -> 7919 i mod 400 visits every residue).
-std::vector<double> step_times(std::size_t count, double scale) {
+std::vector<double> sampled_step_times(std::size_t count, double scale) {
   std::vector<double> values;
   for (std::size_t i = 0; i < count; ++i)
     values.push_back(std::round(scale * (800.0 + static_cast<double>((i * 7919) % 400))));
@@ -122,7 +122,7 @@ std::vector<double> step_times(std::size_t count, double scale) {
 }
 
 TEST_CASE("large samples: identical, clearly shifted, shifted the other way") {
-  const std::vector<double> baseline = step_times(1000, 1.0);
+  const std::vector<double> baseline = sampled_step_times(1000, 1.0);
   SECTION("identical samples: U at its mean, p just above one half") {
     const MannWhitneyResult r = mann_whitney_greater(baseline, baseline);
     CHECK(r.u_candidate == r.u_mean);
@@ -130,13 +130,13 @@ TEST_CASE("large samples: identical, clearly shifted, shifted the other way") {
     CHECK(r.p_value > 0.5);  // the continuity correction leans towards "no"
   }
   SECTION("1.5 times slower: p far below any alpha") {
-    const MannWhitneyResult r = mann_whitney_greater(baseline, step_times(1000, 1.5));
+    const MannWhitneyResult r = mann_whitney_greater(baseline, sampled_step_times(1000, 1.5));
     CHECK(r.p_value < 1e-6);
     // 1.5 * 800 = 1200 exceeds every baseline value: complete separation.
     CHECK(r.u_candidate == 1000.0 * 1000.0);
   }
   SECTION("faster candidate: p near 1") {
-    const MannWhitneyResult r = mann_whitney_greater(baseline, step_times(1000, 0.7));
+    const MannWhitneyResult r = mann_whitney_greater(baseline, sampled_step_times(1000, 0.7));
     CHECK(r.p_value > 1 - 1e-6);
   }
   SECTION("heavily tied samples (integer ns, few distinct values) stay well defined") {

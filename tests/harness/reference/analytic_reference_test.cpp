@@ -11,10 +11,13 @@
 #include <random>
 #include <vector>
 
+#include "tests/support/shape_fixtures.h"
 #include "tests/support/tunnelling_paths.h"
 
 namespace hb {
 namespace {
+
+using test::box_shape;
 
 constexpr double kStiffness = 2000;     // k_T, N/m
 constexpr double kRotStiffness = 5;     // k_R, N·m/rad
@@ -26,13 +29,6 @@ Shape sphere_shape(double radius) {
   Shape shape;
   shape.type = ShapeType::kSphere;
   shape.radius = radius;
-  return shape;
-}
-
-Shape box_shape(const Vec3& size) {
-  Shape shape;
-  shape.type = ShapeType::kBox;
-  shape.size = size;
   return shape;
 }
 

@@ -17,16 +17,12 @@
 #include "hapticbench/input_error.h"
 #include "hapticbench/shapes.h"
 #include "harness/reference/oracle.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
 
-Shape box_shape(const Vec3& size) {
-  Shape shape;
-  shape.type = ShapeType::kBox;
-  shape.size = size;
-  return shape;
-}
+using test::box_shape;
 
 SceneObject box_object(const std::string& name, const Vec3& size, const Pose& pose) {
   SceneObject object;

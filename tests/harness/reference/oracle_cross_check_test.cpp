@@ -24,7 +24,8 @@ constexpr double kModelSize = 0.2;  // largest bounding-box side after scaling, 
 // A model from models/, scaled so its largest side is kModelSize and placed
 // by a pose that is not axis-aligned.
 SceneObject model_object(const std::string& file) {
-  const std::string path = std::string(HAPTICBENCH_SOURCE_DIR) + "/models/" + file;
+  const std::string path =
+      (std::filesystem::path(HAPTICBENCH_SOURCE_DIR) / "models" / file).string();
   if (!std::filesystem::exists(path))
     FAIL(path << " is missing: run scripts/extract-models (CMake's configure step runs it)");
   SceneObject object;

@@ -18,24 +18,13 @@
 #include "hapticbench/shapes.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/reference/oracle.h"
+#include "tests/support/shape_fixtures.h"
 
 namespace hb {
 namespace {
 
-Shape box_shape(const Vec3& size) {
-  Shape shape;
-  shape.type = ShapeType::kBox;
-  shape.size = size;
-  return shape;
-}
-
-Shape sphere_shape(double radius, int subdivisions) {
-  Shape shape;
-  shape.type = ShapeType::kSphere;
-  shape.radius = radius;
-  shape.subdivisions = subdivisions;
-  return shape;
-}
+using test::box_shape;
+using test::sphere_shape;
 
 SceneObject shape_object(const std::string& name, const Shape& shape, const Pose& pose) {
   SceneObject object;
@@ -53,7 +42,7 @@ Pose make_pose(const Vec3& p, double angle, const Vec3& axis) {
   return pose;
 }
 
-PointQueryResult query_all(const Oracle& oracle, const std::vector<Vec3>& points) {
+PointQueryResult query_every_point(const Oracle& oracle, const std::vector<Vec3>& points) {
   PointQueryRequest request;
   request.points = points;
   request.want_inside = true;
@@ -114,7 +103,7 @@ TEST_CASE("unit cube: inside and outside, also 1e-6 off every face") {
 
   std::vector<Vec3> world;
   for (const Vec3& p : local) world.push_back(kCubePose.transform_point(p));
-  const PointQueryResult result = query_all(*oracle, world);
+  const PointQueryResult result = query_every_point(*oracle, world);
   REQUIRE(result.inside.size() == world.size());
   for (std::size_t i = 0; i < world.size(); ++i) {
     INFO("cube-frame point " << local[i].transpose());
@@ -137,7 +126,7 @@ TEST_CASE("unit cube: closest point, distance and normal equal the exact box's")
   }
   std::vector<Vec3> world;
   for (const Vec3& p : local) world.push_back(kCubePose.transform_point(p));
-  const PointQueryResult result = query_all(*oracle, world);
+  const PointQueryResult result = query_every_point(*oracle, world);
   REQUIRE(result.distance.size() == world.size());
   for (std::size_t i = 0; i < world.size(); ++i) {
     INFO("cube-frame point " << local[i].transpose());
@@ -165,7 +154,7 @@ TEST_CASE("unit cube: closest point, distance and normal equal the exact box's")
       {0.1, 0.2, -0.3}, {0.45, 0.0, 0.0}, {0.49, -0.49, 0.3}, {-0.1, -0.2, -0.4999}, {0, 0, 0}};
   std::vector<Vec3> inside_world;
   for (const Vec3& p : inside_local) inside_world.push_back(kCubePose.transform_point(p));
-  const PointQueryResult inner = query_all(*oracle, inside_world);
+  const PointQueryResult inner = query_every_point(*oracle, inside_world);
   for (std::size_t i = 0; i < inside_world.size(); ++i) {
     INFO("cube-frame point " << inside_local[i].transpose());
     CHECK(inner.inside[i] == 1);
@@ -198,7 +187,7 @@ TEST_CASE("two objects: the nearest object's index, point and inside flag") {
   add(1, small_box, small_pose, Vec3(-0.11, 0.06, 0.21));
   add(1, small_box, small_pose, Vec3(0.05, 0.01, -0.15));  // inside
   add(0, kUnitCube, kCubePose, Vec3(0.3, 0.3, 0.2));       // inside
-  const PointQueryResult result = query_all(*oracle, world);
+  const PointQueryResult result = query_every_point(*oracle, world);
   for (std::size_t i = 0; i < world.size(); ++i) {
     INFO("point " << i);
     CHECK(result.object[i] == expected_object[i]);
@@ -410,7 +399,7 @@ TEST_CASE("open mesh: refused for inside/outside, accepted for distances only") 
   std::vector<Vec3> world;
   for (const Vec3& p : local) world.push_back(kCubePose.transform_point(p));
   world.push_back(Vec3(3.1, 0.2, -0.3));  // inside the closed cube
-  const PointQueryResult result = query_all(*oracle, world);
+  const PointQueryResult result = query_every_point(*oracle, world);
   CHECK(result.inside[0] == 0);
   CHECK(result.inside[1] == 0);
   CHECK(result.inside[2] == 0);

@@ -203,8 +203,9 @@ TEST_CASE("the mesh reference's friction can be left out") {
 
 TEST_CASE("the mesh reference keeps a hook turned about its tip out of the slab") {
   for (const char* name : {"hook_turn_2rads", "hook_turn_8rads"}) {
-    const Scenario scenario =
-        load_scenario(std::string(HAPTICBENCH_SOURCE_DIR) + "/scenarios/stress/" + name + ".json");
+    const Scenario scenario = load_scenario((std::filesystem::path(HAPTICBENCH_SOURCE_DIR) /
+                                             "scenarios/stress" / (std::string(name) + ".json"))
+                                                .string());
     RigidProxyReference reference(scenario.context.scene, scenario.context.tool.mesh,
                                   scenario.context.coupling);
     const std::unique_ptr<Oracle> oracle = make_embree_oracle(scenario.context.scene);

@@ -11,7 +11,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-fs::path scratch(const std::string& name) {
+fs::path index_scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("hb_sweep_index_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -26,7 +26,7 @@ void write_summary(const fs::path& folder, const std::string& runs) {
 }  // namespace
 
 TEST_CASE("a job's state on disk follows the budgets in its summary") {
-  const fs::path dir = scratch("state");
+  const fs::path dir = index_scratch("state");
   write_summary(dir / "pass",
                 R"([{"budgets": [{"name": "nonfinite", "pass": true}]}, {"budgets": []}])");
   write_summary(dir / "fail", R"([{"budgets": [{"name": "a", "pass": true}]},
@@ -41,7 +41,7 @@ TEST_CASE("a job's state on disk follows the budgets in its summary") {
 }
 
 TEST_CASE("sweep.json lists every job with its grid values and status") {
-  const fs::path dir = scratch("listing");
+  const fs::path dir = index_scratch("listing");
   hb::SweepSpec spec;
   spec.path = (dir / "grid.json").string();
   spec.name = "grid";

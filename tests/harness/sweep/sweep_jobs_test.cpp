@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-fs::path scratch(const std::string& name) {
+fs::path jobs_scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("hb_sweep_jobs_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -70,7 +70,7 @@ std::vector<hb::SweepJob> expand(const std::string& path) {
 }  // namespace
 
 TEST_CASE("jobs are scenarios x grid values, scenarios first, the last grid key fastest") {
-  const fs::path dir = scratch("order");
+  const fs::path dir = jobs_scratch("order");
   const std::vector<int> k_t = {1000, 2000};
   const std::vector<int> stiffness = {10, 20, 30};
   const std::string path = write_sweep(
@@ -106,7 +106,7 @@ TEST_CASE("jobs are scenarios x grid values, scenarios first, the last grid key 
 }
 
 TEST_CASE("a sweep without a grid has one job per scenario, named as the scenario") {
-  const fs::path dir = scratch("no_grid");
+  const fs::path dir = jobs_scratch("no_grid");
   const std::vector<hb::SweepJob> jobs =
       expand(write_sweep(dir, {press_scenario("a"), press_scenario("b")}, {{"name", "plain"}}));
   REQUIRE(jobs.size() == 2);
@@ -115,7 +115,7 @@ TEST_CASE("a sweep without a grid has one job per scenario, named as the scenari
 }
 
 TEST_CASE("a missing last key of an existing object is added: a new parameter") {
-  const fs::path dir = scratch("new_leaf");
+  const fs::path dir = jobs_scratch("new_leaf");
   const std::vector<hb::SweepJob> jobs = expand(write_sweep(
       dir, {press_scenario("a")},
       {{"name", "leaf"}, {"grid", {{"/algorithms/0/params/proxy_mass_kg", {0.1, 0.3}}}}}));
@@ -127,7 +127,7 @@ TEST_CASE("a missing last key of an existing object is added: a new parameter") 
 }
 
 TEST_CASE("a grid key whose parent is missing names the sweep file, the key and the scenario") {
-  const fs::path dir = scratch("missing_parent");
+  const fs::path dir = jobs_scratch("missing_parent");
   struct Case {
     std::string pointer;
     std::string location;  // the grid key's JSON pointer in the sweep file
@@ -159,7 +159,7 @@ TEST_CASE("a grid key whose parent is missing names the sweep file, the key and 
 }
 
 TEST_CASE("only_algorithms keeps the listed labels, after the grid is applied") {
-  const fs::path dir = scratch("only");
+  const fs::path dir = jobs_scratch("only");
   const std::vector<hb::SweepJob> jobs =
       expand(write_sweep(dir, {press_scenario("a")},
                          {{"name", "only"},
@@ -175,7 +175,7 @@ TEST_CASE("only_algorithms keeps the listed labels, after the grid is applied") 
 }
 
 TEST_CASE("an only_algorithms label found in no scenario is named") {
-  const fs::path dir = scratch("only_missing");
+  const fs::path dir = jobs_scratch("only_missing");
   const std::string path = write_sweep(dir, {press_scenario("a")},
                                        {{"name", "only"}, {"only_algorithms", {"soft", "sotf"}}});
   try {
@@ -200,7 +200,7 @@ TEST_CASE("job names are folder-safe and two jobs may not share one") {
   CHECK_FALSE(hb::is_safe_folder_name("a/b"));
   CHECK_FALSE(hb::is_safe_folder_name(std::string(256, 'a')));
 
-  const fs::path dir = scratch("collision");
+  const fs::path dir = jobs_scratch("collision");
   const std::string path =
       write_sweep(dir, {press_scenario("a")},
                   {{"name", "collide"}, {"grid", {{"/algorithms/0/label", {"x y", "xy"}}}}});
@@ -214,7 +214,7 @@ TEST_CASE("job names are folder-safe and two jobs may not share one") {
 }
 
 TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's folder") {
-  const fs::path dir = scratch("paths");
+  const fs::path dir = jobs_scratch("paths");
   const fs::path data = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/harness/scenario/data";
   fs::create_directories(dir / "scenarios" / "assets");
   fs::copy_file(data / "cube_2units.off", dir / "scenarios" / "assets" / "cube.off");
@@ -245,7 +245,7 @@ TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's
 }
 
 TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors name source_path") {
-  const fs::path dir = scratch("base_dir");
+  const fs::path dir = jobs_scratch("base_dir");
   const fs::path data = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/harness/scenario/data";
   fs::copy_file(data / "line_trace.csv", dir / "line.csv");
   const std::string text = R"({
@@ -271,7 +271,7 @@ TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors n
 }
 
 TEST_CASE("a job whose values the scenario rejects names the sweep, the job and the field") {
-  const fs::path dir = scratch("bad_value");
+  const fs::path dir = jobs_scratch("bad_value");
   const std::string path = write_sweep(
       dir, {press_scenario("a")}, {{"name", "bad"}, {"grid", {{"/coupling/k_t", {1000, -5}}}}});
   const hb::SweepSpec spec = hb::load_sweep_spec(path);
@@ -289,7 +289,7 @@ TEST_CASE("a job whose values the scenario rejects names the sweep, the job and 
 }
 
 TEST_CASE("a malformed scenario file is named, with the sweep entry that lists it") {
-  const fs::path dir = scratch("malformed_scenario");
+  const fs::path dir = jobs_scratch("malformed_scenario");
   write_file(dir / "scenarios" / "broken.json", "{\n  \"name\": \"broken\",\n}");
   write_file(dir / "sweeps" / "grid.json",
              R"({"name": "g", "scenarios": ["../scenarios/broken.json"]})");

@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // One folder per test process: ctest runs this file's cases side by side.
-fs::path scratch() {
+fs::path spec_scratch() {
   static const hb::test::ScratchDir folder("sweep_spec");
   const fs::path& dir = folder.path();
   fs::create_directories(dir / "scenarios");
@@ -39,7 +39,7 @@ hb::InputError rejection(const fs::path& dir, const std::string& text) {
 }  // namespace
 
 TEST_CASE("a sweep file is read with scenario paths relative to it and grid keys in file order") {
-  const fs::path dir = scratch();
+  const fs::path dir = spec_scratch();
   const hb::SweepSpec spec = hb::parse_sweep_spec(R"({
     "name": "s1", "description": "two keys",
     "scenarios": ["scenarios/a.json", "scenarios/b.json"],
@@ -59,7 +59,7 @@ TEST_CASE("a sweep file is read with scenario paths relative to it and grid keys
 }
 
 TEST_CASE("bad sweep files are rejected naming the field") {
-  const fs::path dir = scratch();
+  const fs::path dir = spec_scratch();
   const std::string scenarios = R"("scenarios": ["scenarios/a.json"])";
   struct Case {
     std::string text;
