@@ -224,8 +224,10 @@ MeshCcdResult MeshCcd::first_contact_among(const ScrewMotion& motion,
 namespace {
 // The scene object of a feature pair, with the pair's indices checked
 // (InputError naming the field otherwise).
-const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
-                                  const ContactFeatures& features) {
+// Throws InputError naming the first index of `features` out of range.
+[[noreturn]] [[gnu::cold]] void throw_out_of_range(const MeshFeatures& tool,
+                                                   std::span<const MeshFeatures> scenes,
+                                                   const ContactFeatures& features) {
   if (features.scene_object < 0 || static_cast<std::size_t>(features.scene_object) >= scenes.size())
     throw InputError("", "features.scene_object",
                      "no scene object " + std::to_string(features.scene_object));
@@ -250,6 +252,32 @@ const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const Mesh
       check(features.scene_feature, scene.edges.size(), "scene_feature");
       break;
   }
+  throw InputError("", "features.kind", "unknown feature pair kind");
+}
+
+const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
+                                  const ContactFeatures& features) {
+  auto within = [](int index, std::size_t size) {
+    return index >= 0 && static_cast<std::size_t>(index) < size;
+  };
+  if (!within(features.scene_object, scenes.size())) throw_out_of_range(tool, scenes, features);
+  const MeshFeatures& scene = scenes[static_cast<std::size_t>(features.scene_object)];
+  bool valid = false;
+  switch (features.kind) {
+    case ContactFeatureKind::kToolVertexSceneFace:
+      valid = within(features.tool_feature, tool.vertices.size()) &&
+              within(features.scene_feature, scene.triangles.size());
+      break;
+    case ContactFeatureKind::kSceneVertexToolFace:
+      valid = within(features.tool_feature, tool.triangles.size()) &&
+              within(features.scene_feature, scene.vertices.size());
+      break;
+    case ContactFeatureKind::kEdgeEdge:
+      valid = within(features.tool_feature, tool.edges.size()) &&
+              within(features.scene_feature, scene.edges.size());
+      break;
+  }
+  if (!valid) throw_out_of_range(tool, scenes, features);
   return scene;
 }
 }  // namespace
@@ -269,30 +297,40 @@ PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
 
 void MeshCcd::closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
                              std::vector<PairClosestPoints>& points) const {
+  const MeshFeatures& tool = data_->tool;
   const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
   points.resize(pairs.size());
+  if (pairs.size() < ccd_detail::PlacedToolVertices::kFewPairs) {
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      points[i] = ccd_detail::pair_closest_points(tool, checked_scene(tool, data_->scene, pairs[i]),
+                                                  pairs[i], rotation, tool_pose.p);
+    return;
+  }
+  ccd_detail::PlacedToolVertices placed(tool, rotation, tool_pose.p);
   for (std::size_t i = 0; i < pairs.size(); ++i)
-    points[i] = ccd_detail::pair_closest_points(data_->tool,
-                                                checked_scene(data_->tool, data_->scene, pairs[i]),
-                                                pairs[i], rotation, tool_pose.p);
+    points[i] = ccd_detail::pair_closest_points(tool, checked_scene(tool, data_->scene, pairs[i]),
+                                                pairs[i], placed);
 }
 
-FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {
-  const MeshFeatures& tool = data_->tool;
-  const MeshFeatures& scene = checked_scene(tool, data_->scene, features);
-  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
-  auto tool_world = [&](int v) -> Vec3 { return tool_pose.p + rotation * tool.vertex(v); };
+namespace {
+
+/// The pair's geometry, the tool's vertex v placed in the world by
+/// place(v) and its directions turned by `rotation` (indices already checked).
+template <class Place>
+FeatureGeometry geometry_placed(const MeshFeatures& tool, const MeshFeatures& scene,
+                                const ContactFeatures& features, const Mat3& rotation,
+                                Place&& place) {
   switch (features.kind) {
     case ContactFeatureKind::kToolVertexSceneFace: {
       const auto& tri = scene.triangle(features.scene_feature);
       return vertex_face_geometry(
-          tool_world(features.tool_feature), scene.vertex(tri[0]), scene.vertex(tri[1]),
+          place(features.tool_feature), scene.vertex(tri[0]), scene.vertex(tri[1]),
           scene.vertex(tri[2]),
           scene.face_normals[static_cast<std::size_t>(features.scene_feature)]);
     }
     case ContactFeatureKind::kSceneVertexToolFace: {
       const auto& tri = tool.triangle(features.tool_feature);
-      const Vec3 a = tool_world(tri[0]), b = tool_world(tri[1]), c = tool_world(tri[2]);
+      const Vec3 a = place(tri[0]), b = place(tri[1]), c = place(tri[2]);
       const Vec3& vertex = scene.vertex(features.scene_feature);
       const Vec3 tool_normal =
           rotation * tool.face_normals[static_cast<std::size_t>(features.tool_feature)];
@@ -309,12 +347,41 @@ FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& t
     case ContactFeatureKind::kEdgeEdge: {
       const auto& te = tool.edge(features.tool_feature);
       const auto& se = scene.edge(features.scene_feature);
-      return edge_edge_geometry(tool_world(te[0]), tool_world(te[1]), scene.vertex(se[0]),
+      return edge_edge_geometry(place(te[0]), place(te[1]), scene.vertex(se[0]),
                                 scene.vertex(se[1]), scene.edge_normal_sum(features.scene_feature),
                                 rotation * tool.edge_normal_sum(features.tool_feature));
     }
   }
   return {};
+}
+
+}  // namespace
+
+FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& tool_pose) const {
+  const MeshFeatures& tool = data_->tool;
+  const MeshFeatures& scene = checked_scene(tool, data_->scene, features);
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  return geometry_placed(tool, scene, features, rotation, [&](int v) -> Vec3 {
+    return ccd_detail::placed_vertex(tool, rotation, tool_pose.p, v);
+  });
+}
+
+void MeshCcd::evaluate(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
+                       std::vector<FeatureGeometry>& geometry) const {
+  const MeshFeatures& tool = data_->tool;
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  geometry.resize(pairs.size());
+  if (pairs.size() < ccd_detail::PlacedToolVertices::kFewPairs) {
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      geometry[i] = geometry_placed(
+          tool, checked_scene(tool, data_->scene, pairs[i]), pairs[i], rotation,
+          [&](int v) -> Vec3 { return ccd_detail::placed_vertex(tool, rotation, tool_pose.p, v); });
+    return;
+  }
+  ccd_detail::PlacedToolVertices placed(tool, rotation, tool_pose.p);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    geometry[i] = geometry_placed(tool, checked_scene(tool, data_->scene, pairs[i]), pairs[i],
+                                  rotation, [&](int v) -> Vec3 { return placed(v); });
 }
 
 std::span<const std::array<int, 2>> MeshCcd::tool_edges() const { return data_->tool.edges; }

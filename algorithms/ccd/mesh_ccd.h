@@ -160,6 +160,11 @@ class MeshCcd {
 
   /// The pair's geometry with the tool's frame at `tool_pose` (world).
   FeatureGeometry evaluate(const ContactFeatures& features, const Pose& tool_pose) const;
+  /// evaluate(pairs[i], tool_pose) for every i, in `geometry` (resized to
+  /// the pairs): the same values, the tool's rotation and each vertex's
+  /// place worked out once.
+  void evaluate(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
+                std::vector<FeatureGeometry>& geometry) const;
 
   /// The feature pairs (tool vertex–scene face, scene vertex–tool face, edge–
   /// edge) at most max_distance apart with the tool's frame at `tool_pose`:

@@ -2,6 +2,7 @@
 // mesh_ccd.h): tool tree × scene trees at one pose, nearest pairs first.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <span>
 
@@ -15,11 +16,50 @@ namespace hb::ccd_detail {
 ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshFeatures> scene,
                                  const Pose& tool_pose, double max_distance, std::size_t max_pairs);
 
+/// Tool vertex v in the world (m), the tool's pose given as the rotation of
+/// its normalised quaternion and its translation.
+inline Vec3 placed_vertex(const MeshFeatures& tool, const Mat3& rotation, const Vec3& translation,
+                          int v) {
+  return translation + rotation * tool.vertex(v);
+}
+
+/// The tool's vertices in the world at one pose, each worked out once while
+/// it keeps its slot: the pairs listed near a contact share a few vertices
+/// (a box resting on tiles: its bottom face's, in every pair). The values
+/// are placed_vertex's, bit for bit.
+class PlacedToolVertices {
+ public:
+  /// Below this many pairs, placing each vertex where it is used costs less
+  /// than clearing the slots.
+  static constexpr std::size_t kFewPairs = 8;
+
+  PlacedToolVertices(const MeshFeatures& tool, const Mat3& rotation, const Vec3& translation);
+  Vec3 operator()(int v) {
+    const std::size_t slot = static_cast<std::size_t>(v) & (kSlots - 1);
+    if (vertex_[slot] != v) {
+      vertex_[slot] = v;
+      world_[slot] = placed_vertex(tool_, rotation_, translation_, v);
+    }
+    return world_[slot];
+  }
+
+ private:
+  static constexpr std::size_t kSlots = 64;  // a power of two
+  const MeshFeatures& tool_;
+  const Mat3& rotation_;
+  const Vec3& translation_;
+  std::array<int, kSlots> vertex_;  // the vertex in each slot, −1 for none
+  std::array<Vec3, kSlots> world_;
+};
+
 /// Closest points of one feature pair (indices already checked), the tool's
 /// pose given as the rotation of its normalised quaternion and its
-/// translation (worked out once for many pairs at one pose).
+/// translation.
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
                                       const ContactFeatures& features, const Mat3& rotation,
                                       const Vec3& translation);
+/// The same, the tool's vertices placed by `placed` (many pairs at one pose).
+PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
+                                      const ContactFeatures& features, PlacedToolVertices& placed);
 
 }  // namespace hb::ccd_detail

@@ -249,9 +249,12 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     const double moved_reach = point_reach(moved_, certifier_.radius());
     const Pose end = certifier_.frames().com_frame(result.proxy);
     const double contact_distance = settings_.contacts.contact_distance_m;
-    for (std::size_t k = 0; k < certificate_.pairs.size() && k < distances_.size(); ++k) {
-      if (distances_[k] > contact_distance + moved_reach) continue;
-      const PairContact contact = certifier_.evaluate(certificate_.pairs[k], end);
+    reported_pairs_.clear();
+    for (std::size_t k = 0; k < certificate_.pairs.size() && k < distances_.size(); ++k)
+      if (distances_[k] <= contact_distance + moved_reach)
+        reported_pairs_.push_back(certificate_.pairs[k]);
+    certifier_.evaluate(reported_pairs_, end, reported_);
+    for (const PairContact& contact : reported_) {
       if (contact.distance > contact_distance) continue;
       contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
     }
@@ -276,6 +279,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   std::vector<int> warm_active_;        ///< the frictionless solve's last active set
   std::vector<double> distances_;       ///< per listed pair at the start of the tick (m)
   std::vector<PairContact> evaluated_;  ///< the near pairs at the start of the tick (scratch)
+  std::vector<ContactFeatures> reported_pairs_;  ///< report_contacts' candidates (scratch)
+  std::vector<PairContact> reported_;            ///< and their contacts at the tick's end
   Vec6 free_velocity_ = Vec6::Zero();
   Vec6 moved_ = Vec6::Zero();
   std::vector<Contact> contacts_;

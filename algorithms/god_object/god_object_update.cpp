@@ -46,15 +46,26 @@ GodObjectSolver::GodObjectSolver(const RenderContext& context, const GodObjectSe
 void GodObjectSolver::reset(const Pose& start) {
   proxy_ = start;
   contacts_.clear();
+  contacts_pose_.reset();
   warm_active_.clear();
 }
 
 void GodObjectSolver::refresh_contacts() {
-  const Pose frame = geometry_.frames().com_frame(proxy_);
-  std::erase_if(contacts_, [&](KeptContact& contact) {
-    contact.geometry = geometry_.ccd().evaluate(contact.features, frame);
+  // The geometry is a function of the pose: at the pose it was evaluated at
+  // (the update's end, then the next update's start when the proxy stayed),
+  // evaluating it again would give the same values.
+  if (contacts_pose_ && contacts_pose_->p == proxy_.p &&
+      contacts_pose_->q.coeffs() == proxy_.q.coeffs())
+    return;
+  refreshed_features_.clear();
+  for (const KeptContact& contact : contacts_) refreshed_features_.push_back(contact.features);
+  geometry_.ccd().evaluate(refreshed_features_, geometry_.frames().com_frame(proxy_),
+                           refreshed_geometry_);
+  for (std::size_t k = 0; k < contacts_.size(); ++k) contacts_[k].geometry = refreshed_geometry_[k];
+  std::erase_if(contacts_, [&](const KeptContact& contact) {
     return !usable(contact.features, contact.geometry, settings_.contact_distance_m);
   });
+  contacts_pose_ = proxy_;
 }
 
 GodObjectUpdateStats GodObjectSolver::update(const Pose& target,

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -131,6 +132,11 @@ class GodObjectSolver {
   std::vector<int> warm_active_;
   Pose proxy_;
   std::vector<KeptContact> contacts_;
+  /// The proxy pose at which every kept contact's geometry was last
+  /// evaluated (refresh_contacts); none after a reset or a new contact.
+  std::optional<Pose> contacts_pose_;
+  std::vector<ContactFeatures> refreshed_features_;  ///< refresh_contacts' scratch
+  std::vector<FeatureGeometry> refreshed_geometry_;
 };
 
 }  // namespace hb

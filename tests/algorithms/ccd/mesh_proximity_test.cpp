@@ -115,43 +115,65 @@ TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest
   CHECK(crowded > 10);  // the cap was exercised
 }
 
-// The batch measure (one rotation for all pairs) against the pair-by-pair
-// one: the same closest points and distances, bit for bit, for every kind
-// of pair the search lists, at random poses.
-TEST_CASE("closest points of many pairs at one pose are those of each pair alone") {
-  const TriangleMesh sphere = shape_mesh(test::sphere_tool(0.01).shape.value());
+// Many pairs measured at one pose (MeshCcd::closest_points and evaluate over
+// a span) give each pair's values alone, bit for bit: on a coarse sphere (42
+// vertices) and on one with more (2,562) than the batch keeps placed at once
+// (64), so that vertices taking one another's place occur.
+TEST_CASE("closest points and geometry of many pairs at one pose are those of each pair alone") {
   SceneObject object;
   object.name = "scene";
   object.mesh = shape_mesh(*test::box_object(Vec3(0.04, 0.04, 0.04), Pose{}).shape);
   const std::vector<SceneObject> scene = {object};
-  const MeshCcd ccd(sphere, scene);
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.004), angle(-3, 3);
-  std::size_t kinds_seen[3] = {0, 0, 0};
-  for (int trial = 0; trial < 20; ++trial) {
-    const Pose pose{Vec3(lateral(rng), lateral(rng), 0.03 + gap(rng)),
-                    quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
-    const ProximityResult found = ccd.proximity(pose, 0.005, 100000);
-    std::vector<ContactFeatures> pairs;
-    for (const ProximityPair& p : found.pairs) pairs.push_back(p.features);
-    // Measured at another pose than the search's, as the certifier does.
-    const Pose moved{pose.p + Vec3(0.0003, -0.0002, 0.0001),
-                     (pose.q * quat_from_rotation_vector(Vec3(0.01, 0.02, -0.01))).normalized()};
-    std::vector<PairClosestPoints> batch;
-    ccd.closest_points(pairs, moved, batch);
-    REQUIRE(batch.size() == pairs.size());
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-      const PairClosestPoints alone = ccd.closest_points(pairs[i], moved);
-      INFO("trial " << trial << ", pair " << i);
-      CHECK(batch[i].distance == alone.distance);
-      CHECK(batch[i].tool_point == alone.tool_point);
-      CHECK(batch[i].scene_point == alone.scene_point);
-      ++kinds_seen[static_cast<int>(pairs[i].kind)];
+  for (const int subdivisions : {1, 4}) {
+    Shape shape = test::sphere_tool(0.01).shape.value();
+    shape.subdivisions = subdivisions;
+    const TriangleMesh sphere = shape_mesh(shape);
+    const MeshCcd ccd(sphere, scene);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.004), angle(-3, 3);
+    std::size_t kinds_seen[3] = {0, 0, 0};
+    bool shared_slot = false;  // two tool vertices a multiple of 64 apart in one batch
+    for (int trial = 0; trial < 20; ++trial) {
+      const Pose pose{Vec3(lateral(rng), lateral(rng), 0.03 + gap(rng)),
+                      quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
+      const ProximityResult found = ccd.proximity(pose, 0.005, 100000);
+      std::vector<ContactFeatures> pairs;
+      std::vector<int> vertices;
+      for (const ProximityPair& p : found.pairs) {
+        pairs.push_back(p.features);
+        if (p.features.kind == ContactFeatureKind::kToolVertexSceneFace)
+          vertices.push_back(p.features.tool_feature);
+      }
+      for (const int a : vertices)
+        for (const int b : vertices) shared_slot = shared_slot || (a != b && a % 64 == b % 64);
+      // Measured at another pose than the search's, as the certifier does.
+      const Pose moved{pose.p + Vec3(0.0003, -0.0002, 0.0001),
+                       (pose.q * quat_from_rotation_vector(Vec3(0.01, 0.02, -0.01))).normalized()};
+      std::vector<PairClosestPoints> points;
+      ccd.closest_points(pairs, moved, points);
+      std::vector<FeatureGeometry> geometry;
+      ccd.evaluate(pairs, moved, geometry);
+      REQUIRE(points.size() == pairs.size());
+      REQUIRE(geometry.size() == pairs.size());
+      for (std::size_t i = 0; i < pairs.size(); ++i) {
+        const PairClosestPoints alone = ccd.closest_points(pairs[i], moved);
+        const FeatureGeometry alone_geometry = ccd.evaluate(pairs[i], moved);
+        INFO("subdivisions " << subdivisions << ", trial " << trial << ", pair " << i);
+        CHECK(points[i].distance == alone.distance);
+        CHECK(points[i].tool_point == alone.tool_point);
+        CHECK(points[i].scene_point == alone.scene_point);
+        CHECK(geometry[i].point == alone_geometry.point);
+        CHECK(geometry[i].normal == alone_geometry.normal);
+        CHECK(geometry[i].gap == alone_geometry.gap);
+        CHECK(geometry[i].distance == alone_geometry.distance);
+        ++kinds_seen[static_cast<int>(pairs[i].kind)];
+      }
     }
+    CHECK(kinds_seen[0] > 0);
+    CHECK(kinds_seen[1] > 0);
+    CHECK(kinds_seen[2] > 0);
+    if (sphere.vertices.size() > 64) CHECK(shared_slot);
   }
-  CHECK(kinds_seen[0] > 0);
-  CHECK(kinds_seen[1] > 0);
-  CHECK(kinds_seen[2] > 0);
 }
 
 }  // namespace
