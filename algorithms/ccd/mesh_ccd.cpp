@@ -280,6 +280,28 @@ const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const Mesh
   if (!valid) throw_out_of_range(tool, scenes, features);
   return scene;
 }
+
+/// Calls visit(i, scene, rotation, place) for every pair i at `tool_pose`:
+/// its scene object (indices checked), the tool's rotation and place(v),
+/// tool vertex v in the world. From PlacedToolVertices::kFewPairs pairs on,
+/// each vertex is placed once.
+template <class Visit>
+void visit_at_pose(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
+                   std::span<const ContactFeatures> pairs, const Pose& tool_pose, Visit&& visit) {
+  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
+  if (pairs.size() < ccd_detail::PlacedToolVertices::kFewPairs) {
+    auto place = [&](int v) -> Vec3 {
+      return ccd_detail::placed_vertex(tool, rotation, tool_pose.p, v);
+    };
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      visit(i, checked_scene(tool, scenes, pairs[i]), rotation, place);
+    return;
+  }
+  ccd_detail::PlacedToolVertices placed(tool, rotation, tool_pose.p);
+  auto place = [&](int v) -> Vec3 { return placed(v); };
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    visit(i, checked_scene(tool, scenes, pairs[i]), rotation, place);
+}
 }  // namespace
 
 ProximityResult MeshCcd::proximity(const Pose& tool_pose, double max_distance,
@@ -297,19 +319,12 @@ PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
 
 void MeshCcd::closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
                              std::vector<PairClosestPoints>& points) const {
-  const MeshFeatures& tool = data_->tool;
-  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
   points.resize(pairs.size());
-  if (pairs.size() < ccd_detail::PlacedToolVertices::kFewPairs) {
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      points[i] = ccd_detail::pair_closest_points(tool, checked_scene(tool, data_->scene, pairs[i]),
-                                                  pairs[i], rotation, tool_pose.p);
-    return;
-  }
-  ccd_detail::PlacedToolVertices placed(tool, rotation, tool_pose.p);
-  for (std::size_t i = 0; i < pairs.size(); ++i)
-    points[i] = ccd_detail::pair_closest_points(tool, checked_scene(tool, data_->scene, pairs[i]),
-                                                pairs[i], placed);
+  visit_at_pose(data_->tool, data_->scene, pairs, tool_pose,
+                [&](std::size_t i, const MeshFeatures& scene, const Mat3&, auto&& place) {
+                  points[i] =
+                      ccd_detail::pair_closest_points_placed(data_->tool, scene, pairs[i], place);
+                });
 }
 
 namespace {
@@ -368,20 +383,11 @@ FeatureGeometry MeshCcd::evaluate(const ContactFeatures& features, const Pose& t
 
 void MeshCcd::evaluate(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
                        std::vector<FeatureGeometry>& geometry) const {
-  const MeshFeatures& tool = data_->tool;
-  const Mat3 rotation = tool_pose.q.normalized().toRotationMatrix();
   geometry.resize(pairs.size());
-  if (pairs.size() < ccd_detail::PlacedToolVertices::kFewPairs) {
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      geometry[i] = geometry_placed(
-          tool, checked_scene(tool, data_->scene, pairs[i]), pairs[i], rotation,
-          [&](int v) -> Vec3 { return ccd_detail::placed_vertex(tool, rotation, tool_pose.p, v); });
-    return;
-  }
-  ccd_detail::PlacedToolVertices placed(tool, rotation, tool_pose.p);
-  for (std::size_t i = 0; i < pairs.size(); ++i)
-    geometry[i] = geometry_placed(tool, checked_scene(tool, data_->scene, pairs[i]), pairs[i],
-                                  rotation, [&](int v) -> Vec3 { return placed(v); });
+  visit_at_pose(data_->tool, data_->scene, pairs, tool_pose,
+                [&](std::size_t i, const MeshFeatures& scene, const Mat3& rotation, auto&& place) {
+                  geometry[i] = geometry_placed(data_->tool, scene, pairs[i], rotation, place);
+                });
 }
 
 std::span<const std::array<int, 2>> MeshCcd::tool_edges() const { return data_->tool.edges; }

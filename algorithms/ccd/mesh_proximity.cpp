@@ -279,49 +279,10 @@ ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshF
   return search.finish(max_distance);
 }
 
-namespace {
-
-/// Closest points of one feature pair, the tool's vertex v placed in the
-/// world by place(v).
-template <class Place>
-PairClosestPoints closest_points_placed(const MeshFeatures& tool, const MeshFeatures& scene,
-                                        const ContactFeatures& features, Place&& place) {
-  PairClosestPoints out;
-  switch (features.kind) {
-    case ContactFeatureKind::kToolVertexSceneFace: {
-      const auto& tri = scene.triangle(features.scene_feature);
-      out.tool_point = place(features.tool_feature);
-      out.scene_point = closest_point_on_triangle(out.tool_point, scene.vertex(tri[0]),
-                                                  scene.vertex(tri[1]), scene.vertex(tri[2]));
-      break;
-    }
-    case ContactFeatureKind::kSceneVertexToolFace: {
-      const auto& tri = tool.triangle(features.tool_feature);
-      out.scene_point = scene.vertex(features.scene_feature);
-      out.tool_point =
-          closest_point_on_triangle(out.scene_point, place(tri[0]), place(tri[1]), place(tri[2]));
-      break;
-    }
-    case ContactFeatureKind::kEdgeEdge: {
-      const auto& te = tool.edge(features.tool_feature);
-      const auto& se = scene.edge(features.scene_feature);
-      const SegmentClosestPoints points = closest_points_of_segments(
-          place(te[0]), place(te[1]), scene.vertex(se[0]), scene.vertex(se[1]));
-      out.tool_point = points.on_p;
-      out.scene_point = points.on_q;
-      break;
-    }
-  }
-  out.distance = (out.tool_point - out.scene_point).norm();
-  return out;
-}
-
-}  // namespace
-
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
                                       const ContactFeatures& features, const Mat3& rotation,
                                       const Vec3& translation) {
-  return closest_points_placed(tool, scene, features, [&](int v) -> Vec3 {
+  return pair_closest_points_placed(tool, scene, features, [&](int v) -> Vec3 {
     return placed_vertex(tool, rotation, translation, v);
   });
 }
@@ -330,11 +291,6 @@ PlacedToolVertices::PlacedToolVertices(const MeshFeatures& tool, const Mat3& rot
                                        const Vec3& translation)
     : tool_(tool), rotation_(rotation), translation_(translation) {
   vertex_.fill(-1);
-}
-
-PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
-                                      const ContactFeatures& features, PlacedToolVertices& placed) {
-  return closest_points_placed(tool, scene, features, [&](int v) -> Vec3 { return placed(v); });
 }
 
 }  // namespace hb::ccd_detail

@@ -8,6 +8,7 @@
 
 #include "algorithms/ccd/mesh_ccd.h"
 #include "algorithms/ccd/mesh_features.h"
+#include "hapticbench/closest_points.h"
 
 namespace hb::ccd_detail {
 
@@ -53,13 +54,44 @@ class PlacedToolVertices {
 };
 
 /// Closest points of one feature pair (indices already checked), the tool's
-/// pose given as the rotation of its normalised quaternion and its
-/// translation.
+/// vertex v placed in the world by place(v).
+template <class Place>
+PairClosestPoints pair_closest_points_placed(const MeshFeatures& tool, const MeshFeatures& scene,
+                                             const ContactFeatures& features, Place&& place) {
+  PairClosestPoints out;
+  switch (features.kind) {
+    case ContactFeatureKind::kToolVertexSceneFace: {
+      const auto& tri = scene.triangle(features.scene_feature);
+      out.tool_point = place(features.tool_feature);
+      out.scene_point = closest_point_on_triangle(out.tool_point, scene.vertex(tri[0]),
+                                                  scene.vertex(tri[1]), scene.vertex(tri[2]));
+      break;
+    }
+    case ContactFeatureKind::kSceneVertexToolFace: {
+      const auto& tri = tool.triangle(features.tool_feature);
+      out.scene_point = scene.vertex(features.scene_feature);
+      out.tool_point =
+          closest_point_on_triangle(out.scene_point, place(tri[0]), place(tri[1]), place(tri[2]));
+      break;
+    }
+    case ContactFeatureKind::kEdgeEdge: {
+      const auto& te = tool.edge(features.tool_feature);
+      const auto& se = scene.edge(features.scene_feature);
+      const SegmentClosestPoints points = closest_points_of_segments(
+          place(te[0]), place(te[1]), scene.vertex(se[0]), scene.vertex(se[1]));
+      out.tool_point = points.on_p;
+      out.scene_point = points.on_q;
+      break;
+    }
+  }
+  out.distance = (out.tool_point - out.scene_point).norm();
+  return out;
+}
+
+/// The same, the tool's pose given as the rotation of its normalised
+/// quaternion and its translation.
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
                                       const ContactFeatures& features, const Mat3& rotation,
                                       const Vec3& translation);
-/// The same, the tool's vertices placed by `placed` (many pairs at one pose).
-PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
-                                      const ContactFeatures& features, PlacedToolVertices& placed);
 
 }  // namespace hb::ccd_detail
