@@ -185,20 +185,6 @@ function(hb_heavy_sources)
   endif()
 endfunction()
 
-# hb_reuse_release_objects(): in a quick sanitizer build (scripts/sanitize
-# --quick) given HAPTICBENCH_REUSE_OBJECTS, a Release build of the same tree,
-# the units this build leaves uninstrumented are linked from that build's
-# objects instead of compiled a second time: the heavy units
-# (hb_heavy_sources), the tests' own code but the end-to-end tests' (whose
-# code names the command line tool of its own build, HAPTICBENCH_BIN, and
-# whether it runs sanitized), and the harness libraries other than
-# HB_QUICK_SANITIZE_HARNESS. The quick pass checks the algorithms and the
-# code that reads the user's files or drives the haptic loop; the rest of
-# the harness (run folders, reports' inputs, sweeps, comparisons, the
-# references, the command line) is checked by the full pass
-# (scripts/sanitize without --quick). Only objects that exist are taken
-# (the script builds the Release tree first, so they are current); the rest
-# is compiled here. Called once, after every target is defined.
 # hb_release_batches(TARGET SOURCES SOURCE_DIR RELEASE_TARGET_DIR OBJECTS_VAR
 # FILES_VAR): the objects of the Release build's batches of TARGET's test
 # files (hb_test_folder's unity build) that hold exactly the files this
@@ -254,6 +240,20 @@ function(hb_release_batches target sources source_dir release_dir objects_var fi
   set(${files_var} ${files} PARENT_SCOPE)
 endfunction()
 
+# hb_reuse_release_objects(): in a quick sanitizer build (scripts/sanitize
+# --quick) given HAPTICBENCH_REUSE_OBJECTS, a Release build of the same tree,
+# the units this build leaves uninstrumented are linked from that build's
+# objects instead of compiled a second time: the heavy units
+# (hb_heavy_sources), the tests' own code but the end-to-end tests' (whose
+# code names the command line tool of its own build, HAPTICBENCH_BIN, and
+# whether it runs sanitized), and the harness libraries other than
+# HB_QUICK_SANITIZE_HARNESS. The quick pass checks the algorithms and the
+# code that reads the user's files or drives the haptic loop; the rest of
+# the harness (run folders, reports' inputs, sweeps, comparisons, the
+# references, the command line) is checked by the full pass
+# (scripts/sanitize without --quick). Only objects that exist are taken
+# (the script builds the Release tree first, so they are current); the rest
+# is compiled here. Called once, after every target is defined.
 set(HB_QUICK_SANITIZE_HARNESS hb_json_fields hb_scenario hb_mesh_io hb_trace hb_replay
     hb_metrics hb_metric_table)
 function(hb_reuse_release_objects)

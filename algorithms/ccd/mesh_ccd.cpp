@@ -1,8 +1,10 @@
 #include "algorithms/ccd/mesh_ccd.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "algorithms/ccd/interval.h"
 #include "algorithms/ccd/mesh_ccd_search.h"
@@ -222,62 +224,57 @@ MeshCcdResult MeshCcd::first_contact_among(const ScrewMotion& motion,
 }
 
 namespace {
-// The scene object of a feature pair, with the pair's indices checked
-// (InputError naming the field otherwise).
+// How many features a pair's tool_feature and scene_feature index, by kind
+// ({0, 0} for a kind that names none).
+std::array<std::size_t, 2> feature_counts(const MeshFeatures& tool, const MeshFeatures& scene,
+                                          ContactFeatureKind kind) {
+  switch (kind) {
+    case ContactFeatureKind::kToolVertexSceneFace:
+      return {tool.vertices.size(), scene.triangles.size()};
+    case ContactFeatureKind::kSceneVertexToolFace:
+      return {tool.triangles.size(), scene.vertices.size()};
+    case ContactFeatureKind::kEdgeEdge:
+      return {tool.edges.size(), scene.edges.size()};
+  }
+  return {0, 0};
+}
+
+bool within(int index, std::size_t size) {
+  return index >= 0 && static_cast<std::size_t>(index) < size;
+}
+
 // Throws InputError naming the first index of `features` out of range.
 [[noreturn]] [[gnu::cold]] void throw_out_of_range(const MeshFeatures& tool,
                                                    std::span<const MeshFeatures> scenes,
                                                    const ContactFeatures& features) {
-  if (features.scene_object < 0 || static_cast<std::size_t>(features.scene_object) >= scenes.size())
+  if (!within(features.scene_object, scenes.size()))
     throw InputError("", "features.scene_object",
                      "no scene object " + std::to_string(features.scene_object));
-  const MeshFeatures& scene = scenes[static_cast<std::size_t>(features.scene_object)];
-  auto check = [](int index, std::size_t size, const char* field) {
-    if (index < 0 || static_cast<std::size_t>(index) >= size)
+  if (features.kind != ContactFeatureKind::kToolVertexSceneFace &&
+      features.kind != ContactFeatureKind::kSceneVertexToolFace &&
+      features.kind != ContactFeatureKind::kEdgeEdge)
+    throw InputError("", "features.kind", "unknown feature pair kind");
+  const auto counts =
+      feature_counts(tool, scenes[static_cast<std::size_t>(features.scene_object)], features.kind);
+  for (const auto& [index, count, field] :
+       {std::tuple{features.tool_feature, counts[0], "tool_feature"},
+        std::tuple{features.scene_feature, counts[1], "scene_feature"}})
+    if (!within(index, count))
       throw InputError(
           "", std::string("features.") + field,
-          "index " + std::to_string(index) + " out of range [0, " + std::to_string(size) + ")");
-  };
-  switch (features.kind) {
-    case ContactFeatureKind::kToolVertexSceneFace:
-      check(features.tool_feature, tool.vertices.size(), "tool_feature");
-      check(features.scene_feature, scene.triangles.size(), "scene_feature");
-      break;
-    case ContactFeatureKind::kSceneVertexToolFace:
-      check(features.tool_feature, tool.triangles.size(), "tool_feature");
-      check(features.scene_feature, scene.vertices.size(), "scene_feature");
-      break;
-    case ContactFeatureKind::kEdgeEdge:
-      check(features.tool_feature, tool.edges.size(), "tool_feature");
-      check(features.scene_feature, scene.edges.size(), "scene_feature");
-      break;
-  }
-  throw InputError("", "features.kind", "unknown feature pair kind");
+          "index " + std::to_string(index) + " out of range [0, " + std::to_string(count) + ")");
+  throw InputError("", "features", "indices in range reported out of range");
 }
 
+// The scene object of a feature pair, with the pair's indices checked
+// (InputError naming the field otherwise).
 const MeshFeatures& checked_scene(const MeshFeatures& tool, std::span<const MeshFeatures> scenes,
                                   const ContactFeatures& features) {
-  auto within = [](int index, std::size_t size) {
-    return index >= 0 && static_cast<std::size_t>(index) < size;
-  };
   if (!within(features.scene_object, scenes.size())) throw_out_of_range(tool, scenes, features);
   const MeshFeatures& scene = scenes[static_cast<std::size_t>(features.scene_object)];
-  bool valid = false;
-  switch (features.kind) {
-    case ContactFeatureKind::kToolVertexSceneFace:
-      valid = within(features.tool_feature, tool.vertices.size()) &&
-              within(features.scene_feature, scene.triangles.size());
-      break;
-    case ContactFeatureKind::kSceneVertexToolFace:
-      valid = within(features.tool_feature, tool.triangles.size()) &&
-              within(features.scene_feature, scene.vertices.size());
-      break;
-    case ContactFeatureKind::kEdgeEdge:
-      valid = within(features.tool_feature, tool.edges.size()) &&
-              within(features.scene_feature, scene.edges.size());
-      break;
-  }
-  if (!valid) throw_out_of_range(tool, scenes, features);
+  const auto counts = feature_counts(tool, scene, features.kind);
+  if (!within(features.tool_feature, counts[0]) || !within(features.scene_feature, counts[1]))
+    throw_out_of_range(tool, scenes, features);
   return scene;
 }
 

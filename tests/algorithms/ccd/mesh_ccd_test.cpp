@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hapticbench/input_error.h"
@@ -197,6 +198,32 @@ TEST_CASE("the nearest of several objects is hit first, touching at t = 0 answer
       ccd.first_contact(ScrewMotion(pose(Vec3(0, 0, 0.04)), pose(Vec3(0.01, 0, 0.05))), {});
   REQUIRE(resting.contact);
   CHECK(resting.toi == 0);
+}
+
+TEST_CASE("a feature pair with an index out of range is rejected naming the index", "[mesh_ccd]") {
+  const std::vector<SceneObject> scene{box_object(kSlabHalf, Vec3::Zero())};
+  const MeshCcd ccd(box_mesh(kCubeHalf), scene);
+  const Pose at_rest = pose(Vec3(0, 0, 0.05));
+  const ScrewMotion motion(at_rest, pose(Vec3(0, 0, 0.04)));
+  const std::vector<std::pair<ContactFeatures, std::string>> bad = {
+      {{ContactFeatureKind::kToolVertexSceneFace, 1, 0, 0}, "no scene object 1"},
+      {{ContactFeatureKind::kToolVertexSceneFace, 0, 8, 0}, "index 8 out of range [0, 8)"},
+      {{ContactFeatureKind::kSceneVertexToolFace, 0, 0, -1}, "index -1 out of range [0, 8)"},
+      {{ContactFeatureKind::kEdgeEdge, 0, 0, 18}, "index 18 out of range [0, 18)"},
+  };
+  for (const auto& [features, message] : bad) {
+    INFO(message);
+    CHECK_THROWS_WITH(ccd.evaluate(features, at_rest), Catch::Contains(message));
+    CHECK_THROWS_WITH(ccd.closest_points(features, at_rest), Catch::Contains(message));
+    // In a batch, after good pairs (enough of them for the vertex cache).
+    std::vector<ContactFeatures> pairs(10, {ContactFeatureKind::kToolVertexSceneFace, 0, 0, 0});
+    pairs.push_back(features);
+    std::vector<FeatureGeometry> geometry;
+    CHECK_THROWS_WITH(ccd.evaluate(pairs, at_rest, geometry), Catch::Contains(message));
+    std::vector<PairClosestPoints> points;
+    CHECK_THROWS_WITH(ccd.closest_points(pairs, at_rest, points), Catch::Contains(message));
+    CHECK_THROWS_WITH(ccd.first_contact_among(motion, pairs, {}), Catch::Contains(message));
+  }
 }
 
 TEST_CASE("bad input and settings are rejected", "[mesh_ccd]") {
