@@ -2,30 +2,36 @@
 // static scene meshes.
 //
 // A search entry is a tool node, a scene node and a time node (a dyadic
-// sub-interval of [0, 1]) whose tests could not exclude a contact; entries
-// are taken in order of the time node's start. An entry that passed its
-// tests is refined by halving its time node when the tool node's centre
-// moves a lot during it compared with the two radii, else by opening the
-// larger node; a pair of leaves is handed to the triangle tests and the
-// primitive kernels. Every contact a kernel reports lowers the limit to
-// its time plus the contact window: entries starting after the limit are
-// never expanded, time nodes reaching past it are tested only up to it,
-// entries tested before the limit came down are tested again, and the
-// kernels search only up to it (CcdSettings::time_limit).
+// sub-interval of [0, 1]) whose tests could not exclude a contact, with the
+// earliest time in it at which the nodes may meet; entries are taken in
+// order of that time (those no later than the last one taken from the
+// queue go on a stack and are taken first). An entry that passed its tests
+// is refined by halving its time node when the tool node's centre moves a
+// lot during it compared with the two radii, else by opening the larger
+// node; a pair of leaves is handed to the triangle tests and the primitive
+// kernels. Every contact a kernel reports lowers the limit to its time plus
+// the contact window: entries after the limit are never expanded, time
+// nodes reaching past it are tested only up to it, entries tested before
+// the limit came down are tested again, and the kernels search only up to
+// it (CcdSettings::time_limit).
 //
-// The tests of a node pair over a time interval T, each a necessary
-// condition of contact during T evaluated with outward rounding:
-//  - the notes' sphere test ‖c_tool(t) − c_scene‖² ≤ (r_tool + r_scene)²,
-//    c_tool(t) enclosed over T, the squared distance in Interval arithmetic;
-//  - the tool sphere against the scene node's slab (mesh_features.h): its
-//    centre's signed distance from the slab must come within r_tool;
-//  - the scene sphere against the tool node's slab, in tool coordinates.
-// A pair of leaves then tests each pair of their triangles over T (boxes,
-// then each triangle's vertices against the other's plane slab), each
-// primitive pair of the triangle pairs left over T and its halves down to
-// kPretestDepth levels (the kernels' own tests, ccd_bisection.h), and runs
-// the kernel of each primitive pair still left, once per search: the
-// kernel covers [0, limit] on its own.
+// Paths over a time node are bounded by chords (path_chord.h): a point's
+// positions lie within a stray of the segment between its positions at the
+// node's two ends, the stray growing with the square of the angle turned.
+// The tests of a node pair over a time node T, each a necessary condition
+// of contact during T, with the rounding bounded:
+//  - the notes' sphere test ‖c_tool(t) − c_scene‖ <= r_tool + r_scene on
+//    the tool centre's chord grown by its stray, which also gives the
+//    earliest t at which it may hold;
+//  - the tool sphere against the scene node's slab (mesh_features.h): the
+//    centre's signed distance from the slab must come within r_tool.
+// A pair of leaves then tests each pair of their triangles over T (boxes
+// around the vertices' chords, then each triangle's vertices against the
+// other's plane slab), each primitive pair of the triangle pairs left over
+// T and its halves down to kPretestDepth levels (the kernels' own tests,
+// ccd_bisection.h, on the chords' boxes), and runs the kernel of each
+// primitive pair still left, once per search: the kernel covers [0, limit]
+// on its own.
 //
 // Why every earlier contact is found: a contact of two triangles at time t
 // is a contact of one of their primitive pairs (a vertex meeting a face or
@@ -44,8 +50,8 @@
 #include <vector>
 
 #include "algorithms/ccd/ccd_bisection.h"
-#include "algorithms/ccd/frame_enclosure.h"
 #include "algorithms/ccd/interval.h"
+#include "algorithms/ccd/path_chord.h"
 #include "algorithms/ccd/screw_ccd.h"
 
 namespace hb::ccd_detail {
@@ -58,7 +64,7 @@ namespace {
 /// resolution keeps pairs whose nodes meet only after the contact out.
 /// Chosen by timing the armadillo-on-bunny benchmark (mesh_ccd_bench).
 constexpr double kInnerSpreadRatio = 0.5;
-constexpr double kLeafSpreadRatio = 0.2;
+constexpr double kLeafSpreadRatio = 0.3;
 /// Time nodes are not halved below this width (unitless).
 constexpr double kMinTimeWidth = 0x1p-24;
 /// Levels of halving of a leaf pair's time node a primitive pair's tests go
@@ -98,37 +104,13 @@ bool separated_by_plane(const FacePlane& plane, const IntervalVec3* const corner
   return above || below;
 }
 
-/// A sphere of `radius` (m) about every point of `centre` lies beyond the
-/// slab, whose reference point is `slab_centre` (same frame). The slab
-/// normal is unit to a few ulps, so the radius grows by 1e-12 relative to
-/// stay an upper bound of the distance along it.
-bool outside_slab(const NodeSlab& slab, const Vec3& slab_centre, const IntervalVec3& centre,
-                  double radius) {
-  if (slab.normal.squaredNorm() == 0) return false;
-  const Interval side = dot(point_interval(slab.normal), centre - point_interval(slab_centre));
+/// A sphere of `radius` (m) about every point whose signed distance along
+/// the slab's normal from its reference point is in `side` (m) lies beyond
+/// the slab. The slab normal is unit to a few ulps, so the radius grows by
+/// 1e-12 relative to stay an upper bound of the distance along it.
+bool beyond_slab(const NodeSlab& slab, const Interval& side, double radius) {
   const double reach = next_up(radius * (1 + 1e-12));
   return side.lo - slab.hi > reach || slab.lo - side.hi > reach;
-}
-
-/// The tool node's slab (tool frame) and the scene node's slab (world) are
-/// apart over the span of the frame. With ν the tool slab's normal and m =
-/// R(t)ᵀ n the scene slab's normal in tool coordinates, a tool point v
-/// (body) is at n · (x − c_s) = side + m · (v − c_t), side = n · (T(t) +
-/// R(t) c_t − c_s) given; writing v − c_t = (β / |ν|²) ν + w with β = ν ·
-/// (v − c_t) ∈ [lo_t, hi_t] and w ⊥ ν, |w| <= r_t, that is side + β (m ·
-/// ν) / |ν|² + m · w with |m · w| <= |m − (m · ν) ν / |ν|²| r_t.
-bool slabs_apart(const NodeSlab& tool_slab, double tool_radius, const NodeSlab& scene_slab,
-                 const Interval& side, const IntervalVec3& m) {
-  if (tool_slab.normal.squaredNorm() == 0 || scene_slab.normal.squaredNorm() == 0) return false;
-  const IntervalVec3 nu = point_interval(tool_slab.normal);
-  const Interval nu2 = dot(nu, nu);
-  const Interval m_nu = dot(m, nu);
-  const Interval along = m_nu / nu2;
-  const Interval perp2 = dot(m, m) - m_nu * along;
-  const double perp = perp2.hi > 0 ? next_up(std::sqrt(perp2.hi)) : 0.0;
-  const double spread = next_up(perp * next_up(tool_radius));
-  const Interval extent = side + Interval(tool_slab.lo, tool_slab.hi) * along;
-  return extent.lo - spread > scene_slab.hi || extent.hi + spread < scene_slab.lo;
 }
 
 /// Some tool triangle in `tool_mask` and scene triangle in `scene_mask`
@@ -152,21 +134,32 @@ class FirstContactSearch {
 
   MeshCcdResult run() {
     TimeNode root;
-    root.frame = frames_.over(Interval(0.0, 1.0));
+    root.chord = frame_chord(frames_, motion_, 0.0, 1.0);
     times_.push_back(root);
     for (std::size_t o = 0; o < scene_.size(); ++o)
       if (!scene_[o].tree.empty()) {
         CentreBoxes boxes;
         push_if_may_meet(0, static_cast<int>(o), 0, 0, boxes);
       }
-    while (!queue_.empty()) {
-      const Entry entry = queue_.top();
-      if (entry.lo > limit_) break;
-      queue_.pop();
+    while (true) {
+      Entry entry;
+      if (!ready_.empty()) {
+        entry = ready_.back();
+        ready_.pop_back();
+        if (entry.lo > limit_) continue;
+      } else if (!queue_.empty()) {
+        entry = queue_.top();
+        if (entry.lo > limit_) break;
+        queue_.pop();
+        frontier_ = entry.lo;
+      } else {
+        break;
+      }
       // Tested before the limit came down: tested again over the shorter span.
       CentreBoxes boxes;
       if (entry.tested_to > limit_ && time(entry.time_node).hi > limit_ &&
-          pair_spread(entry.tool_node, entry.object, entry.scene_node, entry.time_node, boxes) < 0)
+          pair_bounds(entry.tool_node, entry.object, entry.scene_node, entry.time_node, boxes)
+                  .earliest > limit_)
         continue;
       expand(entry);
     }
@@ -174,41 +167,41 @@ class FirstContactSearch {
   }
 
  private:
-  /// A dyadic sub-interval of [0, 1] with the tool frame enclosed over it.
+  /// A dyadic sub-interval of [0, 1] with the tool frame at its ends.
   struct TimeNode {
     double lo = 0, hi = 1;
-    FrameEnclosure frame;       // over [lo, hi]
+    FrameChord chord;           // at lo and hi
     int first_child = -1;       // the second child follows it
     double clipped_limit = -1;  // the limit `clipped` was computed for
-    FrameEnclosure clipped;     // over [lo, clipped_limit]
+    FrameChord clipped;         // at lo and clipped_limit
   };
   /// A pair of nodes that may meet during a time node.
   struct Entry {
-    double lo;         // the time node's start
+    double lo;         // the earliest time the nodes may meet, in the time node
     double tested_to;  // the end of the span the tests covered
-    double spread;     // largest width (m) of the tool node centre's box over it
+    double spread;     // how far apart (m) two positions of the tool node centre can be
     int tool_node, object, scene_node, time_node;
   };
   struct Later {
     bool operator()(const Entry& a, const Entry& b) const { return a.lo > b.lo; }
   };
-  /// The two node centres over a time node, computed when first needed and
-  /// shared by the tests of pairs that keep one node: the tool centre's
-  /// world position, the scene centre in tool coordinates (m).
+  /// The two node centres' paths over a time node, computed when first
+  /// needed and shared by the tests of pairs that keep one node: the tool
+  /// centre's in the world, the scene centre's in tool coordinates (m).
   struct CentreBoxes {
-    IntervalVec3 tool_world, scene_body;
+    PathChord tool_world, scene_body;
     bool have_tool_world = false, have_scene_body = false;
   };
 
   const TimeNode& time(int index) const { return times_[static_cast<std::size_t>(index)]; }
 
-  /// The tool frame over the time node, cut at the current limit. The
+  /// The tool frame at the time node's ends, cut at the current limit. The
   /// reference lasts until times_ grows (children_of).
-  const FrameEnclosure& frame_of(int index) {
+  const FrameChord& chord_of(int index) {
     TimeNode& node = times_[static_cast<std::size_t>(index)];
-    if (node.hi <= limit_) return node.frame;
+    if (node.hi <= limit_) return node.chord;
     if (node.clipped_limit != limit_) {
-      node.clipped = frames_.over(Interval(node.lo, std::max(node.lo, limit_)));
+      node.clipped = frame_chord(frames_, motion_, node.lo, std::max(node.lo, limit_));
       node.clipped_limit = limit_;
     }
     return node.clipped;
@@ -223,7 +216,7 @@ class FirstContactSearch {
         TimeNode child;
         child.lo = a;
         child.hi = b;
-        child.frame = frames_.over(Interval(a, b));
+        child.chord = frame_chord(frames_, motion_, a, b);
         times_.push_back(child);
       }
       times_[static_cast<std::size_t>(index)].first_child = first;
@@ -231,48 +224,52 @@ class FirstContactSearch {
     return time(index).first_child;
   }
 
-  /// The node pair's tests over the time node up to the limit: the interval
-  /// sphere test, then each sphere against the other node's slab. Returns
-  /// the spread (m) of the tool centre's box, or −1 when the nodes cannot
-  /// meet during it.
-  double pair_spread(int tool_node, int object, int scene_node, int time_node, CentreBoxes& boxes) {
+  /// What the tests of a node pair over a time node found: the earliest
+  /// time the nodes may meet, and how far apart (m) two positions of the
+  /// tool node's centre can be during the time node.
+  struct PairBounds {
+    double earliest = 2;  // > 1: they cannot meet
+    double spread = 0;
+  };
+
+  /// The node pair's tests over the time node up to the limit: the sphere
+  /// test on the tool centre's path, then the tool sphere against the scene
+  /// node's slab.
+  PairBounds pair_bounds(int tool_node, int object, int scene_node, int time_node,
+                         CentreBoxes& boxes) {
     ++bv_tests_;
+    const PairBounds apart;
     const SphereTreeNode& tool = tool_.node(tool_node);
     const MeshFeatures& mesh = scene_[static_cast<std::size_t>(object)];
     const SphereTreeNode& scene = mesh.node(scene_node);
-    const FrameEnclosure& frame = frame_of(time_node);
     if (!boxes.have_tool_world) {
-      boxes.tool_world = frame.position(tool.centre);
+      boxes.tool_world = chord_of(time_node).world_path(tool.centre);
       boxes.have_tool_world = true;
     }
-    const IntervalVec3& centre = boxes.tool_world;
-    const Interval squared_distance = sqr(centre.x - Interval(scene.centre.x())) +
-                                      sqr(centre.y - Interval(scene.centre.y())) +
-                                      sqr(centre.z - Interval(scene.centre.z()));
-    const Interval reach = Interval(tool.radius) + Interval(scene.radius);
-    if (squared_distance.lo > sqr(reach).hi) return -1;
-    if (outside_slab(mesh.slab(scene_node), scene.centre, centre, tool.radius)) return -1;
-    const NodeSlab& scene_slab = mesh.slab(scene_node);
-    if (scene_slab.normal.squaredNorm() > 0 &&
-        slabs_apart(tool_.slab(tool_node), tool.radius, scene_slab,
-                    dot(point_interval(scene_slab.normal), centre - point_interval(scene.centre)),
-                    frame.body_direction(scene_slab.normal)))
-      return -1;
-    if (!boxes.have_scene_body) {
-      boxes.scene_body = frame.body_coordinates(scene.centre);
-      boxes.have_scene_body = true;
-    }
-    if (outside_slab(tool_.slab(tool_node), tool.centre, boxes.scene_body, scene.radius)) return -1;
-    return std::max({centre.x.width(), centre.y.width(), centre.z.width()});
+    const PathChord& centre = boxes.tool_world;
+    const double first = centre.first_within(scene.centre, tool.radius + scene.radius);
+    if (first > 1) return apart;
+    const NodeSlab& slab = mesh.slab(scene_node);
+    if (slab.normal.squaredNorm() > 0 &&
+        beyond_slab(slab, centre.side(slab.normal, scene.centre), tool.radius))
+      return apart;
+    const TimeNode& node = time(time_node);
+    const double end = std::min(node.hi, limit_);
+    return {std::max(node.lo, next_down(node.lo + first * (end - node.lo))), centre.spread()};
   }
 
   void push_if_may_meet(int tool_node, int object, int scene_node, int time_node,
                         CentreBoxes& boxes) {
     if (time(time_node).lo > limit_) return;
-    const double lo = time(time_node).lo, tested_to = std::min(time(time_node).hi, limit_);
-    const double spread = pair_spread(tool_node, object, scene_node, time_node, boxes);
-    if (spread < 0) return;
-    queue_.push(Entry{lo, tested_to, spread, tool_node, object, scene_node, time_node});
+    const double tested_to = std::min(time(time_node).hi, limit_);
+    const PairBounds bounds = pair_bounds(tool_node, object, scene_node, time_node, boxes);
+    if (bounds.earliest > limit_) return;
+    const Entry entry{bounds.earliest, tested_to,  bounds.spread, tool_node,
+                      object,          scene_node, time_node};
+    if (bounds.earliest <= frontier_)
+      ready_.push_back(entry);
+    else
+      queue_.push(entry);
   }
 
   void expand(const Entry& e) {
@@ -319,13 +316,13 @@ class FirstContactSearch {
     const MeshFeatures& scene = scene_[static_cast<std::size_t>(e.object)];
     const LeafFeatures& tool_leaf = tool_.leaf(e.tool_node);
     const LeafFeatures& scene_leaf = scene.leaf(e.scene_node);
-    const FrameEnclosure frame = frame_of(e.time_node);  // a copy: times_ may grow
+    const FrameChord frame = chord_of(e.time_node);  // a copy: times_ may grow
 
     // Tool vertices in the world; scene vertices in tool coordinates, made
     // when first needed.
     IntervalVec3 tool_boxes[LeafFeatures::kMaxVertices];
     for (int v = 0; v < tool_leaf.vertex_count; ++v)
-      tool_boxes[v] = frame.position(tool_.vertex(tool_leaf.vertices[v]));
+      tool_boxes[v] = frame.world_path(tool_.vertex(tool_leaf.vertices[v])).box();
     IntervalVec3 scene_body_boxes[LeafFeatures::kMaxVertices];
     bool have_scene_body_boxes = false;
     IntervalVec3 scene_boxes[LeafFeatures::kMaxTriangles];
@@ -353,7 +350,7 @@ class FirstContactSearch {
         if (separated_by_plane(scene.plane(scene_leaf.triangles[j]), corners)) continue;
         if (!have_scene_body_boxes) {
           for (int w = 0; w < scene_leaf.vertex_count; ++w)
-            scene_body_boxes[w] = frame.body_coordinates(scene.vertex(scene_leaf.vertices[w]));
+            scene_body_boxes[w] = frame.body_path(scene.vertex(scene_leaf.vertices[w])).box();
           have_scene_body_boxes = true;
         }
         const IntervalVec3* scene_corners[3] = {&scene_body_boxes[scene_leaf.corner[j][0]],
@@ -391,8 +388,8 @@ class FirstContactSearch {
                                    scene.vertex(tri[2])};
     const IntervalVec3 x1 = point_interval(face[0]), x2 = point_interval(face[1]),
                        x3 = point_interval(face[2]);
-    if (!may_touch_during(e.time_node, [&](const FrameEnclosure& f) {
-          const IntervalVec3 x0 = f.position(vertex);
+    if (!may_touch_during(e.time_node, [&](const FrameChord& frame) {
+          const IntervalVec3 x0 = frame.world_path(vertex).box();
           return vertex_face_may_touch(x1 - x0, x2 - x0, x3 - x0);
         }))
       return;
@@ -410,8 +407,8 @@ class FirstContactSearch {
                                    tool_.vertex(tri[2])};
     const IntervalVec3 x1 = point_interval(face[0]), x2 = point_interval(face[1]),
                        x3 = point_interval(face[2]);
-    if (!may_touch_during(e.time_node, [&](const FrameEnclosure& f) {
-          const IntervalVec3 x0 = f.body_coordinates(vertex);
+    if (!may_touch_during(e.time_node, [&](const FrameChord& frame) {
+          const IntervalVec3 x0 = frame.body_path(vertex).box();
           return vertex_face_may_touch(x1 - x0, x2 - x0, x3 - x0);
         }))
       return;
@@ -429,22 +426,25 @@ class FirstContactSearch {
     const std::array<Vec3, 2> tool_edge{tool_.vertex(tool_ends[0]), tool_.vertex(tool_ends[1])};
     const std::array<Vec3, 2> scene_edge{scene.vertex(scene_ends[0]), scene.vertex(scene_ends[1])};
     const IntervalVec3 x2 = point_interval(scene_edge[0]), x3 = point_interval(scene_edge[1]);
-    if (!may_touch_during(e.time_node, [&](const FrameEnclosure& f) {
-          const IntervalVec3 x0 = f.position(tool_edge[0]);
-          return edge_edge_may_touch(f.position(tool_edge[1]) - x0, x2 - x0, x3 - x0);
+    if (!may_touch_during(e.time_node, [&](const FrameChord& frame) {
+          // The edge's direction turns without moving: its own path is tighter
+          // than the difference of its ends' boxes.
+          const IntervalVec3 x0 = frame.world_path(tool_edge[0]).box();
+          return edge_edge_may_touch(frame.world_vector(tool_edge[1] - tool_edge[0]).box(), x2 - x0,
+                                     x3 - x0);
         }))
       return;
     done_.insert(features);
     record(features, screw_edge_edge_ccd(motion_, tool_edge, scene_edge, kernel_settings()));
   }
 
-  /// Whether `test` (given the tool frame over a span of t) cannot exclude
+  /// Whether `test` (given the tool frame at the ends of a span of t) cannot exclude
   /// the time node up to the limit, nor, in turn, one of its halves, down to
   /// `depth` levels below it. Earliest half first.
   template <class Test>
   bool may_touch_during(int node, const Test& test, int depth = kPretestDepth) {
     ++pretests_;
-    if (!test(frame_of(node))) return false;
+    if (!test(chord_of(node))) return false;
     if (depth == 0) return true;
     const int first = children_of(node);
     for (int child = first; child < first + 2; ++child)
@@ -501,6 +501,8 @@ class FirstContactSearch {
   double best_ = std::numeric_limits<double>::infinity();
   std::vector<TimeNode> times_;
   std::priority_queue<Entry, std::vector<Entry>, Later> queue_;
+  std::vector<Entry> ready_;  // entries no later than frontier_, taken last in first out
+  double frontier_ = 0;       // the start of the entry last taken from queue_
   std::unordered_set<ContactFeatures, ContactFeaturesHash> done_;  // kernels run
   std::vector<MeshCcdContact> candidates_;
   std::int64_t bv_tests_ = 0, primitive_queries_ = 0, primitive_evaluations_ = 0, pretests_ = 0;
