@@ -353,7 +353,7 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
   Setup& s = setup();
-  s.results.push_back(measure("mesh_ccd (interval spheres)", kMotions, 5, false,
+  s.results.push_back(measure("mesh_ccd (path chords)", kMotions, 5, false,
                               [](const Motion& m, Measured& out) { return run_mesh_ccd(m, out); }));
   // The counters above summed 5 runs per motion.
   s.results[0].bv_tests /= 5;
