@@ -220,23 +220,51 @@ class ProximitySearch {
       if (!(tool_leaf.edge_triangles[i] & near_tool)) continue;
       const auto& te = tool_.edge(tool_leaf.edges[i]);
       const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
-      const Vec3 middle = 0.5 * (p0 + p1);
-      const double half = 0.5 * (p1 - p0).norm();
-      if (beyond(middle, half, scene_node.centre, scene_node.radius)) continue;
-      for (int j = 0; j < scene_leaf.edge_count; ++j) {
-        if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
-        const auto& se = scene.edge(scene_leaf.edges[j]);
-        const Vec3& q0 = scene.vertex(se[0]);
-        const Vec3& q1 = scene.vertex(se[1]);
-        // The tool edge lies within `half` of its middle: no nearer than the
-        // middle's distance from the scene edge, less half.
-        if ((middle - closest_point_on_segment(middle, q0, q1)).norm() - half - kBoundSlack * half >
+      const ToolEdge edge{tool_leaf.edges[i], p0, p1, 0.5 * (p0 + p1), 0.5 * (p1 - p0).norm()};
+      if (beyond(edge.middle, edge.half, scene_node.centre, scene_node.radius)) continue;
+      // Every scene edge is under half as long as a tool edge longer than
+      // the scene leaf's diameter (a small tile's edges under a long face's).
+      if (edge.half > 2 * scene_node.radius)
+        edge_pairs<true>(edge, scene, scene_leaf, near_scene, object);
+      else
+        edge_pairs<false>(edge, scene, scene_leaf, near_scene, object);
+    }
+  }
+
+  /// A tool edge placed in the world (m): its ends, middle and half length.
+  struct ToolEdge {
+    int index;
+    Vec3 p0, p1, middle;
+    double half;
+  };
+
+  /// The tool edge against the scene leaf's edges on near triangles. An
+  /// edge lies within half its length of its middle, so a pair is no nearer
+  /// than one edge's middle is from the other edge, less that half: the
+  /// shorter edge's middle bounds best, the scene edge's when
+  /// kBySceneMiddles, else the tool edge's.
+  template <bool kBySceneMiddles>
+  void edge_pairs(const ToolEdge& edge, const MeshFeatures& scene, const LeafFeatures& scene_leaf,
+                  unsigned near_scene, int object) {
+    for (int j = 0; j < scene_leaf.edge_count; ++j) {
+      if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
+      const auto& se = scene.edge(scene_leaf.edges[j]);
+      const Vec3& q0 = scene.vertex(se[0]);
+      const Vec3& q1 = scene.vertex(se[1]);
+      if constexpr (kBySceneMiddles) {
+        const Vec3 scene_middle = 0.5 * (q0 + q1);
+        const double scene_half = 0.5 * (q1 - q0).norm();
+        if ((scene_middle - closest_point_on_segment(scene_middle, edge.p0, edge.p1)).norm() -
+                scene_half - kBoundSlack * scene_half >
             threshold_)
           continue;
-        const double distance = closest_points_of_segments(p0, p1, q0, q1).distance();
-        consider({ContactFeatureKind::kEdgeEdge, object, tool_leaf.edges[i], scene_leaf.edges[j]},
-                 distance);
+      } else if ((edge.middle - closest_point_on_segment(edge.middle, q0, q1)).norm() - edge.half -
+                     kBoundSlack * edge.half >
+                 threshold_) {
+        continue;
       }
+      const double distance = closest_points_of_segments(edge.p0, edge.p1, q0, q1).distance();
+      consider({ContactFeatureKind::kEdgeEdge, object, edge.index, scene_leaf.edges[j]}, distance);
     }
   }
 
