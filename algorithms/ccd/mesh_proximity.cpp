@@ -62,7 +62,7 @@ class ProximitySearch {
       const SphereTreeNode& scene_node = objects.node(pair.scene);
       if (tool_node.is_leaf() && scene_node.is_leaf()) {
         leaf_pair(tool_node, tool_.leaf(pair.tool), objects, scene_node, objects.leaf(pair.scene),
-                  pair.object);
+                  pair.object, pair.near_tool, pair.near_scene);
         continue;
       }
       // Open the larger sphere (or the one that is not a leaf).
@@ -94,6 +94,10 @@ class ProximitySearch {
   struct NodePair {
     double lower_bound;  ///< no two features of the nodes are nearer (m)
     int object, tool, scene;
+    /// For a pair of leaves, bit k: the leaf's k-th triangle came within the
+    /// threshold of the other leaf's sphere when the pair was pushed (the
+    /// threshold only shrinks, so a triangle without its bit stays beyond).
+    std::uint8_t near_tool, near_scene;
   };
   struct Nearer {
     bool operator()(const NodePair& a, const NodePair& b) const {
@@ -118,22 +122,32 @@ class ProximitySearch {
     const Vec3 tool_centre = world(a.centre);
     double bound = (tool_centre - b.centre).norm() - a.radius - b.radius;
     if (bound > threshold_) return;
+    const double slack = kBoundSlack * (a.radius + b.radius);
+    std::uint8_t near_scene = 0xFF, near_tool = 0xFF;
     if (b.is_leaf())
-      bound = std::max(bound, distance_to_leaf(scene, scene.leaf(scene_node), tool_centre) -
-                                  a.radius - kBoundSlack * (a.radius + b.radius));
+      bound = std::max(bound, leaf_bound(scene, scene.leaf(scene_node), tool_centre, a.radius,
+                                         slack, near_scene));
     if (bound <= threshold_ && a.is_leaf())
-      bound =
-          std::max(bound, distance_to_leaf(tool_, tool_.leaf(tool), tool_coordinates(b.centre)) -
-                              b.radius - kBoundSlack * (a.radius + b.radius));
-    if (bound <= threshold_) open_.push(NodePair{bound, object, tool, scene_node});
+      bound = std::max(bound, leaf_bound(tool_, tool_.leaf(tool), tool_coordinates(b.centre),
+                                         b.radius, slack, near_tool));
+    if (bound <= threshold_)
+      open_.push(NodePair{bound, object, tool, scene_node, near_tool, near_scene});
   }
 
-  /// Distance (m) from `point` (the mesh's frame) to the leaf's nearest triangle.
-  static double distance_to_leaf(const MeshFeatures& mesh, const LeafFeatures& leaf,
-                                 const Vec3& point) {
+  /// A lower bound (m) of the distance from a sphere of `radius` about
+  /// `centre` (the mesh's frame) to the leaf's nearest triangle, lowered by
+  /// `slack`; `near` gets bit k where the leaf's k-th triangle's bound is
+  /// within the threshold.
+  double leaf_bound(const MeshFeatures& mesh, const LeafFeatures& leaf, const Vec3& centre,
+                    double radius, double slack, std::uint8_t& near) const {
     double nearest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < leaf.triangle_count; ++k)
-      nearest = std::min(nearest, distance_to_triangle(mesh, leaf.triangles[k], point));
+    near = 0;
+    for (int k = 0; k < leaf.triangle_count; ++k) {
+      const double distance =
+          distance_to_triangle(mesh, leaf.triangles[k], centre) - radius - slack;
+      nearest = std::min(nearest, distance);
+      if (distance <= threshold_) near = static_cast<std::uint8_t>(near | 1u << k);
+    }
     return nearest;
   }
 
@@ -150,7 +164,12 @@ class ProximitySearch {
   // against the other leaf's sphere or the other edge's.
   void leaf_pair(const SphereTreeNode& tool_node, const LeafFeatures& tool_leaf,
                  const MeshFeatures& scene, const SphereTreeNode& scene_node,
-                 const LeafFeatures& scene_leaf, int object) {
+                 const LeafFeatures& scene_leaf, int object, unsigned near_tool,
+                 unsigned near_scene) {
+    // A feature pair is nearer than the threshold only if its scene feature
+    // lies on a near scene triangle and its tool feature on a near tool
+    // triangle (the masks push() made).
+    if (near_scene == 0 || near_tool == 0) return;
     Vec3 tool_vertices[LeafFeatures::kMaxVertices];
     for (int i = 0; i < tool_leaf.vertex_count; ++i)
       tool_vertices[i] = world(tool_.vertex(tool_leaf.vertices[i]));
@@ -163,24 +182,6 @@ class ProximitySearch {
     auto beyond = [&](const Vec3& point, double radius, const Vec3& centre, double centre_radius) {
       return (point - centre).norm() - radius - centre_radius > threshold_;
     };
-    // near_scene bit k: the scene leaf's k-th triangle comes within the
-    // threshold of the tool leaf's sphere; near_tool likewise. A feature
-    // pair is nearer than the threshold only if its scene feature lies on a
-    // near scene triangle and its tool feature on a near tool triangle.
-    const double slack = kBoundSlack * (tool_node.radius + scene_node.radius);
-    unsigned near_scene = 0, near_tool = 0;
-    for (int k = 0; k < scene_leaf.triangle_count; ++k)
-      if (distance_to_triangle(scene, scene_leaf.triangles[k], tool_centre) - tool_node.radius -
-              slack <=
-          threshold_)
-        near_scene |= 1u << k;
-    const Vec3 scene_centre = tool_coordinates(scene_node.centre);
-    for (int k = 0; k < tool_leaf.triangle_count; ++k)
-      if (distance_to_triangle(tool_, tool_leaf.triangles[k], scene_centre) - scene_node.radius -
-              slack <=
-          threshold_)
-        near_tool |= 1u << k;
-    if (near_scene == 0 || near_tool == 0) return;
     // Tool vertices against scene faces.
     for (int i = 0; i < tool_leaf.vertex_count; ++i) {
       const Vec3& v = tool_vertices[i];
