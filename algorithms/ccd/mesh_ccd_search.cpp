@@ -138,8 +138,8 @@ class FirstContactSearch {
     times_.push_back(root);
     for (std::size_t o = 0; o < scene_.size(); ++o)
       if (!scene_[o].tree.empty()) {
-        CentreBoxes boxes;
-        push_if_may_meet(0, static_cast<int>(o), 0, 0, boxes);
+        ToolCentrePath centre_path;
+        push_if_may_meet(0, static_cast<int>(o), 0, 0, centre_path);
       }
     while (true) {
       Entry entry;
@@ -156,9 +156,9 @@ class FirstContactSearch {
         break;
       }
       // Tested before the limit came down: tested again over the shorter span.
-      CentreBoxes boxes;
+      ToolCentrePath centre_path;
       if (entry.tested_to > limit_ && time(entry.time_node).hi > limit_ &&
-          pair_bounds(entry.tool_node, entry.object, entry.scene_node, entry.time_node, boxes)
+          pair_bounds(entry.tool_node, entry.object, entry.scene_node, entry.time_node, centre_path)
                   .earliest > limit_)
         continue;
       expand(entry);
@@ -185,12 +185,12 @@ class FirstContactSearch {
   struct Later {
     bool operator()(const Entry& a, const Entry& b) const { return a.lo > b.lo; }
   };
-  /// The two node centres' paths over a time node, computed when first
-  /// needed and shared by the tests of pairs that keep one node: the tool
-  /// centre's in the world, the scene centre's in tool coordinates (m).
-  struct CentreBoxes {
-    PathChord tool_world, scene_body;
-    bool have_tool_world = false, have_scene_body = false;
+  /// The tool node centre's path in the world over a time node, computed
+  /// when first needed and shared by the tests of pairs that keep the tool
+  /// node.
+  struct ToolCentrePath {
+    PathChord path;
+    bool known = false;
   };
 
   const TimeNode& time(int index) const { return times_[static_cast<std::size_t>(index)]; }
@@ -236,17 +236,17 @@ class FirstContactSearch {
   /// test on the tool centre's path, then the tool sphere against the scene
   /// node's slab.
   PairBounds pair_bounds(int tool_node, int object, int scene_node, int time_node,
-                         CentreBoxes& boxes) {
+                         ToolCentrePath& centre_path) {
     ++bv_tests_;
     const PairBounds apart;
     const SphereTreeNode& tool = tool_.node(tool_node);
     const MeshFeatures& mesh = scene_[static_cast<std::size_t>(object)];
     const SphereTreeNode& scene = mesh.node(scene_node);
-    if (!boxes.have_tool_world) {
-      boxes.tool_world = chord_of(time_node).world_path(tool.centre);
-      boxes.have_tool_world = true;
+    if (!centre_path.known) {
+      centre_path.path = chord_of(time_node).world_path(tool.centre);
+      centre_path.known = true;
     }
-    const PathChord& centre = boxes.tool_world;
+    const PathChord& centre = centre_path.path;
     const double first = centre.first_within(scene.centre, tool.radius + scene.radius);
     if (first > 1) return apart;
     const NodeSlab& slab = mesh.slab(scene_node);
@@ -259,10 +259,10 @@ class FirstContactSearch {
   }
 
   void push_if_may_meet(int tool_node, int object, int scene_node, int time_node,
-                        CentreBoxes& boxes) {
+                        ToolCentrePath& centre_path) {
     if (time(time_node).lo > limit_) return;
     const double tested_to = std::min(time(time_node).hi, limit_);
-    const PairBounds bounds = pair_bounds(tool_node, object, scene_node, time_node, boxes);
+    const PairBounds bounds = pair_bounds(tool_node, object, scene_node, time_node, centre_path);
     if (bounds.earliest > limit_) return;
     const Entry entry{bounds.earliest, tested_to,  bounds.spread, tool_node,
                       object,          scene_node, time_node};
@@ -288,15 +288,14 @@ class FirstContactSearch {
       halve_time(e);
       return;
     }
-    CentreBoxes shared;
+    ToolCentrePath shared;
     if (!a.is_leaf() && (b.is_leaf() || a.radius >= b.radius)) {
       for (int child = a.first; child < a.first + 2; ++child) {
-        shared.have_tool_world = false;  // a new tool centre, the same scene centre
+        shared.known = false;  // a new tool centre
         push_if_may_meet(child, e.object, e.scene_node, e.time_node, shared);
       }
     } else {
       for (int child = b.first; child < b.first + 2; ++child) {
-        shared.have_scene_body = false;  // a new scene centre, the same tool centre
         push_if_may_meet(e.tool_node, e.object, child, e.time_node, shared);
       }
     }
@@ -305,8 +304,8 @@ class FirstContactSearch {
   void halve_time(const Entry& e) {
     const int first = children_of(e.time_node);
     for (int child = first; child < first + 2; ++child) {
-      CentreBoxes boxes;
-      push_if_may_meet(e.tool_node, e.object, e.scene_node, child, boxes);
+      ToolCentrePath centre_path;
+      push_if_may_meet(e.tool_node, e.object, e.scene_node, child, centre_path);
     }
   }
 
