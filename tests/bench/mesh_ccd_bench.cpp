@@ -349,10 +349,24 @@ void print_summary() {
 
 int main(int argc, char** argv) {
   using namespace hb;
+  // --once: the mesh CCD once per motion and its totals, nothing else (for
+  // counting its instructions: valgrind --tool=callgrind
+  // --toggle-collect='*search_first_contact*' mesh_ccd_bench --once).
+  const bool once = argc > 1 && std::string(argv[1]) == "--once";
+  if (once) argv[1] = argv[0], ++argv, --argc;
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
   Setup& s = setup();
+  if (once) {
+    const Measured m = measure("mesh_ccd", kMotions, 1, false, run_mesh_ccd);
+    const Accuracy a = accuracy(m, false);
+    std::printf(
+        "%zu motions once: %lld node-pair tests, %lld kernel calls, %d on the budget, %d late\n",
+        s.motions.size(), static_cast<long long>(m.bv_tests),
+        static_cast<long long>(m.primitive_queries), m.budget_exhausted, a.late);
+    return 0;
+  }
   s.results.push_back(measure("mesh_ccd (path chords)", kMotions, 5, false,
                               [](const Motion& m, Measured& out) { return run_mesh_ccd(m, out); }));
   // The counters above summed 5 runs per motion.
