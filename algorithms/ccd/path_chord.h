@@ -1,10 +1,10 @@
 // The path of a point over an interval of t of a ScrewMotion, bounded by
 // the chord between its two ends: every position along the path lies
 // within `stray` of the segment [start, end]. For a long interval this is
-// far tighter than a box around the path (FrameEnclosure::position): a box
-// around a diagonal segment holds points up to its whole length away from
-// it, and the box of a turning point grows with every coordinate of the
-// point, where the chord's stray grows with the square of the angle turned.
+// far tighter than a box around the path (the frame enclosed over the whole
+// interval applied to the point): a box around a diagonal segment holds points up to its whole
+// length away from it, and the box of a turning point grows with every coordinate of the point,
+// where the chord's stray grows with the square of the angle turned.
 //
 // Why the stray bounds the path: with s ∈ [0, 1] the fraction of the
 // interval [a, b] (h = b − a), the gap g(s) = p(a + s h) − ((1 − s) p(a) +
@@ -143,9 +143,7 @@ struct FrameChord {
     path.start = rotation_start.transpose() * from_start;
     path.end = rotation_end.transpose() * from_end;
     const double d1 = std::max(from_start.cwiseAbs().sum(), from_end.cwiseAbs().sum());
-    const double magnitude =
-        x.cwiseAbs().maxCoeff() +
-        std::max(origin_start.cwiseAbs().maxCoeff(), origin_end.cwiseAbs().maxCoeff()) + d1;
+    const double magnitude = x.cwiseAbs().maxCoeff() + origin_magnitude + d1;
     const double coordinate_error =
         rotation_error * d1 + 2 * origin_error + kChordSlack * magnitude;
     const double w = std::max(from_start.norm(), from_end.norm()) * (1 + kChordSlack) +
