@@ -276,6 +276,31 @@ void measure_poses() {
   benchmark::DoNotOptimize(force_sink);
 }
 
+/// What one pass over the poses did.
+struct PassTotals {
+  int64_t looked_up = 0, spheres = 0, contacts = 0, braking = 0;
+};
+
+/// The poses in trace order once, each query from the last one's front
+/// (kept out of line so that callgrind can count it alone).
+[[gnu::noinline]] PassTotals coherent_pass() {
+  Setup& s = setup();
+  s.front.clear();
+  PassTotals totals;
+  const int64_t looked_up = s.work.get("points_looked_up");
+  const int64_t spheres = s.work.get("sphere_tests");
+  double force_sink = 0;
+  for (const DeviceSample& pose : s.poses) {
+    force_sink += s.vps_query(pose, true);
+    totals.contacts += static_cast<int64_t>(s.hits.contacts.size());
+    totals.braking += static_cast<int64_t>(s.hits.braking.size());
+  }
+  benchmark::DoNotOptimize(force_sink);
+  totals.looked_up = s.work.get("points_looked_up") - looked_up;
+  totals.spheres = s.work.get("sphere_tests") - spheres;
+  return totals;
+}
+
 /// Google Benchmark's view: one pose per iteration, cycling through the
 /// poses in order; from the root, or from the last pose's front.
 void BM_VoxmapPointShell(benchmark::State& state, bool coherent) {
@@ -407,6 +432,12 @@ void print_summary() {
 
 int main(int argc, char** argv) {
   using namespace hb;
+  // --once: the Voxmap PointShell queries once over the poses in trace
+  // order, each from the last one's front, and their totals, nothing else
+  // (for counting their instructions: valgrind --tool=callgrind
+  // --toggle-collect='*coherent_pass*' vps_vs_fcl_bench --once).
+  const bool once = argc > 1 && std::string(argv[1]) == "--once";
+  if (once) argv[1] = argv[0], ++argv, --argc;
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
@@ -415,6 +446,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "only %zu poses in contact or within %.1f mm (need %zu)\n", s.poses.size(),
                  1e3 * kNearDistance, kMinimumPoses);
     return 1;
+  }
+  if (once) {
+    const PassTotals totals = coherent_pass();
+    std::printf(
+        "%zu poses once from the last front: %lld points looked up, %lld spheres tested, %lld "
+        "contacts, %lld braking points\n",
+        s.poses.size(), static_cast<long long>(totals.looked_up),
+        static_cast<long long>(totals.spheres), static_cast<long long>(totals.contacts),
+        static_cast<long long>(totals.braking));
+    return 0;
   }
   measure_poses();
   benchmark::RegisterBenchmark("BM_VoxmapPointShell/from_root", BM_VoxmapPointShell, false)
