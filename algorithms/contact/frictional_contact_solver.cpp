@@ -52,7 +52,178 @@ Eigen::Vector2d disk_minimiser(const Eigen::Matrix2d& w_inverse, const Eigen::Ve
   return q * lambda * (r / lambda.norm());  // on the circle exactly
 }
 
+// The polish's iterations at most; the halvings of a step that does not
+// reduce the equations before the damping grows, the damping (a share of
+// the mean diagonal of JᵀJ) and how many times it may grow a hundredfold;
+// the equations' norm (relative to the impulses) at which a polish is taken.
+constexpr int kPolishIterations = 20;
+constexpr int kPolishHalvings = 4;
+constexpr double kPolishDamping = 1e-9;
+constexpr int kPolishDampings = 4;
+constexpr double kPolishResidual = 1e-12;
+// An iteration that leaves more than this share of the equations' norm
+// has stalled.
+constexpr double kPolishStall = 0.9;
+// The first sweep after which the sweeps may polish.
+constexpr int kFirstPolishSweep = 8;
+// A sweep that took off less than this share of the last sweep's change
+// (change > this × last change) converges slowly: the sweeps polish, then
+// at doubling intervals.
+constexpr double kSlowSweep = 0.3;
+// Polishes that may fail in one solve (the states of a hard problem do not
+// settle; the sweeps go on alone).
+constexpr int kPolishFailures = 2;
+
+// Dense systems of the polish: 3 unknowns per contact taken, on the stack.
+constexpr int kPolishUnknowns = 3 * kPolishContacts;
+using PolishMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kPolishUnknowns, kPolishUnknowns>;
+using PolishVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kPolishUnknowns, 1>;
+using PolishRows = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kPolishUnknowns>;
+
 }  // namespace
+
+bool FrictionalContactSolver::polish(std::span<const FrictionalContactRow> contacts,
+                                     const Vec6& free_velocity) {
+  FrictionalContactSolution& s = solution_;
+  // The contacts taken: those carrying load and those the iterate pushes
+  // below their bound; the others carry nothing (an unloaded contact's
+  // disk is a point) and stay so when the result keeps them clear.
+  taken_.clear();
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (!(s.impulses[k].x() > 0) && !(jacobians_[k].row(0).dot(s.velocity) - contacts[k].bound < 0))
+      continue;
+    if (taken_.size() == static_cast<std::size_t>(kPolishContacts)) return false;
+    taken_.push_back(static_cast<int>(k));
+  }
+  const auto m = static_cast<Eigen::Index>(taken_.size());
+  if (m == 0) return false;
+  const Eigen::Index n = 3 * m;
+  // v = J_L u = J_L u_free + G x over the contacts taken L, G = J_L R J_Lᵀ;
+  // per contact the augmentation ρ_n = 1 / G_nn and ρ_t = 1 / (mean
+  // tangential diagonal), which make every equation an impulse.
+  PolishMatrix g(n, n);
+  PolishVector free_rates(n), x(n), rho(n);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const int k = taken_[a];
+    free_rates.segment<3>(3 * a) = jacobians_[k] * free_velocity;
+    x.segment<3>(3 * a) = s.impulses[k];
+    for (Eigen::Index b = 0; b < m; ++b)
+      g.block<3, 3>(3 * a, 3 * b) = jacobians_[k] * responses_[taken_[b]];
+    rho(3 * a) = 1 / g(3 * a, 3 * a);
+    rho(3 * a + 1) = rho(3 * a + 2) = 2 / (g(3 * a + 1, 3 * a + 1) + g(3 * a + 2, 3 * a + 2));
+  }
+  // Alart & Curnier's equations, zero exactly where the conditions above
+  // hold: with λ̂_n = λ_n − ρ_n (n·u − b) and τ = λ_t − ρ_t u_t,
+  //   F_n = λ_n − max(0, λ̂_n),   F_t = λ_t − Π_{|·| ≤ μ max(0, λ̂_n)}(τ),
+  // and a generalised Jacobian from the branch each contact is on.
+  PolishMatrix jacobian(n, n);
+  PolishVector equations(n), rates(n);
+  PolishRows slip_change(2, n);
+  const auto evaluate = [&](const PolishVector& at, bool with_jacobian) {
+    rates = free_rates + g * at;
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const FrictionalContactRow& c = contacts[taken_[a]];
+      const Eigen::Index row = 3 * a;
+      const double rho_n = rho(row), rho_t = rho(row + 1);
+      const double augmented = at(row) - rho_n * (rates(row) - c.bound);
+      const bool pressed = augmented > 0;
+      if (pressed) {
+        equations(row) = rho_n * (rates(row) - c.bound);
+        if (with_jacobian) jacobian.row(row) = rho_n * g.row(row);
+      } else {
+        equations(row) = at(row);
+        if (with_jacobian) {
+          jacobian.row(row).setZero();
+          jacobian(row, row) = 1;
+        }
+      }
+      const double radius = c.friction * std::max(0.0, augmented);
+      const Eigen::Vector2d tau = at.segment<2>(row + 1) - rho_t * rates.segment<2>(row + 1);
+      const double length = tau.norm();
+      if (length <= radius) {  // sticking: u_t = 0
+        equations.segment<2>(row + 1) = rho_t * rates.segment<2>(row + 1);
+        if (with_jacobian) jacobian.middleRows<2>(row + 1) = rho_t * g.middleRows<2>(row + 1);
+        continue;
+      }
+      // Sliding: F_t = λ_t − r h, h = τ / |τ|, r = μ max(0, λ̂_n);
+      // dF_t = dλ_t − h dr − (r / |τ|) (I − h hᵀ) dτ.
+      const Eigen::Vector2d h = tau / length;
+      equations.segment<2>(row + 1) = at.segment<2>(row + 1) - radius * h;
+      if (!with_jacobian) continue;
+      slip_change = -rho_t * g.middleRows<2>(row + 1);
+      slip_change.block<2, 2>(0, row + 1) += Eigen::Matrix2d::Identity();
+      jacobian.middleRows<2>(row + 1) =
+          -(radius / length) * (Eigen::Matrix2d::Identity() - h * h.transpose()) * slip_change;
+      jacobian.block<2, 2>(row + 1, row + 1) += Eigen::Matrix2d::Identity();
+      if (pressed) {
+        jacobian.middleRows<2>(row + 1) += (c.friction * rho_n) * h * g.row(row);
+        jacobian.block<2, 1>(row + 1, row) -= c.friction * h;
+      }
+    }
+  };
+  // Levenberg–Marquardt steps on ½ |F|²: contacts at one point with
+  // nearly parallel normals make the Jacobian nearly singular, and a plain
+  // Newton step would trade load between them without bound. A step is
+  // halved until it reduces |F|; when kPolishHalvings halvings do not, the
+  // damping grows a hundredfold, at most kPolishDampings times.
+  PolishVector trial(n);
+  PolishMatrix damped(n, n);
+  evaluate(x, true);
+  double residual = equations.norm();
+  for (int iteration = 0; iteration < kPolishIterations; ++iteration) {
+    if (residual <= kPolishResidual * x.norm()) break;
+    const PolishVector gradient = jacobian.transpose() * equations;
+    const PolishMatrix normal_matrix = jacobian.transpose() * jacobian;
+    // The mean diagonal of JᵀJ is |J|² / n.
+    double damping = kPolishDamping * jacobian.squaredNorm() / static_cast<double>(n);
+    bool reduced = false;
+    for (int attempt = 0; attempt < kPolishDampings && !reduced; ++attempt, damping *= 100) {
+      damped = normal_matrix;
+      damped.diagonal().array() += damping;
+      const PolishVector step = damped.ldlt().solve(-gradient);
+      if (!step.allFinite()) return false;
+      double fraction = 1;
+      for (int halving = 0; halving <= kPolishHalvings && !reduced; ++halving, fraction *= 0.5) {
+        trial = x + fraction * step;
+        evaluate(trial, false);
+        reduced = equations.norm() <= (1 - 1e-4 * fraction) * residual;
+      }
+    }
+    if (!reduced) return false;
+    x = trial;
+    evaluate(x, true);
+    // Stalled short of a root (the contacts taken or their states are not
+    // the solution's): the sweeps go on.
+    const double previous = residual;
+    residual = equations.norm();
+    if (residual > kPolishStall * previous) return false;
+  }
+  if (!(residual <= kPolishResidual * x.norm())) return false;
+  // The result projected as the equations project it (λ_n = max(0, λ̂_n),
+  // λ_t = Π(τ)), so that a contact left unpressed carries exactly nothing
+  // and a sliding one lies on its circle; the contacts left out must still
+  // be clear of their bounds.
+  rates = free_rates + g * x;
+  Vec6 velocity = free_velocity;
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const FrictionalContactRow& c = contacts[taken_[a]];
+    const Eigen::Index row = 3 * a;
+    const double normal = std::max(0.0, x(row) - rho(row) * (rates(row) - c.bound));
+    const Eigen::Vector2d tau = x.segment<2>(row + 1) - rho(row + 1) * rates.segment<2>(row + 1);
+    const double radius = c.friction * normal, length = tau.norm();
+    x(row) = normal;
+    x.segment<2>(row + 1) = length <= radius ? tau : Eigen::Vector2d(tau * (radius / length));
+    velocity += responses_[taken_[a]] * x.segment<3>(row);
+  }
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    if (!std::binary_search(taken_.begin(), taken_.end(), static_cast<int>(k)) &&
+        jacobians_[k].row(0).dot(velocity) - contacts[k].bound < -options_.tolerance)
+      return false;
+  for (Eigen::Index a = 0; a < m; ++a) s.impulses[taken_[a]] = x.segment<3>(3 * a);
+  s.velocity = velocity;
+  return true;
+}
 
 FrictionalContactSolver::FrictionalContactSolver(const FrictionalContactOptions& options)
     : options_(options) {}
@@ -100,6 +271,9 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   }
   if (count == 0) return s;
 
+  int next_polish = kFirstPolishSweep;
+  double last_change = 0;
+  int failed_polishes = 0;
   for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
     const Vec6 velocity_before = s.velocity;
     for (std::size_t k = 0; k < count; ++k) {
@@ -117,8 +291,9 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
         impulse.x() = normal;
       }
 
-      // Tangential: the impulse that stops sliding, kept in the disk μ λ_n.
-      if (c.friction <= 0 && impulse.tail<2>().isZero()) continue;
+      // Tangential: the impulse that stops sliding, kept in the disk μ λ_n
+      // (a point without friction or normal force keeps none).
+      if ((c.friction <= 0 || impulse.x() == 0) && impulse.tail<2>().isZero()) continue;
       const Eigen::Matrix2d wt = w.bottomRightCorner<2, 2>();
       // The slip this contact's tangential impulse sees from everything else.
       const Eigen::Vector2d slip_without = j.bottomRows<2>() * s.velocity - wt * impulse.tail<2>();
@@ -142,12 +317,22 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
     }
     // The sweep's change of every contact point's velocity.
     const Vec6 change = s.velocity - velocity_before;
-    double largest_change = 0;
+    double largest_squared = 0;
     for (std::size_t k = 0; k < count; ++k)
-      largest_change = std::max(largest_change, (jacobians_[k] * change).norm());
+      largest_squared = std::max(largest_squared, (jacobians_[k] * change).squaredNorm());
+    const double largest_change = std::sqrt(largest_squared);
     s.sweeps = sweep + 1;
     s.residual = largest_change;
     if (largest_change <= options_.tolerance) return s;
+    // Polish where the sweeps converge slowly: from kFirstPolishSweep on,
+    // when a sweep took off less than kSlowSweep of the last one's change,
+    // then at doubling intervals.
+    if (s.sweeps >= next_polish && failed_polishes < kPolishFailures &&
+        largest_change > kSlowSweep * last_change) {
+      if (!polish(contacts, free_velocity)) ++failed_polishes;
+      next_polish = 2 * s.sweeps;
+    }
+    last_change = largest_change;
   }
   s.converged = false;
   return s;

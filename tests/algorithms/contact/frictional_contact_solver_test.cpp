@@ -1,13 +1,15 @@
 // The frictional contact solver: stick and slip against the closed form of a
 // block pushed along a plane, a box on a slope that holds or slides as μ is
 // above or below tan(angle), the complementarity conditions on random
-// problems, and determinism.
+// problems and on a point pressed on a crease (in a few sweeps), and
+// determinism.
 #include "algorithms/contact/frictional_contact_solver.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <span>
 #include <vector>
 
 namespace hb {
@@ -123,6 +125,33 @@ TEST_CASE("a box on a slope holds when mu exceeds tan(angle) and slides at g(sin
   }
 }
 
+// Signorini and Coulomb at the solution, to `tolerance` (m/s or N·s):
+// pressed contacts at their bound, the others clear of it; friction inside
+// the disk, a contact inside it sticking, one on its circle opposing its slip.
+void check_conditions(const FrictionalContactSolution& s,
+                      std::span<const FrictionalContactRow> rows, double tolerance) {
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const FrictionalContactRow& c = rows[k];
+    const Vec3 t1 = s.tangent1[k], t2 = c.normal.cross(t1);
+    const Vec3 point_velocity = s.velocity.head<3>() + s.velocity.tail<3>().cross(c.lever);
+    const double gap_rate = c.normal.dot(point_velocity) - c.bound;
+    const Eigen::Vector2d slip(t1.dot(point_velocity), t2.dot(point_velocity));
+    const Vec3& impulse = s.impulses[k];
+    INFO("contact " << k);
+    CHECK(impulse.x() >= 0);
+    CHECK(gap_rate >= -tolerance);
+    CHECK(std::abs(impulse.x() * gap_rate) <= tolerance);
+    const double friction = impulse.tail<2>().norm();
+    CHECK(friction <= c.friction * impulse.x() * (1 + 1e-9) + 1e-12);
+    if (friction < c.friction * impulse.x() * (1 - 1e-6)) {
+      CHECK(slip.norm() <= tolerance);  // inside the cone: stick
+    } else if (slip.norm() > tolerance &&
+               friction > 0) {  // on the cone and sliding: against the slip
+      CHECK(impulse.tail<2>().normalized().dot(slip.normalized()) == Approx(-1).epsilon(1e-5));
+    }
+  }
+}
+
 TEST_CASE("random problems meet the complementarity conditions", "[frictional_contact]") {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -148,26 +177,35 @@ TEST_CASE("random problems meet the complementarity conditions", "[frictional_co
     INFO("trial " << trial << " with " << count << " contacts, sweeps " << s.sweeps);
     REQUIRE(s.converged);
     CHECK(s.residual <= options.tolerance);
-    const double tolerance = 1e-6;
-    for (int k = 0; k < count; ++k) {
-      const FrictionalContactRow& c = rows[k];
-      const Vec3 t1 = s.tangent1[k], t2 = c.normal.cross(t1);
-      const Vec3 point_velocity = s.velocity.head<3>() + s.velocity.tail<3>().cross(c.lever);
-      const double gap_rate = c.normal.dot(point_velocity) - c.bound;
-      const Eigen::Vector2d slip(t1.dot(point_velocity), t2.dot(point_velocity));
-      const Vec3& impulse = s.impulses[k];
-      CHECK(impulse.x() >= 0);
-      CHECK(gap_rate >= -tolerance);
-      CHECK(std::abs(impulse.x() * gap_rate) <= tolerance);
-      const double friction = impulse.tail<2>().norm();
-      CHECK(friction <= c.friction * impulse.x() * (1 + 1e-9) + 1e-12);
-      if (friction < c.friction * impulse.x() * (1 - 1e-6)) {
-        CHECK(slip.norm() <= tolerance);  // inside the cone: stick
-      } else if (slip.norm() > tolerance &&
-                 friction > 0) {  // on the cone and sliding: against the slip
-        CHECK(impulse.tail<2>().normalized().dot(slip.normalized()) == Approx(-1).epsilon(1e-5));
-      }
-    }
+    check_conditions(s, rows, 1e-6);
+  }
+}
+
+TEST_CASE("a point pressed on two faces a few degrees apart converges in a few sweeps",
+          "[frictional_contact]") {
+  // A corner on a crease of two planes whose normals are `degrees` apart,
+  // sliding on both, besides a second corner on a third plane: the normal
+  // impulses of the crease push each other, and the sweeps alone took
+  // 43 (2°) to 1,165 (20°) sweeps to a change of 1e-12.
+  FrictionalContactOptions options;
+  options.max_sweeps = 5000;
+  options.tolerance = 1e-12;
+  FrictionalContactSolver solver(options);
+  const Vec3 corner(0.02, -0.03, -0.01);
+  for (double degrees : {2.0, 4.0, 6.0, 10.0, 20.0}) {
+    const double half_angle = 0.5 * degrees * std::numbers::pi / 180;
+    const std::vector<FrictionalContactRow> rows = {
+        {Vec3(0, std::sin(half_angle), std::cos(half_angle)), corner, 0, 0.3},
+        {Vec3(0.05, -std::sin(half_angle), std::cos(half_angle)).normalized(), corner, 0, 0.3},
+        {Vec3::UnitZ(), Vec3(-0.02, 0.03, -0.01), -0.002, 0.3}};
+    const Vec6 free = (Vec6() << 0.3, 0.1, -1, 0.5, -0.2, 0.3).finished();
+    const FrictionalContactSolution& s =
+        solver.solve(box_response(1, Vec3(0.03, 0.04, 0.01)), free, rows);
+    INFO(degrees << " degrees, sweeps " << s.sweeps);
+    REQUIRE(s.converged);
+    CHECK(s.sweeps <= 10);
+    for (const Vec3& impulse : s.impulses) CHECK(impulse.x() > 0);  // every contact pressed
+    check_conditions(s, rows, 1e-9);
   }
 }
 
