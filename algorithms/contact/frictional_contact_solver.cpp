@@ -203,8 +203,7 @@ bool FrictionalContactSolver::polish(std::span<const FrictionalContactRow> conta
   // The result projected as the equations project it (λ_n = max(0, λ̂_n),
   // λ_t = Π(τ)), so that a contact left unpressed carries exactly nothing
   // and a sliding one lies on its circle; the contacts left out must still
-  // be clear of their bounds.
-  rates = free_rates + g * x;
+  // be clear of their bounds (`rates` holds v at x from the last evaluation).
   Vec6 velocity = free_velocity;
   for (Eigen::Index a = 0; a < m; ++a) {
     const FrictionalContactRow& c = contacts[taken_[a]];

@@ -1,5 +1,5 @@
-// The extracted models the mesh benchmarks load (models/, written by
-// scripts/extract-models).
+// What the mesh benchmarks share: the extracted models they load (models/,
+// written by scripts/extract-models) and their --once flag.
 #pragma once
 
 #include <cstdio>
@@ -21,6 +21,17 @@ inline bool models_present(std::initializer_list<const char*> files) {
       return false;
     }
   }
+  return true;
+}
+
+/// True when the first argument is `flag` (such as "--once", a bench's
+/// own flag), which is then taken out of argc and argv so that Google
+/// Benchmark sees only its own.
+inline bool take_leading_flag(int& argc, char**& argv, const std::string& flag) {
+  if (argc < 2 || argv[1] != flag) return false;
+  argv[1] = argv[0];
+  ++argv;
+  --argc;
   return true;
 }
 

@@ -352,8 +352,7 @@ int main(int argc, char** argv) {
   // --once: the mesh CCD once per motion and its totals, nothing else (for
   // counting its instructions: valgrind --tool=callgrind
   // --toggle-collect='*search_first_contact*' mesh_ccd_bench --once).
-  const bool once = argc > 1 && std::string(argv[1]) == "--once";
-  if (once) argv[1] = argv[0], ++argv, --argc;
+  const bool once = bench::take_leading_flag(argc, argv, "--once");
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!bench::models_present({"armadillo.off", "bunny00.off"})) return 1;
