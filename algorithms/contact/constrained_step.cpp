@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "hapticbench/input_error.h"
+
 namespace hb {
 
 ConstrainedStepSolver::ConstrainedStepSolver(const FrictionalContactOptions& options)
@@ -43,6 +45,19 @@ void visit_candidates(bool few, std::span<const int> listed, KeyWindow& window, 
     return;
   }
   window.visit_within(point.dot(KeyWindow::axis()), radius, visit);
+}
+
+// The least candidate (as visit_candidates has them) that accept(id)
+// takes, −1 if none.
+template <class Accept>
+int least_candidate(bool few, std::span<const int> listed, const KeyWindow& window,
+                    const Vec3& point, double radius, Accept&& accept) {
+  if (few) {
+    for (const int id : listed)
+      if (accept(id)) return id;
+    return -1;
+  }
+  return window.least_within(point.dot(KeyWindow::axis()), radius, accept);
 }
 
 // z-component of (b − a) × (c − a): > 0 when a, b, c turn left.
@@ -103,18 +118,14 @@ void ConstrainedStepSolver::reduce_coplanar_rows() {
     // The first group (in order of creation, which is the order of their
     // first rows) whose first row matches: only rows with a normal near
     // this one's can.
-    int first = -1;
-    visit_candidates(few, group_first_, window_, rows_[row].normal, kSameNormalDistance,
-                     [&](int other) {
-                       if (other >= static_cast<int>(row)) return false;
-                       const FrictionalContactRow& candidate = rows_[other];
-                       if (group_first_[group_of_[other]] == other &&
-                           candidate.friction == rows_[row].friction &&
-                           candidate.normal.dot(rows_[row].normal) >= kSameNormalCos &&
-                           std::abs(candidate.bound - rows_[row].bound) <= bound_tolerance)
-                         first = other;
-                       return first < 0;
-                     });
+    const int first = least_candidate(
+        few, group_first_, window_, rows_[row].normal, kSameNormalDistance, [&](int other) {
+          const FrictionalContactRow& candidate = rows_[other];
+          return other < static_cast<int>(row) && group_first_[group_of_[other]] == other &&
+                 candidate.friction == rows_[row].friction &&
+                 candidate.normal.dot(rows_[row].normal) >= kSameNormalCos &&
+                 std::abs(candidate.bound - rows_[row].bound) <= bound_tolerance;
+        });
     if (first < 0) {
       group_of_[row] = static_cast<int>(group_first_.size());
       group_first_.push_back(static_cast<int>(row));
@@ -166,17 +177,15 @@ void ConstrainedStepSolver::build_rows(std::span<const GaussConstraint> constrai
                    [&](int k) { return constraints[k].lever.dot(KeyWindow::axis()); });
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const GaussConstraint& c = constraints[k];
-    int first = -1;  // the earliest constraint that made a row and matches
-    visit_candidates(few, row_first_, window_, c.lever, kCoincidentM + kLeverKeyMargin,
-                     [&](int other) {
-                       if (other >= static_cast<int>(k)) return false;
-                       const GaussConstraint& candidate = constraints[other];
-                       if (row_first_[row_of_[other]] == other && friction[other] == friction[k] &&
-                           (candidate.lever - c.lever).norm() <= kCoincidentM &&
-                           candidate.normal.dot(c.normal) >= kCoincidentCos)
-                         first = other;
-                       return first < 0;
-                     });
+    // The earliest constraint that made a row and matches.
+    const int first = least_candidate(
+        few, row_first_, window_, c.lever, kCoincidentM + kLeverKeyMargin, [&](int other) {
+          const GaussConstraint& candidate = constraints[other];
+          return other < static_cast<int>(k) && row_first_[row_of_[other]] == other &&
+                 friction[other] == friction[k] &&
+                 (candidate.lever - c.lever).norm() <= kCoincidentM &&
+                 candidate.normal.dot(c.normal) >= kCoincidentCos;
+        });
     if (first < 0) {
       row_of_[k] = static_cast<int>(rows_.size());
       rows_.push_back(FrictionalContactRow{c.normal, c.lever, c.rhs, friction[k]});
@@ -199,8 +208,54 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
                                                     std::span<const double> friction,
                                                     std::vector<int>& warm_active,
                                                     std::span<const Vec3> warm_impulses) {
-  return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
-                    false);
+  if (!distinct_.reduce(constraints, friction))
+    return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
+                      false);
+  to_distinct(warm_active, warm_impulses, constraints.size());
+  try {
+    solve_pass(metric, unconstrained, distinct_.constraints(), distinct_.friction(),
+               distinct_warm_active_, distinct_warm_impulses_, false);
+  } catch (const InputError&) {
+    // A constraint the QP rejects is named by its index among those given:
+    // the same solve of all of them throws for it.
+    return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
+                      false);
+  }
+  return from_distinct(warm_active, constraints.size());
+}
+
+void ConstrainedStepSolver::to_distinct(std::span<const int> warm_active,
+                                        std::span<const Vec3> warm_impulses, std::size_t count) {
+  // Equal constraints' warm impulses add up on their distinct one, as the
+  // frictional solve's seed adds up those of the contacts of one row.
+  distinct_warm_active_.clear();
+  for (const int k : warm_active)
+    if (k >= 0 && static_cast<std::size_t>(k) < count)
+      distinct_warm_active_.push_back(distinct_.distinct_of(k));
+  distinct_warm_impulses_.clear();
+  // Without friction the solve reads no impulses.
+  const std::span<const double> friction = distinct_.friction();
+  if (warm_impulses.size() != count ||
+      std::none_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; }))
+    return;
+  distinct_warm_impulses_.assign(distinct_.constraints().size(), Vec3::Zero());
+  for (std::size_t k = 0; k < count; ++k)
+    distinct_warm_impulses_[static_cast<std::size_t>(distinct_.distinct_of(static_cast<int>(k)))] +=
+        warm_impulses[k];
+}
+
+const ConstrainedStep& ConstrainedStepSolver::from_distinct(std::vector<int>& warm_active,
+                                                            std::size_t count) {
+  // The first of equal constraints carries their impulse, the others none.
+  ConstrainedStep& r = result_;
+  expanded_impulses_.assign(count, Vec3::Zero());
+  for (std::size_t d = 0; d < r.impulses.size(); ++d)
+    expanded_impulses_[static_cast<std::size_t>(distinct_.first_of(static_cast<int>(d)))] =
+        r.impulses[d];
+  r.impulses.swap(expanded_impulses_);
+  warm_active.clear();
+  for (const int d : distinct_warm_active_) warm_active.push_back(distinct_.first_of(d));
+  return r;
 }
 
 const ConstrainedStep& ConstrainedStepSolver::solve_pass(
@@ -326,6 +381,12 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
   double qp_total = 0, sweeps_total = 0;
   int previous = -1;
   const auto share = [&](int row) {
+    // A row the sweeps and the QP both left without load keeps none (its
+    // share of the group's total is zero, and so is its own QP force).
+    if (solution.impulses[row].x() == 0 && row_normal_[row] == 0) {
+      shared_normal_[row] = 0;
+      return;
+    }
     const bool same = previous >= 0 && rows_[previous].normal == rows_[row].normal &&
                       rows_[previous].friction == rows_[row].friction;
     if (!same) {
@@ -354,6 +415,24 @@ void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& 
 }
 
 const ConstrainedStep& ConstrainedStepSolver::solve_system(
+    const Mat6& system, const Vec6& unconstrained, std::span<const GaussConstraint> constraints,
+    std::span<const double> friction, std::vector<int>& warm_active,
+    std::span<const Vec3> warm_impulses) {
+  if (!distinct_.reduce(constraints, friction))
+    return solve_system_of(system, unconstrained, constraints, friction, warm_active,
+                           warm_impulses);
+  to_distinct(warm_active, warm_impulses, constraints.size());
+  try {
+    solve_system_of(system, unconstrained, distinct_.constraints(), distinct_.friction(),
+                    distinct_warm_active_, distinct_warm_impulses_);
+  } catch (const InputError&) {
+    return solve_system_of(system, unconstrained, constraints, friction, warm_active,
+                           warm_impulses);  // as in solve: the error by its own index
+  }
+  return from_distinct(warm_active, constraints.size());
+}
+
+const ConstrainedStep& ConstrainedStepSolver::solve_system_of(
     const Mat6& system, const Vec6& unconstrained, std::span<const GaussConstraint> constraints,
     std::span<const double> friction, std::vector<int>& warm_active,
     std::span<const Vec3> warm_impulses) {
@@ -404,12 +483,15 @@ double ConstrainedStepSolver::coulomb_residual(const Mat6& response, const Vec6&
     const GaussConstraint& c = constraints[k];
     const int row = row_of_[k];
     Eigen::Vector2d force = Eigen::Vector2d::Zero();
-    Vec3 t1 = perpendicular_unit(c.normal);
     if (row >= 0) {
       if (taken_[row]) continue;  // a coincident pair: its row is counted once
       taken_[row] = 1;
       force = friction_forces_[row];
     }
+    // A contact with neither normal nor friction force has a cone of radius
+    // 0 and no force to leave it: it adds exactly nothing, whatever its slip.
+    if (!(normal_forces[k] > 0) && force.isZero(0)) continue;
+    const Vec3 t1 = perpendicular_unit(c.normal);
     const Vec3 t2 = c.normal.cross(t1);
     Eigen::Matrix<double, 2, 6> tangential;
     tangential.row(0) << t1.transpose(), c.lever.cross(t1).transpose();

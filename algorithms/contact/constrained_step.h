@@ -11,6 +11,11 @@
 // quasi-static Coulomb law for a massless proxy (λ in N); for constrained
 // dynamics M is the step's effective mass and λ are impulses (N·s).
 //
+// Constraints that repeat exactly (every number and μ equal bit for bit:
+// the corner four tiles share, a vertex–face pair and an edge–edge pair
+// that meet at one point) are solved once (distinct_constraints.h); the
+// first of them carries the impulse, the others none.
+//
 // Frictionless contacts go to Gauss' least constraint, an exact active-set
 // QP (gauss_least_constraint.h), which converges in a few steps however
 // stiff or redundant the contacts; with friction the frictional contact
@@ -41,6 +46,7 @@
 #include <span>
 #include <vector>
 
+#include "algorithms/contact/distinct_constraints.h"
 #include "algorithms/contact/frictional_contact_solver.h"
 #include "algorithms/contact/gauss_least_constraint.h"
 #include "algorithms/contact/key_window.h"
@@ -110,6 +116,10 @@ class ConstrainedStepSolver {
 
  private:
   GaussLeastConstraintSolver gauss_;
+  DistinctConstraints distinct_;  ///< the constraints of a solve with their repeats merged
+  std::vector<int> distinct_warm_active_;
+  std::vector<Vec3> distinct_warm_impulses_;
+  std::vector<Vec3> expanded_impulses_;
   FrictionalContactSolver frictional_;
   std::vector<FrictionalContactRow> rows_;
   std::vector<Vec3> seed_;
@@ -117,6 +127,19 @@ class ConstrainedStepSolver {
   /// of the last call (solve_system's passes after the first: the same
   /// constraints and μ; a pass that built none reached no frictional solve,
   /// and neither do the passes after it).
+  /// solve_system on constraints that are all distinct.
+  const ConstrainedStep& solve_system_of(const Mat6& system, const Vec6& unconstrained,
+                                         std::span<const GaussConstraint> constraints,
+                                         std::span<const double> friction,
+                                         std::vector<int>& warm_active,
+                                         std::span<const Vec3> warm_impulses);
+  /// The warm start of the constraints (`count` of them) in distinct_'s
+  /// numbering: distinct_warm_active_, distinct_warm_impulses_.
+  void to_distinct(std::span<const int> warm_active, std::span<const Vec3> warm_impulses,
+                   std::size_t count);
+  /// The result of a solve of distinct_'s constraints, and its active set
+  /// (from distinct_warm_active_), in the numbering of the `count` constraints given.
+  const ConstrainedStep& from_distinct(std::vector<int>& warm_active, std::size_t count);
   const ConstrainedStep& solve_pass(const Mat6& metric, const Vec6& unconstrained,
                                     std::span<const GaussConstraint> constraints,
                                     std::span<const double> friction, std::vector<int>& warm_active,

@@ -54,6 +54,20 @@ class KeyWindow {
     for (const int id : ids_)
       if (!visit(id)) return;
   }
+  /// The least id whose key is within [key − radius, key + radius] and
+  /// for which accept(id) holds, −1 if none: what visiting the window in
+  /// ascending order of id until the first accepted one finds, without
+  /// putting the window in that order (accept is asked only of ids below
+  /// the least accepted so far).
+  template <class Accept>
+  int least_within(double key, double radius, Accept&& accept) const {
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), key - radius,
+                               [](const Entry& e, double k) { return e.first < k; });
+    int least = -1;
+    for (; it != entries_.end() && it->first <= key + radius; ++it)
+      if ((least < 0 || it->second < least) && accept(it->second)) least = it->second;
+    return least;
+  }
   std::size_t size() const { return entries_.size(); }
   /// The ids in order of key (equal keys by ascending id).
   template <class Visit>
@@ -62,7 +76,16 @@ class KeyWindow {
   }
 
  private:
-  using Entry = std::pair<double, int>;
+  // Plain data (not std::pair, whose assignment is user-provided), so that
+  // insert moves the entries after it as one block of bytes.
+  struct Entry {
+    double first;  ///< key
+    int second;    ///< id
+    Entry(double key, int id) : first(key), second(id) {}
+    bool operator<(const Entry& other) const {
+      return first < other.first || (first == other.first && second < other.second);
+    }
+  };
   std::vector<Entry> entries_;
   std::vector<int> ids_;  ///< the ids near one key, sorted
 };
