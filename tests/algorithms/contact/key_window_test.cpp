@@ -1,6 +1,6 @@
 // KeyWindow visits what a scan of every id would accept: every point within
 // the radius of the query (by key on KeyWindow::axis()), in ascending order
-// of id, and stops when asked.
+// of id, and stops when asked; least_within finds the first it would stop at.
 #include "algorithms/contact/key_window.h"
 
 #include <algorithm>
@@ -46,6 +46,14 @@ TEST_CASE("a key window finds every point within the radius, in order of id") {
         return false;
       });
       CHECK(first == near.front());
+      // The least accepted id, the window left in key order: the same, and
+      // for a test that takes only odd ids, the least odd one near.
+      const auto is_near = [&](int id) { return (points[id] - points[q]).norm() <= radius; };
+      CHECK(window.least_within(points[q].dot(KeyWindow::axis()), radius, is_near) == first);
+      const auto odd = std::find_if(near.begin(), near.end(), [](int id) { return id % 2 == 1; });
+      CHECK(window.least_within(points[q].dot(KeyWindow::axis()), radius, [&](int id) {
+        return id % 2 == 1 && is_near(id);
+      }) == (odd == near.end() ? -1 : *odd));
     }
   }
 }
