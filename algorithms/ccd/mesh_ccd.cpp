@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "algorithms/ccd/feature_places.h"
 #include "algorithms/ccd/interval.h"
 #include "algorithms/ccd/mesh_ccd_search.h"
 #include "algorithms/ccd/mesh_features.h"
@@ -89,8 +90,9 @@ Pose pose_at(const ScrewMotion& motion, double t) {
 }  // namespace
 
 struct MeshCcd::Data {
-  MeshFeatures tool;                // tool frame
-  std::vector<MeshFeatures> scene;  // world frame
+  MeshFeatures tool;                 // tool frame
+  std::vector<MeshFeatures> scene;   // world frame
+  ccd_detail::FeaturePlaces places;  // of the scene's features
   double tool_radius = 0;
   bool all_cached = true;  // every mesh's features came from the disk cache
 };
@@ -125,7 +127,10 @@ MeshCcd::MeshCcd(const TriangleMesh& tool_mesh, std::span<const SceneObject> sce
         ccd_detail::cached_mesh_features(std::move(world), object.mesh.triangles, name, &hit));
     data_->all_cached = data_->all_cached && hit;
   }
+  data_->places = ccd_detail::FeaturePlaces(data_->scene);
 }
+
+bool MeshCcd::scene_features_share_places() const { return data_->places.any_shared(); }
 
 bool MeshCcd::cache_hit() const { return data_->all_cached; }
 
@@ -312,6 +317,16 @@ PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
   return ccd_detail::pair_closest_points(
       data_->tool, checked_scene(data_->tool, data_->scene, features), features,
       tool_pose.q.normalized().toRotationMatrix(), tool_pose.p);
+}
+
+void MeshCcd::scene_feature_places(std::span<const ContactFeatures> pairs,
+                                   std::vector<int>& places) const {
+  places.assign(pairs.size(), -1);
+  if (!data_->places.any_shared()) return;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    checked_scene(data_->tool, data_->scene, pairs[i]);
+    places[i] = data_->places.place(pairs[i]);
+  }
 }
 
 void MeshCcd::closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,

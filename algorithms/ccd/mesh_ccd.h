@@ -182,6 +182,16 @@ class MeshCcd {
   void closest_points(std::span<const ContactFeatures> pairs, const Pose& tool_pose,
                       std::vector<PairClosestPoints>& points) const;
 
+  /// Whether two scene features of one kind lie at one place (separate
+  /// objects that touch: feature_places.h).
+  bool scene_features_share_places() const;
+  /// The place of each pair's scene feature (a triangle, vertex or edge by
+  /// its kind; indices checked as by evaluate()), in `places` (resized): −1
+  /// for a feature alone at its place. Pairs of one kind and one tool
+  /// feature whose scene features share a place have the same closest
+  /// points at every tool pose.
+  void scene_feature_places(std::span<const ContactFeatures> pairs, std::vector<int>& places) const;
+
   /// Unique undirected edges (vertex index pairs, smaller first) of the tool
   /// and of scene object `object`, as indexed by ContactFeatures.
   std::span<const std::array<int, 2>> tool_edges() const;

@@ -199,8 +199,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
         limit = std::min(limit, certificate_.distances[near] - standoff);
         break;
       }
-    certifier_.evaluate(std::span<const ContactFeatures>(certificate_.pairs).first(near), start,
-                        evaluated_);
+    certifier_.evaluate_listed(certificate_, near, start, evaluated_);
     work.add(ConstrainedDynamicsWork::kPairsEvaluated, static_cast<int64_t>(near));
     for (std::size_t k = 0; k < near; ++k) {
       const ContactFeatures& pair = certificate_.pairs[k];

@@ -75,7 +75,76 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     certificate.pairs.push_back(pair.features);
     certificate.distances.push_back(pair.distance);
   }
+  if (!listed_groups_.empty()) mark_repeats(certificate);
   return certificate;
+}
+
+void ProximityCertifier::mark_repeats(ProximityCertificate& certificate) const {
+  // The listed pairs' groups (listed_groups_, from the search): the first
+  // listed pair of a group is measured, the others repeat it.
+  std::vector<int>& firsts = certificate.first_of_kind;
+  std::vector<int>& measured_as = certificate.measured_as;
+  firsts.clear();
+  measured_as.resize(listed_groups_.size());
+  for (std::size_t k = 0; k < listed_groups_.size(); ++k) {
+    int& first = group_first_[static_cast<std::size_t>(listed_groups_[k])];
+    if (first < 0) {
+      first = static_cast<int>(firsts.size());
+      firsts.push_back(static_cast<int>(k));
+    }
+    measured_as[k] = first;
+  }
+  for (const int group : listed_groups_) group_first_[static_cast<std::size_t>(group)] = -1;
+  if (firsts.size() == measured_as.size()) {
+    firsts.clear();
+    measured_as.clear();
+  }
+}
+
+void ProximityCertifier::group_searched_pairs() const {
+  // Pairs of one kind and tool feature whose scene features share a place
+  // (MeshCcd::scene_feature_places) form a group; every other pair is one.
+  std::vector<int>& group = searched_.group;
+  group.clear();
+  if (!ccd_.scene_features_share_places()) return;
+  const std::vector<ProximityPair>& pairs = searched_.pairs;
+  features_.clear();
+  for (const ProximityPair& pair : pairs) features_.push_back(pair.features);
+  ccd_.scene_feature_places(features_, places_);
+  std::size_t table = 64;
+  while (table < 2 * pairs.size()) table *= 2;
+  std::vector<int>& slots = group_first_;  // its −1 state is restored below
+  slots.assign(table, -1);
+  group.resize(pairs.size());
+  int groups = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const ContactFeatures& pair = features_[k];
+    const int place = places_[k];
+    if (place < 0) {  // alone at its place: a group of its own
+      group[k] = groups++;
+      continue;
+    }
+    const uint64_t key = (static_cast<uint64_t>(pair.kind) << 62) ^
+                         (static_cast<uint64_t>(static_cast<uint32_t>(pair.tool_feature)) << 31) ^
+                         static_cast<uint64_t>(static_cast<uint32_t>(place));
+    std::size_t slot = (key * 0x9E3779B97F4A7C15ULL >> 20) & (table - 1);
+    int found = -1;
+    for (; slots[slot] >= 0; slot = (slot + 1) & (table - 1)) {
+      const auto other = static_cast<std::size_t>(slots[slot]);
+      if (features_[other].kind == pair.kind &&
+          features_[other].tool_feature == pair.tool_feature && places_[other] == place) {
+        found = group[other];
+        break;
+      }
+    }
+    if (found < 0) {
+      slots[slot] = static_cast<int>(k);
+      found = groups++;
+    }
+    group[k] = found;
+  }
+  group_first_.assign(static_cast<std::size_t>(std::max(groups, 1)), -1);
+  group_slot_.assign(group_first_.size(), -1);
 }
 
 namespace {
@@ -129,6 +198,7 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   // The search holds every pair nearer than its clearance, and more than
   // max_pairs of them if it was cut short beyond max_pairs; cut short at
   // max_pairs, its list and clearance are the answer.
+  group_searched_pairs();
   std::optional<ProximityResult> answer =
       answer_within(searched_.pairs, searched_.clearance_m, band_m, max_pairs);
   if (!answer) {
@@ -138,6 +208,11 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   }
   answer->bv_tests = found.bv_tests;
   answer->pair_tests = found.pair_tests;
+  // The answer is a prefix of the searched pairs.
+  const std::vector<int>& group = searched_.group;
+  listed_groups_.assign(
+      group.begin(),
+      group.begin() + static_cast<std::ptrdiff_t>(group.empty() ? 0 : answer->pairs.size()));
   return std::move(*answer);
 }
 
@@ -161,17 +236,62 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   for (const ProximityPair& pair : searched_.pairs)
     if (!(pair.distance - moved > within + kRoundingSlack)) to_measure_.push_back(pair.features);
   const auto pair_tests = static_cast<int64_t>(to_measure_.size());
-  ccd_.closest_points(to_measure_, anchor, measured_points_);
-  measured_.clear();
-  for (std::size_t i = 0; i < to_measure_.size(); ++i)
-    if (measured_points_[i].distance <= within)
-      measured_.push_back(ProximityPair{to_measure_[i], measured_points_[i].distance});
-  std::stable_sort(
-      measured_.begin(), measured_.end(),
-      [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
+  const std::vector<int>& group = searched_.group;
+  if (group.empty()) {
+    ccd_.closest_points(to_measure_, anchor, measured_points_);
+    measured_.clear();
+    for (std::size_t i = 0; i < to_measure_.size(); ++i)
+      if (measured_points_[i].distance <= within)
+        measured_.push_back(ProximityPair{to_measure_[i], measured_points_[i].distance});
+    std::stable_sort(
+        measured_.begin(), measured_.end(),
+        [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
+    listed_groups_.clear();
+  } else {
+    measure_grouped(anchor, moved, within + kRoundingSlack, within);
+  }
   std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
   if (answer) answer->pair_tests = pair_tests;
+  if (!group.empty())
+    listed_groups_.resize(answer ? answer->pairs.size() : 0);  // a prefix of measured_'s
   return answer;
+}
+
+void ProximityCertifier::measure_grouped(const Pose& anchor, double moved, double reachable,
+                                         double within) const {
+  // As the plain re-measurement (answer_from_searched), the first pair of
+  // each group measured for all of it: the same distances, bit for bit.
+  const std::vector<ProximityPair>& pairs = searched_.pairs;
+  const std::vector<int>& group = searched_.group;
+  firsts_measured_.clear();
+  measured_index_.clear();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (pairs[i].distance - moved > reachable) continue;
+    int& slot = group_slot_[static_cast<std::size_t>(group[i])];
+    if (slot < 0) {
+      slot = static_cast<int>(firsts_measured_.size());
+      firsts_measured_.push_back(pairs[i].features);
+    }
+    measured_index_.push_back(static_cast<int>(i));
+  }
+  ccd_.closest_points(firsts_measured_, anchor, measured_points_);
+  order_.clear();
+  for (const int i : measured_index_) {
+    const int slot = group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])];
+    if (measured_points_[static_cast<std::size_t>(slot)].distance <= within)
+      order_.push_back(
+          std::pair<double, int>{measured_points_[static_cast<std::size_t>(slot)].distance, i});
+  }
+  for (const int i : measured_index_)
+    group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])] = -1;
+  // By distance, ties in the order measured (a stable sort's order).
+  std::sort(order_.begin(), order_.end());
+  measured_.clear();
+  listed_groups_.clear();
+  for (const auto& [distance, i] : order_) {
+    measured_.push_back(ProximityPair{pairs[static_cast<std::size_t>(i)].features, distance});
+    listed_groups_.push_back(group[static_cast<std::size_t>(i)]);
+  }
 }
 
 double ProximityCertifier::band_for(const Pose& previous_target, const Pose& target) const {
@@ -197,6 +317,37 @@ void ProximityCertifier::evaluate(std::span<const ContactFeatures> pairs, const 
   contacts.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k)
     contacts[k] = contact_of(pairs[k], evaluated_points_[k], com_pose);
+}
+
+void ProximityCertifier::evaluate_listed(const ProximityCertificate& certificate, std::size_t count,
+                                         const Pose& com_pose,
+                                         std::vector<PairContact>& contacts) const {
+  const std::span<const ContactFeatures> listed =
+      std::span<const ContactFeatures>(certificate.pairs).first(count);
+  if (certificate.measured_as.empty()) {
+    evaluate(listed, com_pose, contacts);
+    return;
+  }
+  // The pairs that repeat none among the first `count`: a prefix of
+  // first_of_kind (a pair comes after the one it repeats).
+  const std::vector<int>& firsts = certificate.first_of_kind;
+  const auto measured = static_cast<std::size_t>(
+      std::lower_bound(firsts.begin(), firsts.end(), static_cast<int>(count)) - firsts.begin());
+  firsts_.clear();
+  for (std::size_t i = 0; i < measured; ++i)
+    firsts_.push_back(listed[static_cast<std::size_t>(firsts[i])]);
+  ccd_.closest_points(firsts_, com_pose, evaluated_points_);
+  contacts.resize(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto as = static_cast<std::size_t>(certificate.measured_as[k]);
+    const auto first = static_cast<std::size_t>(firsts[as]);
+    const PairClosestPoints& points = evaluated_points_[as];
+    // Away from the floor the contact is the points' alone (contact_of):
+    // the first's, bit for bit.
+    contacts[k] = first < k && points.distance > kDirectionFloor
+                      ? contacts[first]
+                      : contact_of(listed[k], points, com_pose);
+  }
 }
 
 PairContact ProximityCertifier::contact_of(const ContactFeatures& pair,

@@ -43,6 +43,15 @@ struct ProximityCertificate {
   /// Tree searches the certificate took: 0 when the pairs of an earlier
   /// search answered it (ProximityCertifier::certify), else 1 or 2.
   int searches = 0;
+  /// Listed pairs that repeat an earlier listed one: the same kind and tool
+  /// feature, scene features at one place (MeshCcd::scene_feature_place:
+  /// tiles that share a corner), so the same closest points at every pose.
+  /// Both empty when no pair repeats another. Otherwise `first_of_kind`
+  /// holds the listed index of each pair that repeats none, ascending, and
+  /// `measured_as` per listed pair the position in it of the pair it
+  /// repeats (its own when it repeats none).
+  std::vector<int> first_of_kind;
+  std::vector<int> measured_as;
 };
 
 /// How many of the certificate's pairs are at most `distance_m` apart at
@@ -106,6 +115,12 @@ class ProximityCertifier {
   void evaluate(std::span<const ContactFeatures> pairs, const Pose& com_pose,
                 std::vector<PairContact>& contacts) const;
 
+  /// evaluate of the certificate's first `count` listed pairs: the same
+  /// values, each pair that repeats an earlier one (measured_as) taking
+  /// that one's closest points instead of measuring them again.
+  void evaluate_listed(const ProximityCertificate& certificate, std::size_t count,
+                       const Pose& com_pose, std::vector<PairContact>& contacts) const;
+
   const ProxyFrames& frames() const { return frames_; }
   /// The tool's radius about its centre of mass (m; 0 for a point tool).
   double radius() const { return radius_; }
@@ -118,6 +133,11 @@ class ProximityCertifier {
     std::vector<ProximityPair> pairs;  ///< with their distances at `anchor`
     double clearance_m = -1;           ///< m; < 0 before the first search
     bool widened = false;              ///< it looked kSearchMargin farther than asked
+    /// Per pair, its group: the pairs of one kind and tool feature whose
+    /// scene features share a place (MeshCcd::scene_feature_places), which
+    /// have the same closest points at every pose. Empty when no scene
+    /// features share a place.
+    std::vector<int> group;
   };
 
   /// The max_pairs nearest pairs within band_m at `anchor` and their
@@ -158,6 +178,25 @@ class ProximityCertifier {
   /// loop may be in certify: a vector of its own, shared with nothing
   /// certify touches (evaluate(pairs) itself is for one thread at a time).
   mutable std::vector<PairClosestPoints> evaluated_points_;
+  mutable std::vector<ContactFeatures> firsts_;  ///< scratch of evaluate_listed
+  /// Per pair of the last listed_pairs answer, its group (SearchedPairs);
+  /// empty without groups.
+  mutable std::vector<int> listed_groups_;
+  /// Scratch of the slow loop's grouping: per group, −1 between uses.
+  mutable std::vector<int> group_first_, group_slot_;
+  mutable std::vector<ContactFeatures> features_, firsts_measured_;
+  mutable std::vector<int> places_, measured_index_;
+  mutable std::vector<std::pair<double, int>> order_;
+  /// Marks the certificate's repeated pairs (first_of_kind, measured_as)
+  /// from listed_groups_.
+  void mark_repeats(ProximityCertificate& certificate) const;
+  /// searched_.group for the pairs of a new search.
+  void group_searched_pairs() const;
+  /// answer_from_searched's re-measurement with groups: the searched pairs
+  /// whose distance less `moved` is within `reachable`, measured at
+  /// `anchor` once per group; those within `within` in measured_ by
+  /// distance, their groups in listed_groups_.
+  void measure_grouped(const Pose& anchor, double moved, double reachable, double within) const;
 };
 
 }  // namespace hb

@@ -84,9 +84,7 @@ double HapticProxy::least_listed_distance() const {
 }
 
 double HapticProxy::worst_margin(const Pose& com_pose) {
-  certifier_.evaluate(
-      std::span<const ContactFeatures>(certificate_.pairs).first(constraints_.size()), com_pose,
-      evaluated_);
+  certifier_.evaluate_listed(certificate_, constraints_.size(), com_pose, evaluated_);
   double worst = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < constraints_.size(); ++k) {
     const PairContact& contact = evaluated_[k];

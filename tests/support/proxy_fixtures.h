@@ -130,6 +130,23 @@ inline SceneObject box_object(const Vec3& size, const Pose& pose) {
   return object;
 }
 
+/// n × n meshed cube tiles of edge `edge` (m), tops at z = 0, from the
+/// origin along +x and +y with `gap` (m) between them (0: edge to edge, so
+/// that neighbours share corners, edges and faces' places).
+inline std::vector<SceneObject> box_tiles(int n, double edge, double gap) {
+  std::vector<SceneObject> tiles;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      SceneObject tile =
+          box_object(Vec3::Constant(edge),
+                     Pose{Vec3((edge + gap) * i, (edge + gap) * j, -0.5 * edge), Quat::Identity()});
+      tile.mesh = shape_mesh(*tile.shape);
+      tiles.push_back(tile);
+    }
+  }
+  return tiles;
+}
+
 /// A static sphere scene object.
 inline SceneObject sphere_object(double radius_m, const Pose& pose) {
   SceneObject object;
