@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "hapticbench/input_error.h"
@@ -295,7 +296,13 @@ const ConstrainedStep& ConstrainedStepSolver::solve_pass(
   seed_.assign(rows_.size(), Vec3::Zero());
   for (std::size_t k = 0; k < constraints.size(); ++k)
     if (row_of_[k] >= 0) seed_[row_of_[k]] += source[k];
-  const Mat6 response = metric.inverse();
+  // M⁻¹, kept while the metric stays the same bit for bit.
+  if (!inverted_ || std::memcmp(metric.data(), inverted_metric_.data(), sizeof(Mat6)) != 0) {
+    response_ = metric.inverse();
+    inverted_metric_ = metric;
+    inverted_ = true;
+  }
+  const Mat6& response = response_;
   const FrictionalContactSolution& solution =
       frictional_.solve(response, unconstrained, rows_, seed_);
   r.iterations += solution.sweeps;

@@ -173,6 +173,9 @@ class ConstrainedStepSolver {
   std::vector<double> normal_forces_;  ///< per constraint
   std::vector<Vec3> pass_impulses_;    ///< solve_system: the previous pass's
   ConstrainedStep result_;
+  Mat6 inverted_metric_ = Mat6::Zero();  ///< the metric response_ inverts
+  Mat6 response_ = Mat6::Zero();         ///< its inverse (valid when inverted_)
+  bool inverted_ = false;
 };
 
 }  // namespace hb

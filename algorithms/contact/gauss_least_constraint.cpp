@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -160,13 +161,22 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
                                                        std::span<const GaussConstraint> constraints,
                                                        std::span<const int> warm_active) {
   validate_problem(mass, unconstrained, constraints, warm_active);
-  const Eigen::LLT<Mat6> cholesky(mass);
-  if (cholesky.info() != Eigen::Success) {
-    throw InputError("", "mass", "expected a positive definite mass matrix");
+  // The factors of the last mass, kept while the mass stays the same bit
+  // for bit (a solve repeated with other bounds or a shifted a^u).
+  if (!factored_ || std::memcmp(mass.data(), factored_mass_.data(), sizeof(Mat6)) != 0) {
+    factored_ = false;
+    const Eigen::LLT<Mat6> cholesky(mass);
+    if (cholesky.info() != Eigen::Success) {
+      throw InputError("", "mass", "expected a positive definite mass matrix");
+    }
+    lower_ = cholesky.matrixL();
+    // L⁻¹ once, so each row costs one 6×6 product instead of a triangular solve.
+    lower_inverse_ = cholesky.matrixL().solve(Mat6::Identity());
+    factored_mass_ = mass;
+    factored_ = true;
   }
-  const Mat6 lower = cholesky.matrixL();
-  // L⁻¹ once, so each row costs one 6×6 product instead of a triangular solve.
-  const Mat6 lower_inverse = cholesky.matrixL().solve(Mat6::Identity());
+  const Mat6& lower = lower_;
+  const Mat6& lower_inverse = lower_inverse_;
   const int count = static_cast<int>(constraints.size());
 
   bool known_feasible = true;  // a = 0 satisfies every constraint when all rhs ≤ 0

@@ -114,6 +114,11 @@ class GaussLeastConstraintSolver {
   std::vector<char> set_aside_;
   std::vector<int> working_set_;
   GaussSolution solution_;
+  /// The Cholesky factor L of factored_mass_ and L⁻¹ (valid when factored_).
+  Mat6 factored_mass_ = Mat6::Zero();
+  Mat6 lower_ = Mat6::Zero();
+  Mat6 lower_inverse_ = Mat6::Zero();
+  bool factored_ = false;
 
   /// Fills the per-constraint buffers for a solve; returns the problem's
   /// scale (the largest bound, or |Lᵀ a^u|) and clears known_feasible when
