@@ -229,10 +229,13 @@ void ConstrainedStepSolver::to_distinct(std::span<const int> warm_active,
                                         std::span<const Vec3> warm_impulses, std::size_t count) {
   // Equal constraints' warm impulses add up on their distinct one, as the
   // frictional solve's seed adds up those of the contacts of one row.
+  // Indices past the constraints are dropped as solve_pass drops them; a
+  // negative one goes on, for the QP to reject (and the solve of every
+  // constraint to name).
   distinct_warm_active_.clear();
   for (const int k : warm_active)
-    if (k >= 0 && static_cast<std::size_t>(k) < count)
-      distinct_warm_active_.push_back(distinct_.distinct_of(k));
+    if (k < 0 || static_cast<std::size_t>(k) < count)
+      distinct_warm_active_.push_back(k < 0 ? k : distinct_.distinct_of(k));
   distinct_warm_impulses_.clear();
   // Without friction the solve reads no impulses.
   const std::span<const double> friction = distinct_.friction();

@@ -164,6 +164,13 @@ TEST_CASE("a bad repeated constraint is named by its own index") {
   std::vector<int> active;
   CHECK_THROWS_WITH(solver.solve(coupling_metric(), Vec6::Zero(), constraints, {}, active),
                     Catch::Contains("constraints[100].normal"));
+
+  SECTION("a warm-start index out of range, after copies") {
+    constraints[100].normal = Vec3::UnitZ();
+    active = {3, 90, -1};
+    CHECK_THROWS_WITH(solver.solve(coupling_metric(), Vec6::Zero(), constraints, {}, active),
+                      Catch::Contains("warm_active[2]"));
+  }
 }
 
 }  // namespace hb
