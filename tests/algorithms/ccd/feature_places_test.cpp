@@ -31,7 +31,8 @@ std::vector<Vec3> scene_feature_vertices(const std::vector<SceneObject>& scene, 
     case ContactFeatureKind::kSceneVertexToolFace:
       return {world(pair.scene_feature)};
     case ContactFeatureKind::kEdgeEdge: {
-      const auto& e = ccd.scene_edges(pair.scene_object)[static_cast<std::size_t>(pair.scene_feature)];
+      const auto& e =
+          ccd.scene_edges(pair.scene_object)[static_cast<std::size_t>(pair.scene_feature)];
       return {world(e[0]), world(e[1])};
     }
   }
