@@ -13,8 +13,8 @@ namespace hb {
 namespace {
 
 bool same_contact(const PairContact& a, const PairContact& b) {
-  return a.scene_point == b.scene_point && a.tool_point == b.tool_point &&
-         a.normal == b.normal && a.distance == b.distance;
+  return a.scene_point == b.scene_point && a.tool_point == b.tool_point && a.normal == b.normal &&
+         a.distance == b.distance;
 }
 
 }  // namespace
@@ -60,7 +60,8 @@ TEST_CASE("a certificate over tiles edge to edge measures each repeated pair onc
     if (certificate.searches == 0) {
       ++remeasured;
       for (std::size_t k = 0; k < pairs.size(); ++k)
-        CHECK(certificate.distances[k] == ccd.closest_points(pairs[k], certificate.anchor).distance);
+        CHECK(certificate.distances[k] ==
+              ccd.closest_points(pairs[k], certificate.anchor).distance);
     }
     // Evaluated with the repeats measured once: each pair's own contact.
     Vec6 moved;
