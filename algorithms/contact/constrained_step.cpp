@@ -209,18 +209,28 @@ const ConstrainedStep& ConstrainedStepSolver::solve(const Mat6& metric, const Ve
                                                     std::span<const double> friction,
                                                     std::vector<int>& warm_active,
                                                     std::span<const Vec3> warm_impulses) {
+  return solve_merging_repeats(
+      constraints, friction, warm_active, warm_impulses,
+      [&](std::span<const GaussConstraint> c, std::span<const double> mu, std::vector<int>& active,
+          std::span<const Vec3> impulses) -> const ConstrainedStep& {
+        return solve_pass(metric, unconstrained, c, mu, active, impulses, false);
+      });
+}
+
+template <class Solve>
+const ConstrainedStep& ConstrainedStepSolver::solve_merging_repeats(
+    std::span<const GaussConstraint> constraints, std::span<const double> friction,
+    std::vector<int>& warm_active, std::span<const Vec3> warm_impulses, Solve&& solve) {
   if (!distinct_.reduce(constraints, friction))
-    return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
-                      false);
+    return solve(constraints, friction, warm_active, warm_impulses);
   to_distinct(warm_active, warm_impulses, constraints.size());
   try {
-    solve_pass(metric, unconstrained, distinct_.constraints(), distinct_.friction(),
-               distinct_warm_active_, distinct_warm_impulses_, false);
+    solve(distinct_.constraints(), distinct_.friction(), distinct_warm_active_,
+          distinct_warm_impulses_);
   } catch (const InputError&) {
     // A constraint the QP rejects is named by its index among those given:
     // the same solve of all of them throws for it.
-    return solve_pass(metric, unconstrained, constraints, friction, warm_active, warm_impulses,
-                      false);
+    return solve(constraints, friction, warm_active, warm_impulses);
   }
   return from_distinct(warm_active, constraints.size());
 }
@@ -428,18 +438,12 @@ const ConstrainedStep& ConstrainedStepSolver::solve_system(
     const Mat6& system, const Vec6& unconstrained, std::span<const GaussConstraint> constraints,
     std::span<const double> friction, std::vector<int>& warm_active,
     std::span<const Vec3> warm_impulses) {
-  if (!distinct_.reduce(constraints, friction))
-    return solve_system_of(system, unconstrained, constraints, friction, warm_active,
-                           warm_impulses);
-  to_distinct(warm_active, warm_impulses, constraints.size());
-  try {
-    solve_system_of(system, unconstrained, distinct_.constraints(), distinct_.friction(),
-                    distinct_warm_active_, distinct_warm_impulses_);
-  } catch (const InputError&) {
-    return solve_system_of(system, unconstrained, constraints, friction, warm_active,
-                           warm_impulses);  // as in solve: the error by its own index
-  }
-  return from_distinct(warm_active, constraints.size());
+  return solve_merging_repeats(
+      constraints, friction, warm_active, warm_impulses,
+      [&](std::span<const GaussConstraint> c, std::span<const double> mu, std::vector<int>& active,
+          std::span<const Vec3> impulses) -> const ConstrainedStep& {
+        return solve_system_of(system, unconstrained, c, mu, active, impulses);
+      });
 }
 
 const ConstrainedStep& ConstrainedStepSolver::solve_system_of(

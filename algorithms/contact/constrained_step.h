@@ -133,6 +133,17 @@ class ConstrainedStepSolver {
                                          std::span<const double> friction,
                                          std::vector<int>& warm_active,
                                          std::span<const Vec3> warm_impulses);
+  /// solve(constraints, friction, warm_active, warm_impulses) (a `solve`
+  /// or a `solve_system`) on the distinct constraints when some repeat
+  /// (distinct_constraints.h), its result and active set given back in the
+  /// numbering of `constraints`; on all of them otherwise, and when the
+  /// reduced solve rejects its input (so the error names the constraint by
+  /// its own index).
+  template <class Solve>
+  const ConstrainedStep& solve_merging_repeats(std::span<const GaussConstraint> constraints,
+                                               std::span<const double> friction,
+                                               std::vector<int>& warm_active,
+                                               std::span<const Vec3> warm_impulses, Solve&& solve);
   /// The warm start of the constraints (`count` of them) in distinct_'s
   /// numbering: distinct_warm_active_, distinct_warm_impulses_.
   void to_distinct(std::span<const int> warm_active, std::span<const Vec3> warm_impulses,
