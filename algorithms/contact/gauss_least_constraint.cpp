@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "algorithms/contact/small_inverse.h"
 #include "hapticbench/input_error.h"
 
 namespace hb {
@@ -171,7 +172,7 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
     }
     lower_ = cholesky.matrixL();
     // L⁻¹ once, so each row costs one 6×6 product instead of a triangular solve.
-    lower_inverse_ = cholesky.matrixL().solve(Mat6::Identity());
+    lower_inverse_ = lower_triangular_inverse(lower_);
     factored_mass_ = mass;
     factored_ = true;
   }
