@@ -10,11 +10,11 @@ set(HB_TEST_UNITY_BATCH 8)
 # the end-to-end tests that start the tool) goes uninstrumented: it was
 # 60 % of a sanitized build's compile time. Its allocations still go
 # through AddressSanitizer's allocator, so an overrun by library code into
-# a test's buffer is still caught.
-# HAPTICBENCH_TOOL_ASAN tells such tests that the tool they start runs
-# with AddressSanitizer (tests/support/cli_runner.h).
+# a test's buffer is still caught. Tests that start the tool find it, and
+# whether it runs with AddressSanitizer, at run time
+# (tests/support/cli_runner.h).
 if(HAPTICBENCH_SANITIZE_SKIP_HEAVY)
-  list(APPEND HB_TEST_OPTIMIZATION -fno-sanitize=all -DHAPTICBENCH_TOOL_ASAN=1)
+  list(APPEND HB_TEST_OPTIMIZATION -fno-sanitize=all)
 endif()
 if(HAPTICBENCH_WERROR)
   list(APPEND HAPTICBENCH_WARNINGS -Werror)
@@ -244,9 +244,9 @@ endfunction()
 # --quick) given HAPTICBENCH_REUSE_OBJECTS, a Release build of the same tree,
 # the units this build leaves uninstrumented are linked from that build's
 # objects instead of compiled a second time: the heavy units
-# (hb_heavy_sources), the tests' own code but the end-to-end tests' (whose
-# code names the command line tool of its own build, HAPTICBENCH_BIN, and
-# whether it runs sanitized), and the harness libraries other than
+# (hb_heavy_sources), the tests' own code (a test that starts the command
+# line tool finds the one of the build it is linked into,
+# tests/support/cli_runner.h), and the harness libraries other than
 # HB_QUICK_SANITIZE_HARNESS. The quick pass checks the algorithms and the
 # code that reads the user's files or drives the haptic loop; the rest of
 # the harness (run folders, reports' inputs, sweeps, comparisons, the
@@ -279,7 +279,6 @@ function(hb_reuse_release_objects)
   get_property(heavy GLOBAL PROPERTY HB_HEAVY_SOURCES)
   get_property(libraries GLOBAL PROPERTY HB_LIBRARY_TARGETS)
   get_property(tests GLOBAL PROPERTY HB_TEST_TARGETS)
-  list(REMOVE_ITEM tests test_end_to_end)
   set(reused 0)
   set(compiled 0)
   foreach(target ${libraries} ${tests} hb_test_main)

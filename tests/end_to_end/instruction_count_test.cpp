@@ -128,7 +128,7 @@ TEST_CASE("run --instructions without valgrind on PATH is a clear usage error") 
   const hb::test::ScratchDir work("e2e_instructions_no_valgrind");
   write_press(work / "press.json", "explicit_euler", 0.2);
   const auto result =
-      run_hapticbench("list > /dev/null; env PATH=/nonexistent '" + std::string(HAPTICBENCH_BIN) +
+      run_hapticbench("list > /dev/null; env PATH=/nonexistent '" + hb::test::hapticbench_bin() +
                           "' run press.json --instructions --out run2",
                       work.path());
   CHECK(result.exit_code == 2);

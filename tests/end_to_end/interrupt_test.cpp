@@ -52,7 +52,7 @@ struct Started {
 };
 
 Started start(const std::vector<std::string>& args, const fs::path& work) {
-  std::vector<std::string> argv = {HAPTICBENCH_BIN};
+  std::vector<std::string> argv = {hb::test::hapticbench_bin()};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> raw;
   for (std::string& arg : argv) raw.push_back(arg.data());

@@ -65,10 +65,10 @@ TerminalRun run_on_terminal(const std::vector<std::string>& args, const fs::path
     const int file = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (file < 0 || ::chdir(work.c_str()) != 0) _exit(127);
     ::dup2(file, STDOUT_FILENO);
-    std::vector<char*> argv{const_cast<char*>(HAPTICBENCH_BIN)};
+    std::vector<char*> argv{const_cast<char*>(hb::test::hapticbench_bin().c_str())};
     for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
     argv.push_back(nullptr);
-    ::execv(HAPTICBENCH_BIN, argv.data());
+    ::execv(hb::test::hapticbench_bin().c_str(), argv.data());
     _exit(127);
   }
   TerminalRun run;

@@ -47,7 +47,7 @@ CommandResult shell(const std::string& command, const fs::path& work) {
 
 CommandResult hapticbench(const std::string& args, const fs::path& work,
                           const std::string& environment = "") {
-  return shell(environment + " '" + std::string(HAPTICBENCH_BIN) + "' " + args, work);
+  return shell(environment + " '" + hb::test::hapticbench_bin() + "' " + args, work);
 }
 
 // Whether any tick of a ticks CSV has a penetration value (column penetration_m).

@@ -152,8 +152,8 @@ TEST_CASE("a sweep on a local Slurm cluster survives a cancelled shard and match
 
   const std::string sweep_command = quoted(kSource / "scripts/slurm-sweep") + " " + quoted(kSweep) +
                                     " --shards " + std::to_string(kShards) + " --out " +
-                                    quoted(out) + " --hapticbench '" +
-                                    std::string(HAPTICBENCH_BIN) + "'";
+                                    quoted(out) + " --hapticbench '" + hb::test::hapticbench_bin() +
+                                    "'";
   const hb::test::CommandResult submitted =
       cluster_shell(sweep_command + " --no-wait", state, work);
   INFO(submitted.stderr_text);

@@ -1,5 +1,5 @@
-// Test support: runs the hapticbench binary (HAPTICBENCH_BIN) in a folder
-// and returns its exit code and output.
+// Test support: runs the command line tool of the tests' own build in a
+// folder and returns its exit code and output.
 #pragma once
 
 #include <sys/wait.h>
@@ -7,19 +7,45 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "tests/support/scratch_dir.h"
 
-// Whether the command line tool under test runs with AddressSanitizer: the
-// tests' own code may be compiled without it (the quick sanitizer pass,
-// cmake/hapticbench.cmake), so its own __SANITIZE_ADDRESS__ does not say.
-#if defined(__SANITIZE_ADDRESS__) || defined(HAPTICBENCH_TOOL_ASAN)
-#define HB_TOOL_ASAN 1
-#else
-#define HB_TOOL_ASAN 0
-#endif
+namespace hb::test {
+
+/// The command line tool of the build this test executable belongs to:
+/// <build>/harness/cli/hapticbench beside <build>/tests/<executable>, found
+/// at run time, so that a test object compiled in one build and linked into
+/// another's executable (the quick sanitizer pass links the Release build's,
+/// cmake/hapticbench.cmake) runs the tool of the build it was linked into.
+/// HAPTICBENCH_BIN, the path of the compiling build's tool, when that is
+/// not there.
+inline const std::string& hapticbench_bin() {
+  static const std::string tool = [] {
+    std::error_code error;
+    const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (!error) {
+      const std::filesystem::path beside =
+          executable.parent_path().parent_path() / "harness" / "cli" / "hapticbench";
+      if (std::filesystem::is_regular_file(beside, error)) return beside.string();
+    }
+    return hapticbench_bin();
+  }();
+  return tool;
+}
+
+}  // namespace hb::test
+
+// Whether the command line tool under test runs with AddressSanitizer: true
+// when this process has AddressSanitizer's runtime, which a sanitized
+// build links into every executable, also into tests whose own code is
+// compiled without it (the quick sanitizer pass), so that the compiler's
+// __SANITIZE_ADDRESS__ does not say.
+extern "C" void __asan_init() __attribute__((weak));
 
 namespace hb::test {
+
+inline bool tool_runs_with_asan() { return &__asan_init != nullptr; }
 
 struct CommandResult {
   int exit_code = -1;
@@ -33,9 +59,8 @@ struct CommandResult {
 inline CommandResult run_hapticbench_after(const std::string& setup, const std::string& args,
                                            const std::filesystem::path& work) {
   const std::filesystem::path out = work / "stdout.txt", err = work / "stderr.txt";
-  const std::string command = "cd '" + work.string() + "' && (" + setup + " '" +
-                              std::string(HAPTICBENCH_BIN) + "' " + args + ") > '" + out.string() +
-                              "' 2> '" + err.string() + "'";
+  const std::string command = "cd '" + work.string() + "' && (" + setup + " '" + hapticbench_bin() +
+                              "' " + args + ") > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -54,13 +79,10 @@ inline CommandResult run_hapticbench(const std::string& args, const std::filesys
 inline CommandResult run_hapticbench_limited(const std::string& args,
                                              const std::filesystem::path& work,
                                              [[maybe_unused]] long memory_kib) {
-#if HB_TOOL_ASAN
   // AddressSanitizer reserves terabytes of address space up front: no limit
   // can be set; the checks on exit code and message still run.
-  return run_hapticbench(args, work);
-#else
+  if (tool_runs_with_asan()) return run_hapticbench(args, work);
   return run_hapticbench_after("ulimit -v " + std::to_string(memory_kib) + " &&", args, work);
-#endif
 }
 
 }  // namespace hb::test
