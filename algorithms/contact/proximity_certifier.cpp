@@ -149,6 +149,18 @@ void ProximityCertifier::group_searched_pairs() const {
 
 namespace {
 
+// The first `count` entries of `order` (distance, index: no two equal) in
+// ascending order, the rest dropped: the pairs by distance, ties in the
+// order measured (a stable sort's order), as far as they are read.
+void keep_nearest(std::vector<std::pair<double, int>>& order, std::size_t count) {
+  if (order.size() > count) {
+    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count),
+                     order.end());
+    order.resize(count);
+  }
+  std::sort(order.begin(), order.end());
+}
+
 // The max_pairs nearest of `nearest` (ascending distances) within band_m,
 // when `nearest` holds every pair nearer than `complete` (m): all of them
 // within band_m when complete reaches band_m, else max_pairs + 1 of them
@@ -237,18 +249,21 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
     if (!(pair.distance - moved > within + kRoundingSlack)) to_measure_.push_back(pair.features);
   const auto pair_tests = static_cast<int64_t>(to_measure_.size());
   const std::vector<int>& group = searched_.group;
+  // answer_within reads the max_pairs + 1 nearest at most (all are within).
+  const std::size_t needed = max_pairs + (max_pairs < SIZE_MAX ? 1 : 0);
   if (group.empty()) {
     ccd_.closest_points(to_measure_, anchor, measured_points_);
-    measured_.clear();
+    order_.clear();
     for (std::size_t i = 0; i < to_measure_.size(); ++i)
       if (measured_points_[i].distance <= within)
-        measured_.push_back(ProximityPair{to_measure_[i], measured_points_[i].distance});
-    std::stable_sort(
-        measured_.begin(), measured_.end(),
-        [](const ProximityPair& a, const ProximityPair& b) { return a.distance < b.distance; });
+        order_.push_back(std::pair<double, int>{measured_points_[i].distance, static_cast<int>(i)});
+    keep_nearest(order_, needed);
+    measured_.clear();
+    for (const auto& [distance, i] : order_)
+      measured_.push_back(ProximityPair{to_measure_[static_cast<std::size_t>(i)], distance});
     listed_groups_.clear();
   } else {
-    measure_grouped(anchor, moved, within + kRoundingSlack, within);
+    measure_grouped(anchor, moved, within + kRoundingSlack, within, needed);
   }
   std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
   if (answer) answer->pair_tests = pair_tests;
@@ -258,7 +273,7 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
 }
 
 void ProximityCertifier::measure_grouped(const Pose& anchor, double moved, double reachable,
-                                         double within) const {
+                                         double within, std::size_t needed) const {
   // As the plain re-measurement (answer_from_searched), the first pair of
   // each group measured for all of it: the same distances, bit for bit.
   const std::vector<ProximityPair>& pairs = searched_.pairs;
@@ -284,8 +299,7 @@ void ProximityCertifier::measure_grouped(const Pose& anchor, double moved, doubl
   }
   for (const int i : measured_index_)
     group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])] = -1;
-  // By distance, ties in the order measured (a stable sort's order).
-  std::sort(order_.begin(), order_.end());
+  keep_nearest(order_, needed);
   measured_.clear();
   listed_groups_.clear();
   for (const auto& [distance, i] : order_) {

@@ -170,7 +170,7 @@ class ProximityCertifier {
   mutable bool last_search_widened_ = false;
   /// Scratch of answer_from_searched (the slow loop's certify): the searched
   /// pairs that may be within reach, their closest points at the query's
-  /// pose, and those within it.
+  /// pose, and the nearest of those within it (by distance, order_).
   mutable std::vector<ContactFeatures> to_measure_;
   mutable std::vector<PairClosestPoints> measured_points_;
   mutable std::vector<ProximityPair> measured_;
@@ -194,9 +194,10 @@ class ProximityCertifier {
   void group_searched_pairs() const;
   /// answer_from_searched's re-measurement with groups: the searched pairs
   /// whose distance less `moved` is within `reachable`, measured at
-  /// `anchor` once per group; those within `within` in measured_ by
-  /// distance, their groups in listed_groups_.
-  void measure_grouped(const Pose& anchor, double moved, double reachable, double within) const;
+  /// `anchor` once per group; the `needed` nearest of those within `within`
+  /// in measured_ by distance, their groups in listed_groups_.
+  void measure_grouped(const Pose& anchor, double moved, double reachable, double within,
+                       std::size_t needed) const;
 };
 
 }  // namespace hb
