@@ -29,7 +29,7 @@ inline const std::string& hapticbench_bin() {
           executable.parent_path().parent_path() / "harness" / "cli" / "hapticbench";
       if (std::filesystem::is_regular_file(beside, error)) return beside.string();
     }
-    return hapticbench_bin();
+    return std::string(HAPTICBENCH_BIN);
   }();
   return tool;
 }
@@ -77,8 +77,7 @@ inline CommandResult run_hapticbench(const std::string& args, const std::filesys
 /// (ulimit -v): an input that makes the process grab more than that ends
 /// in a crash or bad_alloc instead of passing.
 inline CommandResult run_hapticbench_limited(const std::string& args,
-                                             const std::filesystem::path& work,
-                                             [[maybe_unused]] long memory_kib) {
+                                             const std::filesystem::path& work, long memory_kib) {
   // AddressSanitizer reserves terabytes of address space up front: no limit
   // can be set; the checks on exit code and message still run.
   if (tool_runs_with_asan()) return run_hapticbench(args, work);
