@@ -243,15 +243,18 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   if (complete < band_m && searched_.pairs.size() <= max_pairs) return std::nullopt;
   const double within = std::min(complete, band_m);
   // A pair's distance has changed by `moved` at most: only those that can
-  // be within reach are measured again.
-  to_measure_.clear();
-  for (const ProximityPair& pair : searched_.pairs)
-    if (!(pair.distance - moved > within + kRoundingSlack)) to_measure_.push_back(pair.features);
-  const auto pair_tests = static_cast<int64_t>(to_measure_.size());
+  // be within reach are measured again (with groups, measure_grouped picks
+  // them).
+  const double reachable = within + kRoundingSlack;
   const std::vector<int>& group = searched_.group;
   // answer_within reads the max_pairs + 1 nearest at most (all are within).
   const std::size_t needed = max_pairs + (max_pairs < SIZE_MAX ? 1 : 0);
+  std::size_t pair_tests = 0;
   if (group.empty()) {
+    to_measure_.clear();
+    for (const ProximityPair& pair : searched_.pairs)
+      if (!(pair.distance - moved > reachable)) to_measure_.push_back(pair.features);
+    pair_tests = to_measure_.size();
     ccd_.closest_points(to_measure_, anchor, measured_points_);
     order_.clear();
     for (std::size_t i = 0; i < to_measure_.size(); ++i)
@@ -263,10 +266,11 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
       measured_.push_back(ProximityPair{to_measure_[static_cast<std::size_t>(i)], distance});
     listed_groups_.clear();
   } else {
-    measure_grouped(anchor, moved, within + kRoundingSlack, within, needed);
+    measure_grouped(anchor, moved, reachable, within, needed);
+    pair_tests = measured_index_.size();
   }
   std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
-  if (answer) answer->pair_tests = pair_tests;
+  if (answer) answer->pair_tests = static_cast<int64_t>(pair_tests);
   if (!group.empty())
     listed_groups_.resize(answer ? answer->pairs.size() : 0);  // a prefix of measured_'s
   return answer;
