@@ -21,15 +21,8 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using hb::test::CommandResult;
 
-// The test plugins of the build this executable belongs to
-// (<build>/tests/plugins beside <build>/tests/test_end_to_end; as
-// hapticbench_bin, tests/support/cli_runner.h).
-const fs::path kPlugins = [] {
-  std::error_code error;
-  const fs::path beside = fs::read_symlink("/proc/self/exe", error).parent_path() / "plugins";
-  return !error && fs::is_directory(beside, error) ? beside
-                                                   : fs::path(HAPTICBENCH_TEST_PLUGINS_DIR);
-}();
+// The test plugins of the build this executable belongs to.
+const fs::path kPlugins = hb::test::in_own_build("tests/plugins", HAPTICBENCH_TEST_PLUGINS_DIR);
 const fs::path kExample = kSource / "examples/out_of_tree_renderer";
 const std::string kVertexPenalty = (kPlugins / "vertex_penalty.so").string();
 

@@ -13,24 +13,24 @@
 
 namespace hb::test {
 
-/// The command line tool of the build this test executable belongs to:
-/// <build>/harness/cli/hapticbench beside <build>/tests/<executable>, found
-/// at run time, so that a test object compiled in one build and linked into
-/// another's executable (the quick sanitizer pass links the Release build's,
-/// cmake/hapticbench.cmake) runs the tool of the build it was linked into.
-/// HAPTICBENCH_BIN, the path of the compiling build's tool, when that is
-/// not there.
+/// `relative` inside the build this test executable belongs to (the build
+/// folder holds it as <build>/tests/<executable>), found at run time, so
+/// that a test object compiled in one build and linked into another's
+/// executable (the quick sanitizer pass links the Release build's,
+/// cmake/hapticbench.cmake) uses what the build it was linked into made;
+/// `fallback`, the compiling build's path, when nothing is there.
+inline std::filesystem::path in_own_build(const std::filesystem::path& relative,
+                                          const std::filesystem::path& fallback) {
+  std::error_code error;
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return fallback;
+  const std::filesystem::path there = executable.parent_path().parent_path() / relative;
+  return std::filesystem::exists(there, error) ? there : fallback;
+}
+
+/// The command line tool of the build this test executable belongs to.
 inline const std::string& hapticbench_bin() {
-  static const std::string tool = [] {
-    std::error_code error;
-    const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-    if (!error) {
-      const std::filesystem::path beside =
-          executable.parent_path().parent_path() / "harness" / "cli" / "hapticbench";
-      if (std::filesystem::is_regular_file(beside, error)) return beside.string();
-    }
-    return std::string(HAPTICBENCH_BIN);
-  }();
+  static const std::string tool = in_own_build("harness/cli/hapticbench", HAPTICBENCH_BIN).string();
   return tool;
 }
 
