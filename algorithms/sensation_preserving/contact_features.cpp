@@ -12,32 +12,45 @@ namespace {
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-/// Convex hull (counter-clockwise, no collinear vertices) of 2-D points.
-std::vector<Vec2> hull_2d(std::vector<Vec2> points) {
-  std::sort(points.begin(), points.end(), [](const Vec2& p, const Vec2& q) {
+/// Convex hull (counter-clockwise, no collinear vertices) of 2-D points,
+/// into `hull`; `sorted` is scratch.
+void hull_2d(const std::vector<Vec2>& points, std::vector<Vec2>& sorted, std::vector<Vec2>& hull) {
+  sorted.assign(points.begin(), points.end());
+  std::sort(sorted.begin(), sorted.end(), [](const Vec2& p, const Vec2& q) {
     return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
   });
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return points;
-  std::vector<Vec2> hull(2 * points.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross2(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i];
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  if (sorted.size() < 3) {
+    hull.assign(sorted.begin(), sorted.end());
+    return;
   }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross2(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i];
+  hull.resize(2 * sorted.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    while (k >= 2 && cross2(hull[k - 1] - hull[k - 2], sorted[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  for (std::size_t i = sorted.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross2(hull[k - 1] - hull[k - 2], sorted[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = sorted[i];
   }
   hull.resize(k - 1);
-  return hull;
 }
+
+/// The buffers make_feature() and overlap_centre() fill, kept between calls
+/// (per thread) so that a warm contact query allocates nothing.
+struct FeatureScratch {
+  std::vector<Vec2> sorted, hull;  ///< make_feature()'s
+  std::vector<Vec2> clipped, in;   ///< clip_polygon()'s
+};
+thread_local FeatureScratch feature_scratch;
 
 }  // namespace
 
-Feature2 make_feature(const std::vector<Vec2>& points, double tolerance) {
-  const std::vector<Vec2> hull = hull_2d(points);
-  Feature2 f;
+void make_feature(const std::vector<Vec2>& points, double tolerance, Feature2& f) {
+  std::vector<Vec2>& hull = feature_scratch.hull;
+  hull_2d(points, feature_scratch.sorted, hull);
+  f.polygon.clear();
   f.from = f.to = hull[0];
   double diameter = 0;
   for (std::size_t i = 0; i < hull.size(); ++i)
@@ -47,12 +60,11 @@ Feature2 make_feature(const std::vector<Vec2>& points, double tolerance) {
         f.from = hull[i];
         f.to = hull[j];
       }
-  if (diameter <= tolerance || hull.size() < 3) return f;
+  if (diameter <= tolerance || hull.size() < 3) return;
   const Vec2 axis = (f.to - f.from) / diameter;
   double width = 0;
   for (const Vec2& p : hull) width = std::max(width, std::abs(cross2(axis, p - f.from)));
-  if (width > tolerance) f.polygon = hull;
-  return f;
+  if (width > tolerance) f.polygon.assign(hull.begin(), hull.end());
 }
 
 namespace {
@@ -64,14 +76,15 @@ double left_of(const Vec2& e0, const Vec2& e1, const Vec2& p) {
 }
 
 /// The part of `subject` inside the convex polygon `clip` (Sutherland–Hodgman),
-/// points within `tolerance` of it counting as inside.
-std::vector<Vec2> clip_polygon(const std::vector<Vec2>& subject, const std::vector<Vec2>& clip,
-                               double tolerance) {
-  std::vector<Vec2> out = subject;
+/// points within `tolerance` of it counting as inside, into `out`; `in` is
+/// scratch.
+void clip_polygon(const std::vector<Vec2>& subject, const std::vector<Vec2>& clip, double tolerance,
+                  std::vector<Vec2>& out, std::vector<Vec2>& in) {
+  out.assign(subject.begin(), subject.end());
   for (std::size_t i = 0; i < clip.size() && !out.empty(); ++i) {
     const Vec2& e0 = clip[i];
     const Vec2& e1 = clip[(i + 1) % clip.size()];
-    std::vector<Vec2> in = std::move(out);
+    in.swap(out);
     out.clear();
     for (std::size_t j = 0; j < in.size(); ++j) {
       const Vec2& p = in[j];
@@ -82,7 +95,6 @@ std::vector<Vec2> clip_polygon(const std::vector<Vec2>& subject, const std::vect
       if ((dp >= 0) != (dq >= 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
     }
   }
-  return out;
 }
 
 /// Area centroid of a polygon; the mean of its vertices when it has no area.
@@ -158,7 +170,8 @@ Vec2 segments_middle(const Vec2& p1, const Vec2& q1, const Vec2& p2, const Vec2&
 bool overlap_centre_within(const Feature2& fa, const Feature2& fb, double tolerance, Vec2& centre) {
   const bool a_area = !fa.polygon.empty(), b_area = !fb.polygon.empty();
   if (a_area && b_area) {
-    const std::vector<Vec2> common = clip_polygon(fa.polygon, fb.polygon, tolerance);
+    std::vector<Vec2>& common = feature_scratch.clipped;
+    clip_polygon(fa.polygon, fb.polygon, tolerance, common, feature_scratch.in);
     if (common.empty()) return false;
     centre = polygon_centre(common);
     return true;

@@ -17,8 +17,9 @@ struct Feature2 {
   Vec2 from, to;              // the segment (from == to for a point)
 };
 
-/// The feature the points span, with `tolerance` (m) deciding thinness.
-Feature2 make_feature(const std::vector<Vec2>& points, double tolerance);
+/// The feature the points span, with `tolerance` (m) deciding thinness,
+/// into `feature` (its polygon's storage reused).
+void make_feature(const std::vector<Vec2>& points, double tolerance, Feature2& feature);
 
 /// The overlap's centre with exact boundaries; when rounding leaves the
 /// features just apart (they touch along the normal), with boundaries

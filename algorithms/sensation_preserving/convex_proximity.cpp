@@ -35,7 +35,11 @@ void fill_contact(const Body& a, const Body& b, const Vec3& n, double scale,
   const Vec3 u = n.cross(helper).normalized();
   const Vec3 w = n.cross(u);
   const double feature_tolerance = kFeatureTolerance * scale;
-  std::vector<Vec2> pa, pb;
+  // Kept between calls (per thread): a warm query allocates nothing.
+  thread_local std::vector<Vec2> pa, pb;
+  thread_local Feature2 fa, fb;
+  pa.clear();
+  pb.clear();
   Vec3 mean_a = Vec3::Zero(), mean_b = Vec3::Zero();
   for (std::size_t i = 0; i < a.vertices.size(); ++i) {
     if (na.dot(a.vertices[i]) + offset_a < a_max - feature_tolerance) continue;
@@ -51,8 +55,9 @@ void fill_contact(const Body& a, const Body& b, const Vec3& n, double scale,
   }
   const double planar_tolerance = kPlanarTolerance * scale;
   Vec2 centre;
-  if (!overlap_centre(make_feature(pa, planar_tolerance), make_feature(pb, planar_tolerance),
-                      planar_tolerance, centre)) {
+  make_feature(pa, planar_tolerance, fa);
+  make_feature(pb, planar_tolerance, fb);
+  if (!overlap_centre(fa, fb, planar_tolerance, centre)) {
     const Vec3 mid =
         0.5 * (mean_a / static_cast<double>(pa.size()) + mean_b / static_cast<double>(pb.size()));
     centre = Vec2(u.dot(mid), w.dot(mid));

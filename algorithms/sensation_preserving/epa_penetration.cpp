@@ -60,14 +60,14 @@ double separating_translation_below(const Body& a, const Body& b, const Vec3& u,
   return separating_translation(a, b, u);
 }
 
-/// World positions of the vertices of `body` whose height along `u` (sign
-/// +1) or `-u` (sign -1) is within `band` of the extreme: the nearest
-/// kPolishVertices of them (the highest first, equal heights by index), and
-/// their indices in `indices`.
-std::vector<Vec3> near_extreme(const Body& body, const Vec3& u, double sign, double band,
-                               std::vector<int>& indices) {
-  std::vector<std::pair<double, int>> heights;
-  heights.reserve(body.vertices.size());
+/// The vertices of `body` whose height along `u` (sign +1) or `-u` (sign
+/// -1) is within `band` of the extreme: the nearest kPolishVertices of them
+/// (the highest first, equal heights by index), their world positions in
+/// `out` and their indices in `indices`. `heights` is scratch.
+void near_extreme(const Body& body, const Vec3& u, double sign, double band,
+                  std::vector<std::pair<double, int>>& heights, std::vector<Vec3>& out,
+                  std::vector<int>& indices) {
+  heights.clear();
   for (std::size_t i = 0; i < body.vertices.size(); ++i)
     heights.emplace_back(sign * u.dot(body.world(i)), static_cast<int>(i));
   // Highest first, equal heights in index order: the order a stable sort by
@@ -78,17 +78,26 @@ std::vector<Vec3> near_extreme(const Body& body, const Vec3& u, double sign, dou
   const std::size_t kept = std::min(kPolishVertices, heights.size());
   std::partial_sort(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(kept),
                     heights.end(), higher);
-  std::vector<Vec3> out;
+  out.clear();
   indices.clear();
-  if (heights.empty()) return out;
+  if (heights.empty()) return;
   const double top = heights.front().first;
   for (std::size_t k = 0; k < kept; ++k) {
     if (heights[k].first < top - band) break;
     out.push_back(body.world(static_cast<std::size_t>(heights[k].second)));
     indices.push_back(heights[k].second);
   }
-  return out;
 }
+
+/// What polish_normal() fills each round, kept between calls (per thread)
+/// so that a warm query allocates nothing: the slow loop polishes
+/// thousands of normals an update.
+struct PolishScratch {
+  std::vector<std::pair<double, int>> heights;
+  std::vector<Vec3> pa, pb;  ///< world positions of a's and b's vertices near the extremes
+  std::vector<int> ia, ib;   ///< their indices
+};
+thread_local PolishScratch polish_scratch;
 
 /// The penetration depth is least along the normal of the face of a - b
 /// nearest the origin: a face normal of a or of b, or the cross product of
@@ -101,9 +110,13 @@ Vec3 polish_normal(const Body& a, const Body& b, Vec3 n, double scale) {
   double best = separating_translation(a, b, n);
   for (int round = 0; round < 3; ++round) {
     const double before = best;
-    std::vector<int> ia, ib;
-    const std::vector<Vec3> pa = near_extreme(a, n, +1, kPolishBand * scale, ia);
-    const std::vector<Vec3> pb = near_extreme(b, n, -1, kPolishBand * scale, ib);
+    PolishScratch& scratch = polish_scratch;
+    near_extreme(a, n, +1, kPolishBand * scale, scratch.heights, scratch.pa, scratch.ia);
+    near_extreme(b, n, -1, kPolishBand * scale, scratch.heights, scratch.pb, scratch.ib);
+    const std::vector<Vec3>& pa = scratch.pa;
+    const std::vector<Vec3>& pb = scratch.pb;
+    const std::vector<int>& ia = scratch.ia;
+    const std::vector<int>& ib = scratch.ib;
     const Vec3 reference = n;
     const auto consider = [&](const Vec3& axis) {
       const double length = axis.norm();
@@ -142,9 +155,29 @@ struct EpaResult {
   double lower_bound = 0;      ///< m, the polytope's depth: at most the true depth
 };
 
+/// A face of EPA's polytope: vertices (indices into its points, outward
+/// counter-clockwise), unit outward normal, distance from the origin.
+struct EpaFace {
+  std::array<int, 3> v;
+  Vec3 n;
+  double d;
+  bool alive;
+};
+
+/// EPA's polytope and edge lists, kept between calls (per thread) as
+/// PolishScratch is.
+struct EpaScratch {
+  std::vector<DifferencePoint> points;
+  std::vector<EpaFace> faces;
+  std::vector<std::pair<int, int>> edges, horizon;
+};
+thread_local EpaScratch epa_scratch;
+
 EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale) {
   const double tiny = kDegenerateTolerance * scale;
-  std::vector<DifferencePoint> points;
+  EpaScratch& scratch = epa_scratch;
+  std::vector<DifferencePoint>& points = scratch.points;
+  points.clear();
   const auto independent = [&](const Vec3& w) {
     if (points.empty()) return true;
     const Vec3 e1 = points.size() > 1 ? Vec3(points[1].w - points[0].w) : Vec3::Zero();
@@ -185,13 +218,8 @@ EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale
   }
   if (points.size() < 4) return {};  // b - a is flat: coplanar pieces
 
-  struct Face {
-    std::array<int, 3> v;
-    Vec3 n;
-    double d;
-    bool alive;
-  };
-  std::vector<Face> faces;
+  std::vector<EpaFace>& faces = scratch.faces;
+  faces.clear();
   const Vec3 interior = 0.25 * (points[0].w + points[1].w + points[2].w + points[3].w);
   const auto add_face = [&](int i, int j, int k) {
     const Vec3& wi = points[static_cast<std::size_t>(i)].w;
@@ -204,15 +232,16 @@ EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale
       n = -n;
       std::swap(j, k);
     }
-    faces.push_back(Face{{i, j, k}, n, n.dot(wi), true});
+    faces.push_back(EpaFace{{i, j, k}, n, n.dot(wi), true});
     return true;
   };
   if (!add_face(0, 1, 2) || !add_face(0, 1, 3) || !add_face(0, 2, 3) || !add_face(1, 2, 3))
     return {};
-  std::vector<std::pair<int, int>> edges, horizon;
+  std::vector<std::pair<int, int>>& edges = scratch.edges;
+  std::vector<std::pair<int, int>>& horizon = scratch.horizon;
   for (int iteration = 0; iteration < 256; ++iteration) {
-    const Face* nearest = nullptr;
-    for (const Face& f : faces)
+    const EpaFace* nearest = nullptr;
+    for (const EpaFace& f : faces)
       if (f.alive && (nearest == nullptr || f.d < nearest->d)) nearest = &f;
     if (nearest == nullptr) return {};
     const Vec3 n = nearest->n;
@@ -222,7 +251,7 @@ EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale
     const int m = static_cast<int>(points.size());
     points.push_back(p);
     edges.clear();
-    for (Face& f : faces) {
+    for (EpaFace& f : faces) {
       if (!f.alive || f.n.dot(p.w - points[static_cast<std::size_t>(f.v[0])].w) <= 0) continue;
       f.alive = false;
       for (int e = 0; e < 3; ++e)

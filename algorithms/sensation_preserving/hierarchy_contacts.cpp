@@ -65,7 +65,10 @@ void find_hierarchy_contacts(const ConvexHierarchy& tool, const Pose& tool_pose,
     throw InputError("", "contact_margin_m", "expected a finite number >= 0 (m)");
   if (tool.root < 0 || scene.root < 0) return;
 
-  std::vector<std::pair<int, int>> stack{{tool.root, scene.root}};
+  // Kept between calls (per thread): the slow loop queries once per scene
+  // object, 144 times an update on a tiled floor.
+  thread_local std::vector<std::pair<int, int>> stack;
+  stack.assign(1, {tool.root, scene.root});
   while (!stack.empty()) {
     const auto [ti, si] = stack.back();
     stack.pop_back();

@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <new>
 #include <numbers>
 #include <random>
 #include <set>
@@ -24,8 +26,33 @@
 #include "harness/mesh_io/mesh_io.h"
 #include "tests/support/cgal_convex.h"
 
+namespace hb::test {
+/// Allocations through operator new by this thread while counting (the
+/// operator below): the contact query keeps its buffers between calls.
+thread_local bool counting_allocations = false;
+thread_local int64_t allocations_counted = 0;
+}  // namespace hb::test
+
+void* operator new(std::size_t size) {
+  if (hb::test::counting_allocations) ++hb::test::allocations_counted;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
 namespace hb {
 namespace {
+
+/// Allocations (operator new) `call` makes on this thread.
+template <class Call>
+int64_t allocations_of(Call&& call) {
+  test::allocations_counted = 0;
+  test::counting_allocations = true;
+  call();
+  test::counting_allocations = false;
+  return test::allocations_counted;
+}
 
 // ---------------------------------------------------------------------------
 // Shapes and poses
@@ -886,6 +913,61 @@ TEST_CASE("directions kept from the last query give the same contacts with fewer
                << " contacts");
   CHECK(contacts_found > 200);
   CHECK(by_axis > piece_tests / 10);
+}
+
+TEST_CASE("a contact query asked again allocates nothing: its buffers are kept") {
+  // Overlaps that take each path: face on face (EPA, polishing, polygons
+  // clipped), crossed edges (segments), a vertex on a face, and a gap
+  // within the margin (GJK, features without EPA); then the hierarchy
+  // traversal over them. The first call may size the buffers; the same
+  // query again must not allocate.
+  const double h = 0.5;
+  const std::vector<Vec3> cube = box(Vec3(h, h, h));
+  const std::vector<Vec3> slab = box(Vec3(0.2, 0.1, 0.1));
+  const std::vector<Vec3> octahedron = {Vec3(0.1, 0, 0),  Vec3(-0.1, 0, 0), Vec3(0, 0.1, 0),
+                                        Vec3(0, -0.1, 0), Vec3(0, 0, 0.1),  Vec3(0, 0, -0.1)};
+  const double top = h * std::numbers::sqrt2;
+  const std::vector<std::pair<PlacedConvex, PlacedConvex>> queries = {
+      {PlacedConvex{cube, kPlacement},
+       PlacedConvex{slab, kPlacement * make_pose(Vec3(0.1, -0.2, h + 0.1 - 0.03))}},
+      {PlacedConvex{cube, kPlacement * make_pose(Vec3::Zero(), Vec3(0, std::numbers::pi / 4, 0))},
+       PlacedConvex{cube, kPlacement * make_pose(Vec3(0, 0, 2 * top - 0.02),
+                                                 Vec3(std::numbers::pi / 4, 0, 0))}},
+      {PlacedConvex{cube, kPlacement},
+       PlacedConvex{octahedron,
+                    kPlacement * make_pose(Vec3(0.1, 0.2, h + 0.1 - 0.01), Vec3(0.1, 0.2, 0.3))}},
+      {PlacedConvex{cube, kPlacement},
+       PlacedConvex{slab, kPlacement * make_pose(Vec3(0.1, -0.2, h + 0.1 + 0.005))}},
+  };
+  for (std::size_t k = 0; k < queries.size(); ++k) {
+    INFO("query " << k);
+    const auto& [a, b] = queries[k];
+    const ConvexProximity first = convex_proximity(a, b, 0.01);
+    REQUIRE(first.in_contact);
+    ConvexProximity again;
+    CHECK(allocations_of([&] { again = convex_proximity(a, b, 0.01); }) == 0);
+    CHECK(again.point == first.point);
+    CHECK(again.normal == first.normal);
+    CHECK(again.signed_depth == first.signed_depth);
+  }
+  // Checked to fail: a vector built inside the query allocates on every call.
+  const std::vector<Vec3> fresh = {Vec3::Zero()};
+  CHECK(allocations_of([&] { std::vector<Vec3> copy(fresh); }) == 1);
+
+  const ConvexHierarchy scene = bridged_cubes();
+  const ConvexHierarchy tool = two_level(box(Vec3(0.2, 0.2, 0.2), Vec3(-1, 0, 0)),
+                                         box(Vec3(0.2, 0.2, 0.2), Vec3(1, 0, 0)), 0.01);
+  const Pose tool_pose = kScenePose * make_pose(Vec3(0.05, 0.1, 0.5 + 0.2 - 0.02));
+  std::vector<PieceContact> contacts;
+  HierarchyContactStats stats;
+  find_hierarchy_contacts(tool, tool_pose, scene, kScenePose, {0, 0.01}, contacts, stats);
+  REQUIRE(contacts.size() >= 2);
+  const std::size_t found = contacts.size();
+  contacts.clear();
+  CHECK(allocations_of([&] {
+          find_hierarchy_contacts(tool, tool_pose, scene, kScenePose, {0, 0.01}, contacts, stats);
+        }) == 0);
+  CHECK(contacts.size() == found);
 }
 
 }  // namespace
