@@ -8,10 +8,11 @@
 // against hand-computed centroids. Units m.
 #include "algorithms/sensation_preserving/hierarchy_contacts.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <new>
 #include <numbers>
@@ -31,15 +32,29 @@ namespace hb::test {
 /// operator below): the contact query keeps its buffers between calls.
 thread_local bool counting_allocations = false;
 thread_local int64_t allocations_counted = 0;
+
+/// The definition the operators below shadow (the C++ library's, or the
+/// address sanitizer's when it is linked): every allocation and release
+/// goes through it, so the two always match.
+template <class Function>
+Function shadowed(const char* mangled_name) {
+  return reinterpret_cast<Function>(dlsym(RTLD_NEXT, mangled_name));
+}
 }  // namespace hb::test
 
 void* operator new(std::size_t size) {
+  static const auto next = hb::test::shadowed<void* (*)(std::size_t)>("_Znwm");
   if (hb::test::counting_allocations) ++hb::test::allocations_counted;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
+  return next(size);
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  static const auto next = hb::test::shadowed<void (*)(void*)>("_ZdlPv");
+  next(p);
+}
+void operator delete(void* p, std::size_t size) noexcept {
+  static const auto next = hb::test::shadowed<void (*)(void*, std::size_t)>("_ZdlPvm");
+  next(p, size);
+}
 
 namespace hb {
 namespace {
