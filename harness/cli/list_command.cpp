@@ -31,6 +31,8 @@ const char* compare_text(CompareRule rule) {
       return "any increase";
     case CompareRule::kFlag:
       return "false -> true";
+    case CompareRule::kGeneratedEnergy:
+      return "tolerance below zero";
     case CompareRule::kNone:
       break;
   }

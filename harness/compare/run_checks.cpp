@@ -58,6 +58,22 @@ CheckRow tolerance_row(CheckRow row, std::optional<double> baseline,
   return row;
 }
 
+// An energy compared by its part below zero, the energy generated
+// (CompareRule::kGeneratedEnergy); the row shows the values themselves.
+CheckRow generated_energy_row(CheckRow row, std::optional<double> baseline,
+                              std::optional<double> candidate, double abs_tol, double rel_tol,
+                              const std::string& unit) {
+  if (settle_null_values(row, baseline, candidate)) return row;
+  const auto generated = [](double value) { return std::min(value, 0.0); };
+  row = tolerance_row(row, generated(*baseline), generated(*candidate), abs_tol, rel_tol, unit,
+                      Better::kHigher);
+  row.baseline = *baseline;
+  row.candidate = *candidate;
+  row.change = change_text(*baseline, *candidate, unit);
+  if (*baseline >= 0 && *candidate >= 0) row.note = "no energy generated on either side";
+  return row;
+}
+
 // A count where any increase regresses; `what` says what is counted.
 CheckRow count_row(CheckRow row, int64_t baseline, int64_t candidate, std::string_view what) {
   row.baseline = baseline;
@@ -170,6 +186,10 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
       case CompareRule::kTolerance:
         rows.push_back(tolerance_row(row(check), b, c, metric.abs_tol, options.rel_tol,
                                      std::string(metric.unit), metric.better));
+        break;
+      case CompareRule::kGeneratedEnergy:
+        rows.push_back(generated_energy_row(row(check), b, c, metric.abs_tol, options.rel_tol,
+                                            std::string(metric.unit)));
         break;
       case CompareRule::kCount:
         rows.push_back(count_row(row(check), static_cast<int64_t>(b.value_or(0)),

@@ -208,7 +208,7 @@ constexpr MetricDefinition kMetrics[] = {
      .json_pointer = "/stability/passivity_energy_min_j",
      .unit = "J",
      .better = Better::kHigher,
-     .compare = CompareRule::kTolerance,
+     .compare = CompareRule::kGeneratedEnergy,
      .abs_tol = kEnergyAbsTolJ,
      .read = [](const RunMetrics& m) -> std::optional<double> {
        return m.stability.passivity_energy_min_j;
@@ -237,7 +237,7 @@ constexpr MetricDefinition kMetrics[] = {
      .unit = "J/s",
      .better = Better::kHigher,
      .budget = false,
-     .compare = CompareRule::kTolerance,
+     .compare = CompareRule::kGeneratedEnergy,
      .abs_tol = kEnergyAbsTolJ,
      .compare_when_present = true,
      .read = [](const RunMetrics& m) { return m.stability.energy_drift_j_per_s; },

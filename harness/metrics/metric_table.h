@@ -28,6 +28,11 @@ enum class CompareRule {
   kTolerance,  ///< worse by more than max(abs_tol, rel_tol |baseline|) regresses
   kCount,      ///< any increase regresses (ticks with a non-finite wrench)
   kFlag,       ///< false -> true regresses (divergence)
+  /// An energy whose part below zero is energy generated: that part (the
+  /// value, or 0 when the value is not below zero) compared as kTolerance
+  /// with higher better, so more energy generated regresses and less
+  /// energy absorbed does not (a proxy freed from sticking absorbs less).
+  kGeneratedEnergy,
 };
 
 /// How summary.json writes a metric's value.

@@ -250,6 +250,34 @@ TEST_CASE("stability: divergence, non-finite ticks, passivity and force jumps") 
     CHECK(row_named(compare(summary(), higher), "stability.passivity_energy_min_j").verdict ==
           Verdict::kImproved);
   }
+  SECTION("port energy: judged by the energy generated, not by the energy absorbed") {
+    // Absorbing less (a proxy freed from sticking) is no regression; from
+    // absorbing to generating beyond the tolerance is; generating less is better.
+    Json absorbing = summary(), absorbing_less = summary(), generating = summary();
+    first_run(absorbing)["stability"]["energy_drift_j_per_s"] = 0.3;
+    first_run(absorbing_less)["stability"]["energy_drift_j_per_s"] = 0.0001;
+    first_run(generating)["stability"]["energy_drift_j_per_s"] = -0.01;
+    const CheckRow freed =
+        row_named(compare(absorbing, absorbing_less), "stability.energy_drift_j_per_s");
+    CHECK(freed.verdict == Verdict::kPass);
+    CHECK(freed.note == "no energy generated on either side");
+    CHECK(freed.baseline == 0.3);
+    CHECK(freed.candidate == 0.0001);
+    CHECK(row_named(compare(absorbing, generating), "stability.energy_drift_j_per_s").verdict ==
+          Verdict::kRegression);
+    CHECK(row_named(compare(generating, absorbing), "stability.energy_drift_j_per_s").verdict ==
+          Verdict::kImproved);
+    // The minimum: from +0.5 J (the coupling's store at the start) to +0.1 J
+    // nothing is generated; to -0.1 J it is.
+    Json stored = summary(), stored_less = summary(), below = summary();
+    first_run(stored)["stability"]["passivity_energy_min_j"] = 0.5;
+    first_run(stored_less)["stability"]["passivity_energy_min_j"] = 0.1;
+    first_run(below)["stability"]["passivity_energy_min_j"] = -0.1;
+    CHECK(row_named(compare(stored, stored_less), "stability.passivity_energy_min_j").verdict ==
+          Verdict::kPass);
+    CHECK(row_named(compare(stored, below), "stability.passivity_energy_min_j").verdict ==
+          Verdict::kRegression);
+  }
   SECTION("force jump: an increase beyond the relative tolerance fails") {
     Json jumpy = summary(), similar = summary();
     first_run(jumpy)["stability"]["force_jump_max_n"] = 0.09;     // +12.5 %
