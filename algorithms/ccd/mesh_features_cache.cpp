@@ -63,7 +63,9 @@ std::string payload_of(const MeshFeatures& mesh) {
 // can be recomputed by anyone): every index the queries follow is checked
 // here, so that a crafted file is rebuilt instead of crashing a query or
 // sending the tree search round a cycle. Children follow their parent
-// (first > the node's index), so every descent ends.
+// (first > the node's index), so every descent ends, and every node but the
+// root has exactly one parent, so that it is a tree: nodes sharing children
+// (a DAG) would make a descent exponential in the depth.
 bool valid_structure(const MeshFeatures& mesh, const std::vector<SphereTreeNode>& nodes,
                      const std::vector<int>& order, std::size_t n_vertices,
                      std::size_t n_triangles) {
@@ -104,6 +106,13 @@ bool valid_structure(const MeshFeatures& mesh, const std::vector<SphereTreeNode>
       return false;
     }
   }
+  std::vector<unsigned char> parents(nodes.size(), 0);
+  for (const SphereTreeNode& node : nodes)
+    if (node.count == 0)
+      for (const long long child : {static_cast<long long>(node.first), node.first + 1LL})
+        if (++parents[static_cast<std::size_t>(child)] > 1) return false;
+  for (std::size_t i = 1; i < nodes.size(); ++i)
+    if (parents[i] != 1) return false;
   for (const LeafFeatures& leaf : mesh.leaves) {
     if (leaf.triangle_count < 1 || leaf.triangle_count > LeafFeatures::kMaxTriangles ||
         leaf.vertex_count < 0 || leaf.vertex_count > LeafFeatures::kMaxVertices ||

@@ -23,7 +23,14 @@ TemporarySibling::TemporarySibling(std::filesystem::path destination)
     : destination_(std::move(destination)) {
   std::filesystem::path folder = destination_.parent_path();
   if (folder.empty()) folder = ".";
-  std::string name = (folder / ("." + destination_.filename().string() + ".tmp-XXXXXX")).string();
+  // A file name has at most 255 bytes: the destination's name is cut short
+  // in the temporary one where it would not fit (a 245-byte name is the
+  // user's right; the suffix is ours).
+  constexpr std::size_t kMaxName = 255;
+  const std::string suffix = ".tmp-XXXXXX";
+  std::string stem = destination_.filename().string();
+  if (1 + stem.size() + suffix.size() > kMaxName) stem.resize(kMaxName - 1 - suffix.size());
+  std::string name = (folder / ("." + stem + suffix)).string();
   std::vector<char> buffer(name.begin(), name.end());
   buffer.push_back('\0');
   fd_ = ::mkstemp(buffer.data());

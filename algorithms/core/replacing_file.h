@@ -10,7 +10,8 @@
 namespace hb {
 
 /// A new file beside `destination`, named ".<name>.tmp-XXXXXX" (a unique
-/// suffix) and created exclusively (mkstemp: O_CREAT | O_EXCL, so it is
+/// suffix; <name> cut short where the whole would pass 255 bytes) and
+/// created exclusively (mkstemp: O_CREAT | O_EXCL, so it is
 /// never a file, a symlink or anything else that was there before). Removed
 /// when destroyed unless committed.
 class TemporarySibling {

@@ -74,13 +74,22 @@ std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size
   uint64_t node_count = 0;
   if (!in.get(root) || !in.get_array(hierarchy.pieces_per_level) || !in.get(node_count))
     return std::nullopt;
-  if (node_count == 0 || node_count > payload.size() || root < 0 ||
+  // A node takes at least its fixed fields and three array counts: the
+  // count is bounded by what the bytes can hold, and nodes are added as
+  // they are read, so that memory follows the payload's real size (a
+  // crafted count once cost 128 times the file's size up front).
+  constexpr std::size_t kMinNodeBytes = 3 * sizeof(uint64_t) + sizeof(Vec3) + 2 * sizeof(double) +
+                                        sizeof(int32_t) + sizeof(ConvexNode::children);
+  if (node_count == 0 || node_count > in.remaining() / kMinNodeBytes || root < 0 ||
       static_cast<uint64_t>(root) >= node_count)
     return std::nullopt;
   hierarchy.root = root;
-  hierarchy.nodes.resize(static_cast<std::size_t>(node_count));
-  for (std::size_t n = 0; n < hierarchy.nodes.size(); ++n) {
-    ConvexNode& node = hierarchy.nodes[n];
+  hierarchy.nodes.reserve(static_cast<std::size_t>(node_count));
+  // Every node but the root must be the child of exactly one node: a tree.
+  // Nodes sharing children (a DAG) would make a descent exponential.
+  std::vector<unsigned char> parents(static_cast<std::size_t>(node_count), 0);
+  for (std::size_t n = 0; n < static_cast<std::size_t>(node_count); ++n) {
+    ConvexNode& node = hierarchy.nodes.emplace_back();
     int32_t level = 0;
     if (!in.get_array(node.vertices) || !in.get_array(node.triangles) || !in.get(node.centre) ||
         !in.get(node.radius) || !in.get(node.deviation_m) || !in.get(level) ||
@@ -97,11 +106,16 @@ std::optional<ConvexHierarchy> parse_payload(std::string_view payload, std::size
         !std::isfinite(node.deviation_m) || !(node.deviation_m >= 0) || level < 0)
       return std::nullopt;
     const bool leaf = node.children[0] < 0 && node.children[1] < 0;
-    for (const int child : node.children)
-      if (!leaf && (child < 0 || child >= static_cast<int>(n))) return std::nullopt;
+    for (const int child : node.children) {
+      if (leaf) continue;
+      if (child < 0 || child >= static_cast<int>(n)) return std::nullopt;
+      if (++parents[static_cast<std::size_t>(child)] > 1) return std::nullopt;
+    }
     for (const int f : node.faces)
       if (f < 0 || static_cast<std::size_t>(f) >= triangle_count) return std::nullopt;
   }
+  for (std::size_t n = 0; n < parents.size(); ++n)
+    if (parents[n] != (static_cast<int32_t>(n) == root ? 0 : 1)) return std::nullopt;
   if (in.remaining() != 0) return std::nullopt;
   return hierarchy;
 }

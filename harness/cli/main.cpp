@@ -15,6 +15,7 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/plugins/plugin_loader.h"
+#include "harness/process/activity_report.h"
 #include "harness/process/interrupt.h"
 #include "harness/process/memory_limit.h"
 
@@ -39,7 +40,10 @@ constexpr const char* kUsage =
     "every command: --memory-limit MB   the most memory it may use (default: half of the\n"
     "                                   machine's); an input that needs more is exit 2\n"
     "               --plugin PATH.so    load renderers built outside hapticbench (repeatable;\n"
-    "                                   also HAPTICBENCH_PLUGINS=A.so:B.so; docs/plugins.md)\n"
+    "                                   also HAPTICBENCH_PLUGINS=/abs/A.so:/abs/B.so;\n"
+    "                                   docs/plugins.md)\n"
+    "               --allow-scenario-plugins   load the plugins scenario files name (a\n"
+    "                                   scenario alone never loads code; validate never does)\n"
     "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
 
 // Takes `--memory-limit MB` out of the arguments (anywhere after the
@@ -59,8 +63,16 @@ std::uint64_t take_memory_limit(std::vector<std::string>& args) {
   return static_cast<std::uint64_t>(*mb);
 }
 // Loads the plugins HAPTICBENCH_PLUGINS lists, then takes every `--plugin
-// PATH` out of the arguments (anywhere after the command) and loads it.
-void load_plugins(std::vector<std::string>& args) {
+// PATH` out of the arguments (anywhere after the command) and loads it, and
+// takes --allow-scenario-plugins (validate loads none a scenario names).
+void load_plugins(const std::string& command, std::vector<std::string>& args) {
+  const auto allow = std::find(args.begin(), args.end(), hb::kAllowScenarioPluginsFlag);
+  const bool allowed = allow != args.end();
+  if (allowed) args.erase(allow);
+  if (command == "validate")
+    hb::set_scenario_plugins(hb::ScenarioPlugins::kNotLoaded);
+  else if (allowed)
+    hb::set_scenario_plugins(hb::ScenarioPlugins::kAllowed);
   hb::load_plugins_from_environment();
   for (auto at = std::find(args.begin(), args.end(), "--plugin"); at != args.end();
        at = std::find(args.begin(), args.end(), "--plugin")) {
@@ -73,7 +85,7 @@ void load_plugins(std::vector<std::string>& args) {
 }
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_command_line(int argc, char** argv) {
   if (argc < 2) {
     std::cerr << kUsage;
     return hb::kExitBadInput;
@@ -85,8 +97,12 @@ int main(int argc, char** argv) {
   const std::uint64_t memory_limit_mb = take_memory_limit(args);
   if (memory_limit_mb == 0) return hb::kExitBadInput;
   hb::apply_memory_limit(memory_limit_mb);
+  if (command == "-h" || command == "--help" || command == "help") {
+    std::cout << kUsage;  // loads no plugin: a bad one must not hide the help
+    return hb::kExitOk;
+  }
   try {
-    load_plugins(args);
+    load_plugins(command, args);
     if (command == "run") return hb::run_command(args);
     if (command == "validate") return hb::validate_command(args);
     if (command == "list") return hb::list_command(args);
@@ -99,10 +115,6 @@ int main(int argc, char** argv) {
     if (command == "zwidth") return hb::zwidth_command(args);
     if (command == "export") return hb::export_command(args);
     if (command == "count-instructions") return hb::count_instructions_command(args);
-    if (command == "-h" || command == "--help" || command == "help") {
-      std::cout << kUsage;
-      return hb::kExitOk;
-    }
     std::cerr << "error: unknown command \"" << command << "\"\n" << kUsage;
     return hb::kExitBadInput;
   } catch (const hb::Interrupted& interrupted) {
@@ -138,4 +150,13 @@ int main(int argc, char** argv) {
     std::cerr << "internal error: " << error.what() << "\n";
     return hb::kExitInternal;
   }
+}
+
+int main(int argc, char** argv) {
+  // A command run in a child (plugin_isolation.h) tells its parent that main
+  // returned, and with which code: any other end is the plugin's doing.
+  hb::take_activity_report_fd();
+  const int code = run_command_line(argc, argv);
+  hb::report_activity("ended " + std::to_string(code));
+  return code;
 }

@@ -5,6 +5,7 @@
 // draws the figures and writes the page under a temporary name; the page is
 // renamed into place only when complete.
 #include <fcntl.h>
+#include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +21,8 @@
 #include <system_error>
 #include <vector>
 
+#include "algorithms/core/file_trust.h"
+#include "algorithms/core/replacing_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
@@ -27,6 +30,7 @@
 #include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
 #include "harness/process/child_process.h"
+#include "harness/process/interrupt.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/scenario/json_fields.h"
 
@@ -125,6 +129,9 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
   options.search_path = true;
   options.stderr_path = stderr_file;
   options.inherit_fds = {{pipe_fds[1], kRendererProgressFd}};
+  // A terminal's Ctrl-C reaches this process only; it stops the renderer
+  // (no Python traceback) and exits with 130.
+  options.own_process_group = true;
   std::optional<ChildProcess> renderer;
   try {
     renderer.emplace(argv, options);
@@ -139,6 +146,15 @@ int run_renderer(const std::vector<std::string>& argv, const fs::path& stderr_fi
   std::string pending, current_phase;
   char buffer[4096];
   for (;;) {
+    // Waits at most 0.2 s at a time, so that a stop signal is seen even
+    // while the renderer writes nothing.
+    pollfd waiting{pipe_fds[0], POLLIN, 0};
+    const int ready = ::poll(&waiting, 1, 200);
+    if (interrupt_signal() != 0) {
+      ::close(pipe_fds[0]);
+      throw_if_interrupted();  // the renderer is stopped as `renderer` goes
+    }
+    if (ready <= 0) continue;
     const ssize_t got = ::read(pipe_fds[0], buffer, sizeof buffer);
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) break;
@@ -170,16 +186,31 @@ std::string environment_or(const char* name, const std::string& fallback) {
   return value != nullptr && *value != '\0' ? std::string(value) : fallback;
 }
 
-// Where render_report.py and its template are: HAPTICBENCH_REPORTS_DIR, else
-// share/hapticbench/reports beside the binary's folder (PREFIX/bin and
-// PREFIX/share when installed; the build links build/harness/share to the
-// source tree's reports/), so that a moved or installed binary finds its own.
+// Where render_report.py and its template are: HAPTICBENCH_REPORTS_DIR (the
+// user's explicit choice), else share/hapticbench/reports beside the
+// binary's folder (PREFIX/bin and PREFIX/share when installed; the build
+// links build/harness/share to the source tree's reports/). That one runs
+// only when nobody but this user or root can change it: a copy of the
+// binary in a shared folder (/tmp/bin) must not run a stranger's
+// /tmp/share/hapticbench/reports. InputError naming the path otherwise.
 fs::path reports_dir() {
+  const char* chosen = std::getenv("HAPTICBENCH_REPORTS_DIR");
+  if (chosen != nullptr && *chosen != '\0') return chosen;
   std::error_code error;
   const fs::path executable = fs::read_symlink("/proc/self/exe", error);
-  return environment_or(
-      "HAPTICBENCH_REPORTS_DIR",
-      (executable.parent_path().parent_path() / "share" / "hapticbench" / "reports").string());
+  const fs::path beside =
+      executable.parent_path().parent_path() / "share" / "hapticbench" / "reports";
+  if (!fs::exists(beside / kRendererScript, error)) return beside;  // said by the caller
+  for (const fs::path& part : {beside / kRendererScript, beside / "hapticbench_report"}) {
+    const std::string why = writable_by_others(part);
+    if (!why.empty())
+      throw InputError(beside.string(), "",
+                       "the report renderer beside this hapticbench is not run: " + why +
+                           ", so another user could change the code it runs; install "
+                           "hapticbench (cmake --install) or set HAPTICBENCH_REPORTS_DIR to "
+                           "a reports/ folder you trust");
+  }
+  return beside;
 }
 
 }  // namespace
@@ -235,18 +266,19 @@ int report_command(const std::vector<std::string>& args) {
               << "\n";
     return kExitBadInput;
   }
-  // A hidden name beside the page, so the rename cannot cross file systems.
-  std::string temporary_name = ".";
-  temporary_name.append(out.filename().string()).append(".tmp-").append(std::to_string(getpid()));
-  fs::path temporary = out;
-  temporary.replace_filename(temporary_name);
-
-  // Refuse an unwritable destination before rendering, naming the user's path.
-  if (!std::ofstream(temporary)) {
+  // A hidden name beside the page, so the rename cannot cross file systems,
+  // created exclusively (never a file or symlink planted there before).
+  // Refuses an unwritable destination before rendering, naming the user's
+  // path.
+  std::optional<TemporarySibling> page;
+  try {
+    page.emplace(out);
+  } catch (const fs::filesystem_error& failure) {
     std::cerr << "error: " << out.string() << ": cannot write the report there ("
-              << std::strerror(errno) << ")\n";
+              << failure.code().message() << ")\n";
     return kExitBadInput;
   }
+  const fs::path temporary = page->path();
 
   // The metric table the summary table's columns come from (metric_table.h).
   const ScratchFolder scratch("hapticbench-report");
@@ -283,8 +315,7 @@ int report_command(const std::vector<std::string>& args) {
     const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::cerr << said << std::flush;
   }
-  if (status != 0 || !fs::is_regular_file(temporary)) {
-    fs::remove(temporary, error);
+  if (status != 0) {
     if (status == kExitBadInput) return kExitBadInput;  // the renderer named the file
     std::cerr << "internal error: " << script.string() << " failed"
               << (status < 0 ? std::string(" to start")
@@ -292,11 +323,17 @@ int report_command(const std::vector<std::string>& args) {
               << "\n";
     return kExitInternal;
   }
-  fs::rename(temporary, out, error);
-  if (error) {
-    fs::remove(temporary, error);
-    std::cerr << "error: " << out.string() << ": cannot write the report: " << error.message()
+  if (!is_report_page(temporary)) {
+    std::cerr << "internal error: " << script.string()
+              << " exited 0 but wrote no report page; nothing was written to " << out.string()
               << "\n";
+    return kExitInternal;
+  }
+  try {
+    page->commit();
+  } catch (const fs::filesystem_error& failure) {
+    std::cerr << "error: " << out.string()
+              << ": cannot write the report: " << failure.code().message() << "\n";
     return kExitBadInput;
   }
   std::cout << "report: " << out.string() << " (" << folders.size() << " run folder"

@@ -8,6 +8,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/plugin_isolation.h"
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_table.h"
 #include "harness/run/instruction_counting.h"
@@ -120,6 +121,16 @@ int run_command(const std::vector<std::string>& args) {
           throw InputError(path, "/name",
                            "scenario name \"" + scenarios.back().name + "\" is also used by " +
                                scenarios[i].path + "; run folders would collide");
+    }
+    // Plugins run in a child that this process watches (plugin_isolation.h).
+    std::vector<std::string> names;
+    for (const Scenario& scenario : scenarios)
+      for (const AlgorithmSpec& spec : scenario.algorithms)
+        if (!parsed->algo || spec.name == *parsed->algo || spec.label == *parsed->algo)
+          names.push_back(spec.name);
+    if (should_isolate_plugins(names)) {
+      progress.close();
+      return run_plugins_isolated("run", args);
     }
     // Every run folder must be writable without destroying anything
     // hapticbench did not write, before any scenario runs.

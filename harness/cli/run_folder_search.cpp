@@ -81,6 +81,10 @@ nlohmann::ordered_json read_run_summary(const fs::path& file) {
     run.require_object("expected a run object");
     run.member("label", "expected the run's label").string("expected the run's label");
     run.member("timing", "expected the run's timing").require_object("expected an object");
+    // The renderer opens these beside the summary: names inside the folder.
+    for (const char* name : {"ticks_file", "schedule_file"})
+      if (run.has(name) && !run.existing_member(name).json().is_null())
+        run.existing_member(name).file_name_inside("expected a file name");
   }
   return summary;
 }

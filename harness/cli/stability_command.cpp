@@ -24,6 +24,7 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
+#include "harness/process/interrupt.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -91,8 +92,10 @@ int stability_command(const std::vector<std::string>& args) {
     ScenarioProber prober(parsed->search.scenario, parsed->search.label, parsed->search.criterion,
                           parsed->search.epsilon_j, progress);
     // The parameter must be settable, and the scenario valid with it, before
-    // anything runs: loaded at the low end only.
+    // anything runs: loaded at both ends of the range (a bad high end once
+    // failed after a 300,000-tick run at the low end).
     prober.check({{parsed->pointer, parsed->low}});
+    prober.check({{parsed->pointer, parsed->high}});
     const fs::path out = parsed->search.out
                              ? fs::path(*parsed->search.out)
                              : fs::path("out") / "stability" /
@@ -100,11 +103,27 @@ int stability_command(const std::vector<std::string>& args) {
     // Refuse an output we may not replace before the first (long) run.
     StagedRunFolder folder(out, OutputFolderKind::kRun);
 
-    const StabilityBracket bracket = search_largest_stable(
-        [&](double value) {
-          return prober.probe({{parsed->pointer, value}});
-        },
-        parsed->low, parsed->high, parsed->search.tolerance);
+    // The runs that finished are kept if a stop signal ends the search.
+    std::vector<StabilityProbe> finished;
+    StabilityBracket bracket;
+    try {
+      bracket = search_largest_stable(
+          [&](double value) {
+            finished.push_back(prober.probe({{parsed->pointer, value}}));
+            return finished.back();
+          },
+          parsed->low, parsed->high, parsed->search.tolerance);
+    } catch (const Interrupted&) {
+      progress.close();
+      keep_interrupted_search(folder, "stability.partial.json",
+                              {{"scenario", prober.scenario_name()},
+                               {"scenario_file", parsed->search.scenario},
+                               {"label", parsed->search.label},
+                               {"param", parsed->pointer},
+                               {"range", {parsed->low, parsed->high}}},
+                              finished);
+      throw;
+    }
     const std::optional<double>& largest_stable = bracket.largest_stable;
     const std::optional<double>& smallest_unstable = bracket.smallest_unstable;
 

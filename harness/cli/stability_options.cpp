@@ -57,4 +57,16 @@ void require_stability_search_options(const StabilitySearchOptions& options) {
   if (options.label.empty()) throw UsageError{"--label LABEL is required"};
 }
 
+void keep_interrupted_search(StagedRunFolder& folder, const std::string& name,
+                             nlohmann::ordered_json document,
+                             const std::vector<StabilityProbe>& finished) {
+  if (finished.empty()) return;
+  document["interrupted"] = true;
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (const StabilityProbe& probe : finished) runs.push_back(probe_json(probe));
+  document["runs"] = runs;
+  folder.write_file(name, document.dump(2) + "\n");
+  folder.commit();
+}
+
 }  // namespace hb

@@ -3,10 +3,12 @@
 // folder and the progress display.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "harness/output/run_folder.h"
 #include "harness/progress/progress_display.h"
 #include "harness/stability/stability_search.h"
 
@@ -37,5 +39,14 @@ void require_stability_search_options(const StabilitySearchOptions& options);
 /// `text` as a finite number, > 0 (positive) or >= 0; throws UsageError
 /// naming `option` otherwise.
 double finite_number_option(const std::string& option, const std::string& text, bool positive);
+
+/// After a stop signal ended a search: writes `document` (what was being
+/// searched) with "interrupted": true and the runs that finished to
+/// `name` in `folder` (stability.partial.json, zwidth.partial.json: not
+/// the name a report reads), and commits the folder. Nothing when no run
+/// finished.
+void keep_interrupted_search(StagedRunFolder& folder, const std::string& name,
+                             nlohmann::ordered_json document,
+                             const std::vector<StabilityProbe>& finished);
 
 }  // namespace hb

@@ -7,6 +7,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "harness/cli/commands.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/process/interrupt.h"
+#include "harness/process/memory_limit.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
@@ -199,6 +201,12 @@ int validate_command(const std::vector<std::string>& args) {
       status = std::max<int>(status, kExitBadInput);
     } catch (const Interrupted&) {
       throw;  // main reports it and exits with 128 + the signal
+    } catch (const std::bad_alloc&) {
+      // An input that needs more memory than the ceiling: the user's.
+      progress.finish_task();
+      progress.print_above(std::cout, report.str());
+      progress.print_above(std::cerr, "error: " + file + ": " + memory_limit_message() + "\n");
+      status = std::max<int>(status, kExitBadInput);
     } catch (const std::exception& error) {
       progress.finish_task();
       progress.print_above(std::cout, report.str());

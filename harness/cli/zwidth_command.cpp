@@ -18,6 +18,7 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
+#include "harness/process/interrupt.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -48,6 +49,8 @@ struct ZwidthArguments {
   std::vector<double> x_values;
   double y_low = 0, y_high = 0;
 };
+
+constexpr std::size_t kMaxXValues = 256;
 
 void check_pointer(const std::string& option, const std::string& pointer) {
   if (pointer.empty()) throw UsageError{option + " JSON_POINTER is required"};
@@ -88,6 +91,10 @@ ZwidthArguments parse_zwidth_arguments(const std::vector<std::string>& args) {
   check_pointer("--y", parsed.y_pointer);
   if (parsed.x_pointer == parsed.y_pointer) throw UsageError{"--x and --y name the same field"};
   if (parsed.x_values.empty()) throw UsageError{"--x-values V,V,... is required"};
+  // Each x value is a whole search of runs: a list of thousands is a typo.
+  if (parsed.x_values.size() > kMaxXValues)
+    throw UsageError{"--x-values: " + std::to_string(parsed.x_values.size()) + " values; at most " +
+                     std::to_string(kMaxXValues) + " (each is a search of several full runs)"};
   if (!have_range) throw UsageError{"--y-range LO HI is required"};
   if (!(parsed.y_low < parsed.y_high)) throw UsageError{"--y-range: expected LO < HI"};
   return parsed;
@@ -109,7 +116,8 @@ int zwidth_command(const std::vector<std::string>& args) {
     // Every x value must be settable, and the scenario valid with it, before
     // anything runs.
     for (double x : parsed->x_values)
-      prober.check({{parsed->x_pointer, x}, {parsed->y_pointer, parsed->y_low}});
+      for (double y : {parsed->y_low, parsed->y_high})
+        prober.check({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
     const fs::path out =
         parsed->search.out
             ? fs::path(*parsed->search.out)
@@ -117,12 +125,30 @@ int zwidth_command(const std::vector<std::string>& args) {
     StagedRunFolder folder(out, OutputFolderKind::kRun);
 
     Json points = Json::array(), runs = Json::array();
+    // The runs that finished are kept if a stop signal ends the search.
+    std::vector<StabilityProbe> finished;
     for (double x : parsed->x_values) {
-      const StabilityBracket bracket = search_largest_stable(
-          [&](double y) {
-            return prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
-          },
-          parsed->y_low, parsed->y_high, parsed->search.tolerance);
+      StabilityBracket bracket;
+      try {
+        bracket = search_largest_stable(
+            [&](double y) {
+              finished.push_back(prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}}));
+              return finished.back();
+            },
+            parsed->y_low, parsed->y_high, parsed->search.tolerance);
+      } catch (const Interrupted&) {
+        progress.close();
+        keep_interrupted_search(folder, "zwidth.partial.json",
+                                {{"scenario", prober.scenario_name()},
+                                 {"scenario_file", parsed->search.scenario},
+                                 {"label", parsed->search.label},
+                                 {"x_param", parsed->x_pointer},
+                                 {"y_param", parsed->y_pointer},
+                                 {"x_values", parsed->x_values},
+                                 {"y_range", {parsed->y_low, parsed->y_high}}},
+                                finished);
+        throw;
+      }
       points.push_back({{"x", x},
                         {"largest_stable", or_null(bracket.largest_stable)},
                         {"smallest_unstable", or_null(bracket.smallest_unstable)},

@@ -102,7 +102,7 @@ RunSummary read_run(const JsonField& run) {
   RunSummary r;
   r.label = string_member(run, "label");
   r.ticks_file = run.has("ticks_file")
-                     ? run.existing_member("ticks_file").string("expected a file name")
+                     ? run.existing_member("ticks_file").file_name_inside("expected a file name")
                      : "ticks_" + r.label + ".csv";
 
   const JsonField timing = object_member(run, "timing");

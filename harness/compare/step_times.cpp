@@ -8,6 +8,7 @@
 
 #include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/interrupt.h"
 
 namespace hb {
 
@@ -50,6 +51,8 @@ std::optional<std::vector<double>> read_ticks_step_ns(const std::filesystem::pat
 
   std::vector<double> step_ns;
   for (std::size_t line_number = 2; std::getline(in, line); ++line_number) {
+    // Ticks files run to millions of lines: a stop signal is heeded here.
+    if (line_number % 4096 == 0) throw_if_interrupted();
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     const std::optional<std::string_view> field = csv_field(line, *column);

@@ -8,6 +8,8 @@
 #include <string>
 #include <system_error>
 
+#include "algorithms/core/temporary_folder.h"
+
 namespace hb {
 
 namespace {
@@ -18,7 +20,7 @@ namespace {
 }  // namespace
 
 SpillFile::SpillFile() {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path();
+  const std::filesystem::path folder = temporary_folder();
   std::string name = (folder / "hapticbench-spill-XXXXXX").string();
   fd_ = ::mkstemp(name.data());
   if (fd_ < 0) fail("cannot create a temporary file for a run's per-tick values in", folder);
@@ -35,8 +37,7 @@ void SpillFile::append(const void* data, std::size_t bytes) {
     const ssize_t written = ::pwrite(fd_, next, bytes, static_cast<off_t>(size_));
     if (written < 0 && errno == EINTR) continue;
     if (written <= 0)
-      fail("cannot write a run's per-tick values to a temporary file in",
-           std::filesystem::temp_directory_path());
+      fail("cannot write a run's per-tick values to a temporary file in", temporary_folder());
     next += written;
     bytes -= static_cast<std::size_t>(written);
     size_ += static_cast<uint64_t>(written);
@@ -49,8 +50,7 @@ void SpillFile::read(uint64_t offset, void* data, std::size_t bytes) const {
     const ssize_t got = ::pread(fd_, next, bytes, static_cast<off_t>(offset));
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0)
-      fail("cannot read back a run's per-tick values from a temporary file in",
-           std::filesystem::temp_directory_path());
+      fail("cannot read back a run's per-tick values from a temporary file in", temporary_folder());
     next += got;
     bytes -= static_cast<std::size_t>(got);
     offset += static_cast<uint64_t>(got);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "hapticbench/input_error.h"
+#include "harness/process/liveness_lock.h"
 
 namespace hb {
 
@@ -101,7 +102,8 @@ bool is_owned_folder(const fs::path& folder, std::optional<OutputFolderKind> kin
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
     const std::string name = entry.path().filename().string();
-    if (name == kOwnershipMarkerName) continue;
+    // The lock a live writer holds (liveness_lock.h) is part of the folder.
+    if (name == kOwnershipMarkerName || name == kLivenessLockName) continue;
     if (!marker->files.count(name) || type_at(entry.path()) != fs::file_type::regular) return false;
   }
   return !error;

@@ -5,10 +5,12 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "harness/output/output_ownership.h"
+#include "harness/process/liveness_lock.h"
 
 namespace hb {
 
@@ -16,8 +18,9 @@ class StagedRunFolder {
  public:
   /// Checks that `destination` may be replaced (require_replaceable_folder;
   /// InputError if not), then creates `<destination>.partial-<pid>` with
-  /// the marker (parents created as needed). With `remove_stale` it first
-  /// removes the staging folders beside it that dead processes left, which
+  /// the marker and a lock held until commit or destruction (parents
+  /// created as needed). With `remove_stale` it first removes the staging
+  /// folders beside it whose lock no live process holds, which
   /// lists the parent folder: a sweep's jobs pass false, since the sweep
   /// cleans its folder once before they start (a scan per job of a
   /// 100,000-job folder would be quadratic).
@@ -45,7 +48,16 @@ class StagedRunFolder {
   std::filesystem::path staging_;
   OutputFolderKind kind_;
   std::vector<std::string> files_;
+  std::unique_ptr<LivenessLock> lock_;
   bool committed_ = false;
 };
+
+/// Whether `file` is the name of a staging or set-aside folder of
+/// `name`'s: <name>.partial-<pid>[-<n>] or <name>.old-<pid>[-<n>].
+bool is_staging_sibling(const std::string& file, const std::string& name);
+
+/// Removes `path`, a staging or set-aside folder, when it carries
+/// hapticbench's marker and no live process holds its lock.
+void remove_abandoned_staging(const std::filesystem::path& path);
 
 }  // namespace hb

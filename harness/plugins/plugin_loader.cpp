@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <optional>
 #include <span>
 #include <system_error>
 #include <utility>
@@ -22,6 +23,11 @@ namespace {
 std::string& refusal_reason() {
   static std::string reason;
   return reason;
+}
+
+ScenarioPlugins& scenario_plugin_policy() {
+  static ScenarioPlugins policy = ScenarioPlugins::kOnlyLoaded;
+  return policy;
 }
 
 std::vector<LoadedPlugin>& plugins() {
@@ -70,11 +76,16 @@ void refuse_plugins(const std::string& reason) {
 
 LoadedPlugin load_plugin(const fs::path& path, const std::string& field) {
   std::error_code error;
-  const bool exists = fs::is_regular_file(path, error);
+  const fs::file_type type = fs::status(path, error).type();
   const std::string shown = path.string();
   if (!refusal_reason().empty())
     throw InputError(shown, field, "cannot load the plugin: " + refusal_reason());
-  if (!exists) throw InputError(shown, field, "cannot load the plugin: no such file");
+  if (type == fs::file_type::not_found)
+    throw InputError(shown, field, "cannot load the plugin: no such file");
+  if (type != fs::file_type::regular)
+    throw InputError(shown, field,
+                     "cannot load the plugin: it is not a regular file (a folder, FIFO or "
+                     "device); expected a shared library (.so)");
   const std::string absolute = fs::canonical(path, error).string();
   for (const LoadedPlugin& plugin : plugins())
     if (plugin.path == absolute) return plugin;
@@ -117,8 +128,40 @@ LoadedPlugin load_plugin(const fs::path& path, const std::string& field) {
 
 const std::vector<LoadedPlugin>& loaded_plugins() { return plugins(); }
 
+void set_scenario_plugins(ScenarioPlugins policy) { scenario_plugin_policy() = policy; }
+
+ScenarioPlugins scenario_plugins() { return scenario_plugin_policy(); }
+
+std::optional<std::string> scenario_plugin_refusal(const fs::path& path) {
+  if (scenario_plugin_policy() != ScenarioPlugins::kOnlyLoaded) return std::nullopt;
+  std::error_code error;
+  const std::string absolute = fs::canonical(path, error).string();
+  for (const LoadedPlugin& plugin : plugins())
+    if (!error && plugin.path == absolute) return std::nullopt;
+  return "names the plugin " + path.string() +
+         ", a shared library whose code runs when it is loaded; a scenario alone never loads "
+         "one: allow it with --plugin " +
+         path.string() + " (or list it in " + kPluginsVariable +
+         "), or allow every plugin the scenarios name with " + kAllowScenarioPluginsFlag;
+}
+
+bool load_scenario_plugin(const fs::path& path, const std::string& field) {
+  if (scenario_plugin_policy() == ScenarioPlugins::kNotLoaded && refusal_reason().empty())
+    return false;
+  if (const std::optional<std::string> refused = scenario_plugin_refusal(path))
+    throw InputError(path.string(), field, *refused);
+  load_plugin(path, field);
+  return true;
+}
+
 void load_plugins_from_environment() {
-  for (const std::string& path : listed_plugins()) load_plugin(path, kPluginsVariable);
+  for (const std::string& path : listed_plugins()) {
+    if (fs::path(path).is_relative())
+      throw InputError(path, kPluginsVariable,
+                       "a relative plugin path would load from whatever folder the command runs "
+                       "in; expected an absolute path");
+    load_plugin(path, kPluginsVariable);
+  }
 }
 
 }  // namespace hb

@@ -62,9 +62,16 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const ChildOpti
   std::vector<char*> arguments;
   for (const std::string& argument : argv) arguments.push_back(const_cast<char*>(argument.c_str()));
   arguments.push_back(nullptr);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (options.own_process_group) {
+    posix_spawnattr_setpgroup(&attributes, 0);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  }
   const auto spawn = options.search_path ? &posix_spawnp : &posix_spawn;
   const int error =
-      spawn(&pid_, argv[0].c_str(), actions.get(), nullptr, arguments.data(), environ);
+      spawn(&pid_, argv[0].c_str(), actions.get(), &attributes, arguments.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   if (error != 0) {
     pid_ = -1;
     throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(error));

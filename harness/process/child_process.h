@@ -32,6 +32,9 @@ struct ChildOptions {
   /// (parent fd, child fd): the child gets the parent's fd under that number
   /// (a pipe's write end as the child's fd 3, say).
   std::vector<std::pair<int, int>> inherit_fds;
+  /// In a process group of its own: a terminal's Ctrl-C reaches only the
+  /// parent, which passes it on once.
+  bool own_process_group = false;
 };
 
 class ChildProcess {
@@ -43,7 +46,7 @@ class ChildProcess {
   /// written to the two files.
   ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& stdout_path,
                const std::filesystem::path& stderr_path)
-      : ChildProcess(argv, ChildOptions{stdout_path, stderr_path, false, {}}) {}
+      : ChildProcess(argv, ChildOptions{stdout_path, stderr_path, false, {}, false}) {}
   /// Kills and reaps a process still running (an interrupted caller leaves
   /// no orphan behind).
   ~ChildProcess();

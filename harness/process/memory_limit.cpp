@@ -4,6 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <string>
 
 // AddressSanitizer's runtime initialiser: a weak reference, null unless the
 // runtime is in the process.
@@ -27,6 +30,15 @@ bool address_sanitizer_running() {
 
 std::uint64_t applied_mb = 0;
 
+// The address space this process maps now (VmSize, bytes); 0 if unknown.
+std::uint64_t mapped_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmSize:", 0) == 0) return std::strtoull(line.c_str() + 7, nullptr, 10) << 10;
+  return 0;
+}
+
 }  // namespace
 
 std::uint64_t default_memory_limit_mb() {
@@ -42,7 +54,7 @@ bool apply_memory_limit(std::uint64_t mb) {
   if (address_sanitizer_running() || mb == 0) return false;
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) != 0) return false;
-  const rlim_t bytes = static_cast<rlim_t>(mb) << 20;
+  const rlim_t bytes = static_cast<rlim_t>(mapped_bytes() + (mb << 20));
   if (limit.rlim_max != RLIM_INFINITY && limit.rlim_max < bytes) return false;
   limit.rlim_cur = bytes;
   if (::setrlimit(RLIMIT_AS, &limit) != 0) return false;
@@ -50,12 +62,38 @@ bool apply_memory_limit(std::uint64_t mb) {
   return true;
 }
 
+void outside_memory_limit(const std::function<void()>& reserve) {
+  rlimit limit{};
+  if (applied_mb == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0) {
+    reserve();
+    return;
+  }
+  const rlim_t ceiling = limit.rlim_cur;
+  const std::uint64_t before = mapped_bytes();
+  limit.rlim_cur = limit.rlim_max;
+  ::setrlimit(RLIMIT_AS, &limit);
+  const auto restore = [&] {
+    const std::uint64_t after = mapped_bytes();
+    limit.rlim_cur = ceiling + (after > before ? after - before : 0);
+    if (limit.rlim_max != RLIM_INFINITY) limit.rlim_cur = std::min(limit.rlim_cur, limit.rlim_max);
+    ::setrlimit(RLIMIT_AS, &limit);
+  };
+  try {
+    reserve();
+  } catch (...) {
+    restore();
+    throw;
+  }
+  restore();
+}
+
 std::uint64_t applied_memory_limit_mb() { return applied_mb; }
 
 std::string memory_limit_message() {
   if (applied_mb == 0) return "the input needs more memory than the machine has";
   return "the input needs more than " + std::to_string(applied_mb) +
-         " MB of memory (the limit; --memory-limit MB raises it)";
+         " MB of memory (the limit, beyond the program's own code and libraries; "
+         "--memory-limit MB raises it)";
 }
 
 }  // namespace hb

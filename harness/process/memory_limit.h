@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace hb {
@@ -23,10 +24,20 @@ constexpr std::uint64_t kInputMemoryAllowance = 16u << 20;
 std::uint64_t default_memory_limit_mb();
 
 /// Limits this process's address space (RLIMIT_AS, soft limit) to `mb`
-/// MB. Returns false, changing nothing, in builds with AddressSanitizer
-/// (its shadow memory reserves terabytes of address space) and when the
-/// hard limit is lower.
+/// MB beyond what it already maps when called (its code and libraries:
+/// about 290 MB of address space before any input, which no input can
+/// change; with the ceiling counted from zero, 256 MB ran nothing at all).
+/// Returns false, changing nothing, in builds with AddressSanitizer (its
+/// shadow memory reserves terabytes of address space) and when the hard
+/// limit is lower.
 bool apply_memory_limit(std::uint64_t mb);
+
+/// Runs `reserve`, a library's start-up (Embree's device, which reserves
+/// 128 MB for its allocator, and its threads' stacks and arenas), with the
+/// ceiling lifted, then puts the ceiling back, raised by the address space
+/// `reserve` left mapped: what a library reserves for itself is not the
+/// input's to pay for. Without a ceiling it just runs `reserve`.
+void outside_memory_limit(const std::function<void()>& reserve);
 
 /// The ceiling applied by apply_memory_limit, in MB (0: none).
 std::uint64_t applied_memory_limit_mb();

@@ -1,13 +1,15 @@
 #include "harness/process/scratch_folder.h"
 
-#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <fstream>
 #include <stdexcept>
 #include <system_error>
+
+#include "algorithms/core/replacing_file.h"
+#include "algorithms/core/temporary_folder.h"
+#include "hapticbench/input_error.h"
+#include "harness/process/liveness_lock.h"
 
 namespace hb {
 
@@ -17,43 +19,43 @@ namespace {
 
 constexpr const char* kScratchMarker = ".hapticbench-scratch";
 
-// Removes <temp>/<prefix>-<pid>-XXXXXX folders of processes that are gone
-// and that hold the marker (a folder of someone else's is never touched).
+// Removes the <temp>/<prefix>-<pid>-XXXXXX folders that hold the marker and
+// whose process is gone: no live process holds their lock (liveness_lock.h).
+// The process id in the name is not trusted: in another PID namespace (a
+// container sharing /tmp) a live process's id looks gone. A folder of
+// someone else's, without the marker, is never touched.
 void remove_stale_scratch(const fs::path& temp, const std::string& prefix) {
   std::error_code error;
   for (const auto& entry : fs::directory_iterator(temp, error)) {
     const std::string name = entry.path().filename().string();
     if (name.size() <= prefix.size() + 1 || name.compare(0, prefix.size() + 1, prefix + "-") != 0)
       continue;
-    const std::size_t pid_end = name.find('-', prefix.size() + 1);
-    if (pid_end == std::string::npos || pid_end == prefix.size() + 1) continue;
-    const std::string pid_text = name.substr(prefix.size() + 1, pid_end - prefix.size() - 1);
-    if (pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9)
-      continue;
     std::error_code ignored;
-    if (process_is_gone(std::stol(pid_text)) &&
-        fs::is_regular_file(entry.path() / kScratchMarker, ignored))
-      fs::remove_all(entry.path(), ignored);
+    if (fs::symlink_status(entry.path() / kScratchMarker, ignored).type() != fs::file_type::regular)
+      continue;
+    remove_if_abandoned(entry.path(), [](const fs::path& folder) {
+      std::error_code not_removed;
+      fs::remove_all(folder, not_removed);
+    });
   }
 }
 
 }  // namespace
 
-bool process_is_gone(long pid) {
-  return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
-}
-
 ScratchFolder::ScratchFolder(const std::string& prefix) {
-  remove_stale_scratch(fs::temp_directory_path(), prefix);
-  std::string pattern =
-      (fs::temp_directory_path() / (prefix + "-" + std::to_string(::getpid()) + "-XXXXXX"))
-          .string();
+  const fs::path temp = temporary_folder();
+  remove_stale_scratch(temp, prefix);
+  std::string pattern = (temp / (prefix + "-" + std::to_string(::getpid()) + "-XXXXXX")).string();
   if (!::mkdtemp(pattern.data()))
-    throw std::runtime_error("cannot create a scratch folder in " +
-                             fs::temp_directory_path().string());
+    throw InputError(
+        temp.string(), "TMPDIR",
+        "cannot create a scratch folder there (" + std::system_category().message(errno) + ")");
   path_ = pattern;
-  std::ofstream(path_ / kScratchMarker)
-      << "scratch folder of hapticbench process " << ::getpid() << "\n";
+  // The lock is held before the marker exists, so that no other process
+  // ever sees this folder marked and unlocked.
+  lock_ = std::make_unique<LivenessLock>(path_);
+  write_file_replacing(path_ / kScratchMarker, "scratch folder of hapticbench process " +
+                                                   std::to_string(::getpid()) + "\n");
 }
 
 ScratchFolder::~ScratchFolder() {

@@ -3,16 +3,19 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
+
+#include "harness/process/liveness_lock.h"
 
 namespace hb {
 
 class ScratchFolder {
  public:
-  /// Creates <temp>/<prefix>-<pid>-XXXXXX holding a marker file, after
-  /// removing the folders of that form that a process no longer running
-  /// left behind (SIGKILL, a second SIGINT: hundreds of MB of ticks each).
-  /// Throws std::runtime_error when it cannot.
+  /// Creates <temp>/<prefix>-<pid>-XXXXXX holding a marker file and a lock
+  /// held for the folder's life, after removing the folders of that form
+  /// whose lock no live process holds (SIGKILL, a second SIGINT: hundreds
+  /// of MB of ticks each). Throws std::runtime_error when it cannot.
   explicit ScratchFolder(const std::string& prefix);
   ~ScratchFolder();
   ScratchFolder(const ScratchFolder&) = delete;
@@ -21,10 +24,8 @@ class ScratchFolder {
 
  private:
   std::filesystem::path path_;
+  std::unique_ptr<LivenessLock> lock_;
 };
-
-/// True when no process has this id any more (its leftovers are stale).
-bool process_is_gone(long pid);
 
 /// The running hapticbench binary, to start more of itself (sweep workers,
 /// the instruction-counting run).

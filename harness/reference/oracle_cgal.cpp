@@ -22,6 +22,7 @@
 #include <sstream>
 #include <utility>
 
+#include "algorithms/core/build_progress.h"
 #include "hapticbench/input_error.h"
 #include "harness/reference/oracle.h"
 
@@ -222,9 +223,12 @@ class CgalOracle final : public Oracle {
       } else {
         if (auto why = inside_outside_defect(world))
           throw InputError(object.name, location, with_advice(*why));
+        check_build_stop();
         std::optional<Mesh> mesh = to_surface_mesh(world);
         if (!mesh) throw InputError(object.name, location, with_advice("non-manifold"));
+        check_build_stop();
         solids_[i] = std::make_unique<SolidObject>(std::move(*mesh));
+        check_build_stop();
       }
       object_bounds_[i] = world.bounds();
       bounds_.extend(object_bounds_[i]);
@@ -240,7 +244,9 @@ class CgalOracle final : public Oracle {
     // the whole scene in one traversal, which is the minimum over objects.
     if (!soup_.empty()) {
       soup_tree_.insert(soup_.begin(), soup_.end());
+      check_build_stop();
       soup_tree_.build();
+      check_build_stop();
       soup_tree_.accelerate_distance_queries();
     }
   }
@@ -348,6 +354,9 @@ std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh) {
   if (auto defect = find_mesh_defect(mesh, MeshRequirement::kSurface))
     return defect->location + ": " + defect->message;
 
+  // A stop request is heeded between the stages (each a pass over the mesh;
+  // the self-intersection test of a million triangles takes seconds).
+  check_build_stop();
   const EdgeCounts edges = count_edges(mesh);
   if (edges.border > 0)
     return "open boundary (" + count_text(edges.border, "border edge", "border edges") + ")";
@@ -368,8 +377,10 @@ std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh) {
            " m^3; triangles must be counter-clockwise seen from outside)";
   }
 
+  check_build_stop();
   std::optional<Mesh> surface = to_surface_mesh(mesh);
   if (!surface) return "non-manifold";
+  check_build_stop();
   // Exact predicates: triangles that merely share an edge or a vertex do
   // not count; any other contact or crossing does.
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;

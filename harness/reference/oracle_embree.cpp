@@ -9,6 +9,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <new>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -19,8 +20,10 @@
 #include <type_traits>
 #include <utility>
 
+#include "algorithms/core/build_progress.h"
 #include "hapticbench/closest_points.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/memory_limit.h"
 #include "harness/reference/oracle.h"
 
 namespace hb {
@@ -242,12 +245,23 @@ using EmbreeScene = std::unique_ptr<RTCSceneTy, ReleaseScene>;
 class EmbreeOracle final : public Oracle {
  public:
   explicit EmbreeOracle(const std::vector<SceneObject>& scene) {
-    device_.reset(rtcNewDevice(nullptr));
-    if (!device_) throw std::runtime_error("Embree: cannot create a device");
+    // Embree's start-up reservations are its own, not the scene's: made
+    // outside the memory ceiling (harness/process/memory_limit.h).
+    outside_memory_limit([&] { device_.reset(rtcNewDevice(nullptr)); });
+    if (!device_) {
+      // Under the memory ceiling, Embree's thread pool and allocator may be
+      // refused their reservations: that is memory, not a bug.
+      if (rtcGetDeviceError(nullptr) == RTC_ERROR_OUT_OF_MEMORY) throw std::bad_alloc();
+      throw std::runtime_error("Embree: cannot create a device");
+    }
     scene_.reset(rtcNewScene(device_.get()));
     // Robust mode: traversal and triangle tests that do not trade accuracy
     // for speed, so fewer rays slip through shared edges.
     rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
+    // Embree's build asks this between its steps: false cancels it, so a
+    // stop request ends a build of millions of triangles within moments.
+    rtcSetSceneProgressMonitorFunction(
+        scene_.get(), [](void*, double) { return !build_stop_requested(); }, nullptr);
 
     objects_.resize(scene.size());
     for (std::size_t i = 0; i < scene.size(); ++i) {
@@ -266,6 +280,7 @@ class EmbreeOracle final : public Oracle {
                              "; inside/outside would be meaningless (mark the object "
                              "\"distance_only\": true to use it for distances only)");
       }
+      check_build_stop();
       world = in_spatial_order(world);
       WorldObject& target = objects_[i];
       target.bounds = world.bounds();
@@ -278,6 +293,7 @@ class EmbreeOracle final : public Oracle {
       if (!target.triangles.empty()) has_triangles_ = true;
     }
     rtcCommitScene(scene_.get());
+    check_build_stop();  // a cancelled build ends here
     if (const RTCError error = rtcGetDeviceError(device_.get()); error != RTC_ERROR_NONE)
       throw std::runtime_error("Embree: building the scene failed (error " +
                                std::to_string(static_cast<int>(error)) + ")");

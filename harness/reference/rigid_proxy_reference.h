@@ -147,6 +147,9 @@ class RigidProxyReference {
   double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 
   std::optional<Pose> proxy_;  ///< the frictionless proxy
+  /// The tool sample that kept the last start from succeeding: asked first
+  /// next time, so that a tool held inside the scene fails at once.
+  std::size_t blocking_sample_ = 0;
   /// m, world: the frictional proxy's position at the last update in
   /// contact with friction (none out of contact).
   std::optional<Vec3> friction_proxy_p_;

@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <cstring>
+#include <functional>
+#include <stdexcept>
 
 #include "hapticbench/cache_directory.h"
 #include "hapticbench/content_hash.h"
 #include "hapticbench/disk_cache.h"
+#include "harness/process/interrupt.h"
 #include "harness/reference/rigid_proxy_reference.h"
 
 namespace hb {
@@ -39,13 +42,9 @@ std::string cache_key(const Scenario& scenario, const RigidProxySettings& settin
   return hash.hex();
 }
 
-// The cached bytes: the description's counts, then one record per tick.
-struct TickRecord {
-  uint8_t evaluated, in_contact;
-  double display[6];
-};
-
-std::string serialise(const ForceReferenceTrack& track) {
+// The cached bytes: the description's counts, then one ForceReferenceRecord
+// per tick.
+std::string description_bytes(const ForceReferenceTrack& track) {
   const ForceReferenceDescription& d = track.description;
   std::string bytes;
   const auto put = [&](const auto& value) {
@@ -55,46 +54,70 @@ std::string serialise(const ForceReferenceTrack& track) {
   put(d.evaluated_ticks), put(d.not_started_ticks), put(d.unconverged_ticks),
       put(d.infeasible_ticks), put(d.max_iterations), put(d.kkt_residual_max), put(d.tool_points),
       put(d.sticking_ticks);
-  for (const ForceReferenceTick& tick : track.ticks) {
-    TickRecord record{tick.evaluated, tick.in_contact, {}};
-    for (int k = 0; k < 3; ++k) {
-      record.display[k] = tick.display.force[k];
-      record.display[3 + k] = tick.display.torque[k];
-    }
-    put(record);
-  }
   return bytes;
 }
 
-// False when the bytes do not hold `ticks` records (a foreign or cut file).
-bool deserialise(std::string_view bytes, int64_t ticks, ForceReferenceTrack& track) {
-  std::size_t at = 0;
-  const auto get = [&](auto& value) {
-    if (bytes.size() - at < sizeof value) return false;
-    std::memcpy(&value, bytes.data() + at, sizeof value);
-    at += sizeof value;
-    return true;
+// Hands the cached bytes to `put` in parts of at most a block of records.
+void serialise(const ForceReferenceTrack& track, const std::function<void(std::string_view)>& put) {
+  put(description_bytes(track));
+  SpillBuffer<ForceReferenceRecord>::Reader reader(track.ticks);
+  std::vector<ForceReferenceRecord> part;
+  part.reserve(SpillBuffer<ForceReferenceRecord>::kBlockItems);
+  const auto flush = [&] {
+    put(std::string_view(reinterpret_cast<const char*>(part.data()),
+                         part.size() * sizeof(ForceReferenceRecord)));
+    part.clear();
   };
-  ForceReferenceDescription& d = track.description;
-  int64_t count = 0;
-  if (!get(count) || count != ticks) return false;
-  if (!(get(d.evaluated_ticks) && get(d.not_started_ticks) && get(d.unconverged_ticks) &&
-        get(d.infeasible_ticks) && get(d.max_iterations) && get(d.kkt_residual_max) &&
-        get(d.tool_points) && get(d.sticking_ticks)))
-    return false;
-  if (bytes.size() - at != static_cast<std::size_t>(ticks) * sizeof(TickRecord)) return false;
-  track.ticks.resize(static_cast<std::size_t>(ticks));
-  for (ForceReferenceTick& tick : track.ticks) {
-    TickRecord record{};
-    get(record);
-    tick.evaluated = record.evaluated != 0;
-    tick.in_contact = record.in_contact != 0;
-    for (int k = 0; k < 3; ++k) {
-      tick.display.force[k] = record.display[k];
-      tick.display.torque[k] = record.display[3 + k];
-    }
+  for (ForceReferenceRecord record; reader.next(record);) {
+    part.push_back(record);
+    if (part.size() == part.capacity()) flush();
   }
-  return true;
+  if (!part.empty()) flush();
+}
+
+uint64_t serialised_bytes(const ForceReferenceTrack& track) {
+  return description_bytes(track).size() + track.ticks.size() * sizeof(ForceReferenceRecord);
+}
+
+// Reads the cache file's parts into `track`: false when they do not hold
+// `ticks` records (a foreign or cut file) or the file is not used.
+bool deserialise(const DiskCache& cache, const std::string& key, int64_t ticks,
+                 ForceReferenceTrack& track) {
+  ForceReferenceDescription& d = track.description;
+  const std::size_t header_bytes = description_bytes(track).size();
+  std::string pending;  // bytes not yet a whole header or record
+  bool header_read = false, fits = true;
+  int64_t records = 0;
+  const bool hit = cache.read_parts(key, [&](std::string_view part) {
+    if (!fits) return;
+    pending.append(part);
+    std::size_t at = 0;
+    const auto get = [&](auto& value) {
+      std::memcpy(&value, pending.data() + at, sizeof value);
+      at += sizeof value;
+    };
+    if (!header_read) {
+      if (pending.size() < header_bytes) return;
+      int64_t count = 0;
+      get(count);
+      get(d.evaluated_ticks), get(d.not_started_ticks), get(d.unconverged_ticks),
+          get(d.infeasible_ticks), get(d.max_iterations), get(d.kkt_residual_max),
+          get(d.tool_points), get(d.sticking_ticks);
+      header_read = true;
+      fits = count == ticks;
+    }
+    for (; fits && pending.size() - at >= sizeof(ForceReferenceRecord); ++records) {
+      if (records == ticks) {
+        fits = false;
+        break;
+      }
+      ForceReferenceRecord record;
+      get(record);
+      track.ticks.push_back(record);
+    }
+    pending.erase(0, at);
+  });
+  return hit && fits && header_read && records == ticks && pending.empty();
 }
 
 }  // namespace
@@ -120,8 +143,7 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   const std::string key = cache_key(scenario, settings);
   ForceReferenceTrack track;
   track.description = d;
-  if (const DiskCache::Lookup lookup = cache.read(key);
-      lookup.payload && deserialise(*lookup.payload, ticks, track)) {
+  if (deserialise(cache, key, ticks, track)) {
     track.description.cache_hit = true;
     return track;
   }
@@ -133,7 +155,6 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   RigidProxyReference reference(scenario.context.scene, scenario.context.tool.mesh,
                                 scenario.context.coupling, settings);
   out.tool_points = static_cast<int64_t>(reference.sample_count());
-  track.ticks.resize(static_cast<std::size_t>(ticks));
   if (progress) {
     progress->task(scenario.name + " / force reference");
     progress->phase("force reference", ticks);
@@ -141,28 +162,59 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   scenario.trajectory.for_each([&](const DeviceSample& sample) {
     const int64_t tick = sample.tick;
     if (progress) progress->advance(tick + 1);
-    if (tick % out.every != 0 || !is_finite(sample.pose)) return;
-    const std::optional<IdealRendering> ideal = reference.update(sample.pose);
-    if (!ideal) {
-      ++out.not_started_ticks;
-      return;
+    if (tick % 64 == 0) throw_if_interrupted();  // a stop request ends the phase here
+    // One record per tick of the trajectory, in order.
+    while (static_cast<int64_t>(track.ticks.size()) < tick) track.ticks.push_back({});
+    ForceReferenceRecord record;
+    if (tick % out.every == 0 && is_finite(sample.pose)) {
+      if (const std::optional<IdealRendering> ideal = reference.update(sample.pose)) {
+        const RigidProxyUpdateStats& stats = reference.last_stats();
+        ++out.evaluated_ticks;
+        out.max_iterations = std::max(out.max_iterations, stats.iterations);
+        if (!stats.converged) ++out.unconverged_ticks;
+        if (stats.infeasible) ++out.infeasible_ticks;
+        if (stats.sticking) ++out.sticking_ticks;
+        if (stats.converged)
+          out.kkt_residual_max = std::max(out.kkt_residual_max, stats.kkt_residual);
+        record.evaluated = 1;
+        record.in_contact = ideal->in_contact ? 1 : 0;
+        for (int k = 0; k < 3; ++k) {
+          record.display[k] = ideal->display.force[k];
+          record.display[3 + k] = ideal->display.torque[k];
+        }
+      } else {
+        ++out.not_started_ticks;
+      }
     }
-    const RigidProxyUpdateStats& stats = reference.last_stats();
-    ++out.evaluated_ticks;
-    out.max_iterations = std::max(out.max_iterations, stats.iterations);
-    if (!stats.converged) ++out.unconverged_ticks;
-    if (stats.infeasible) ++out.infeasible_ticks;
-    if (stats.sticking) ++out.sticking_ticks;
-    if (stats.converged) out.kkt_residual_max = std::max(out.kkt_residual_max, stats.kkt_residual);
-    ForceReferenceTick& record = track.ticks[static_cast<std::size_t>(tick)];
-    record.evaluated = true;
-    record.in_contact = ideal->in_contact;
-    record.display = ideal->display;
+    track.ticks.push_back(record);
   });
+  while (static_cast<int64_t>(track.ticks.size()) < ticks) track.ticks.push_back({});
   if (progress) progress->finish_task();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  cache.write(key, serialise(track));
+  cache.write_parts(
+      key, serialised_bytes(track),
+      [&](const std::function<void(std::string_view)>& put) { serialise(track, put); });
   return track;
+}
+
+const ForceReferenceTick& ForceReferenceTrack::Reader::at(int64_t tick) {
+  if (tick < next_ - 1 || tick < 0)
+    throw std::logic_error("force reference read out of order: tick " + std::to_string(tick));
+  ForceReferenceRecord record;
+  while (next_ <= tick) {
+    if (!records_.next(record))
+      throw std::logic_error("force reference has no tick " + std::to_string(tick));
+    ++next_;
+    if (next_ == tick + 1) {
+      current_.evaluated = record.evaluated != 0;
+      current_.in_contact = record.in_contact != 0;
+      for (int k = 0; k < 3; ++k) {
+        current_.display.force[k] = record.display[k];
+        current_.display.torque[k] = record.display[3 + k];
+      }
+    }
+  }
+  return current_;
 }
 
 }  // namespace hb

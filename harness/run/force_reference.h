@@ -1,8 +1,9 @@
 // The mesh force reference along a scenario's trajectory: computed once per
 // scenario (it does not depend on the algorithm), on every force_every-th
-// tick, before the algorithms' evaluation passes read it; cached on disk by
-// content (scene, tool, trajectory, coupling, settings), so that a rerun
-// costs nothing.
+// tick, before the algorithms' evaluation passes read it in order; cached on
+// disk by content (scene, tool, trajectory, coupling, settings), so that a
+// rerun costs nothing. Its ticks are kept in a SpillBuffer and read and
+// written in parts: memory does not grow with the run's length.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "hapticbench/pose.h"
+#include "harness/metrics/spill_buffer.h"
 #include "harness/output/run_report.h"
 #include "harness/progress/progress_display.h"
 #include "harness/scenario/scenario.h"
@@ -24,9 +26,29 @@ struct ForceReferenceTick {
   Wrench display;  ///< what the ideal proxy displays (N, N·m about the tool origin)
 };
 
+/// One tick as stored (trivially copyable, the cache file's record).
+struct ForceReferenceRecord {
+  uint8_t evaluated = 0, in_contact = 0;
+  double display[6] = {};  ///< force (N) then torque (N·m), world frame
+};
+
 struct ForceReferenceTrack {
-  std::vector<ForceReferenceTick> ticks;  ///< one per tick of the trajectory
+  SpillBuffer<ForceReferenceRecord> ticks;  ///< one per tick of the trajectory
   ForceReferenceDescription description;
+
+  /// Reads the ticks in increasing order (each evaluation pass has one).
+  class Reader {
+   public:
+    explicit Reader(const ForceReferenceTrack& track) : records_(track.ticks) {}
+    /// The reference at `tick`, which is not before the last one asked
+    /// for. std::logic_error otherwise, or past the end.
+    const ForceReferenceTick& at(int64_t tick);
+
+   private:
+    SpillBuffer<ForceReferenceRecord>::Reader records_;
+    int64_t next_ = 0;  ///< the tick the next record read is
+    ForceReferenceTick current_;
+  };
 };
 
 /// Whether the scenario gets the mesh force reference: reference.force is

@@ -2,12 +2,15 @@
 // off), the reach box, ground truth, and recorded schedules to follow.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <optional>
 
 #include "algorithms/core/build_progress.h"
 #include "algorithms/registry.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/activity_report.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/run/scenario_runner.h"
 
@@ -83,6 +86,7 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
       progress->phase("preprocessing");
     }
     const ScopedBuildProgressListener stages(progress);
+    report_activity("running " + spec.label + "\t" + algorithm_origin(spec.name));
     try {
       const ParamSet params = split_replay_params(spec, algorithm);
       const auto t0 = std::chrono::steady_clock::now();
@@ -97,6 +101,7 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     } catch (const InputError& error) {
       throw InputError(with_source(error, scenario.path), error.location(), error.message());
     }
+    report_activity("idle");
     if (progress) progress->finish_task();
     prepared.push_back(std::move(algorithm));
   }
@@ -147,6 +152,21 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
     } catch (const InputError& error) {
       throw InputError(with_source(error, scenario.path), error.location(),
                        error.message() + " (scenario " + scenario.path + ")");
+    }
+    const ForceReferenceDescription& made = truth.force->description;
+    if (made.not_started_ticks > 0) {
+      char clearance_mm[32];
+      std::snprintf(clearance_mm, sizeof clearance_mm, "%g", made.clearance_m * 1000);
+      const std::string warning =
+          "warning: " + scenario.path + ": the force reference could not start on " +
+          std::to_string(made.not_started_ticks) + " of " +
+          std::to_string(made.not_started_ticks + made.evaluated_ticks) +
+          " sampled ticks: the tool was inside the scene or within " + clearance_mm +
+          " mm of it at the device's pose; those ticks have no force reference\n";
+      if (progress)
+        progress->print_above(std::cerr, warning);
+      else
+        std::cerr << warning;
     }
     truth.analytic_name = "mesh reference: " + truth.force->description.method;
     truth.analytic_note.clear();

@@ -18,6 +18,7 @@
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
+#include "harness/process/activity_report.h"
 #include "harness/reference/analytic_reference.h"
 #include "harness/reference/tunnelling.h"
 #include "harness/replay/noise_floor.h"
@@ -88,6 +89,7 @@ class EvaluatingObserver : public TickObserver {
                      ProgressDisplay* progress)
       : truth_(truth), metrics_(settings), ticks_(ticks_out), progress_(progress) {
     if (timing) timing_.emplace(timing->times);
+    if (truth_.force) force_reference_.emplace(*truth_.force);
     // Tunnelling by the exact box where there is one, else by the oracle,
     // for the tool's origin and extreme vertices.
     if (truth_.analytic) {
@@ -125,9 +127,8 @@ class EvaluatingObserver : public TickObserver {
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
     }
-    if (truth_.force) {
-      const ForceReferenceTick& tick =
-          truth_.force->ticks[static_cast<std::size_t>(record.device->tick)];
+    if (force_reference_) {
+      const ForceReferenceTick& tick = force_reference_->at(record.device->tick);
       if (tick.evaluated) {
         evaluation.ideal_display = tick.display;
         evaluation.reference_contact = tick.in_contact;
@@ -165,8 +166,9 @@ class EvaluatingObserver : public TickObserver {
 
  private:
   GroundTruth& truth_;
-  std::optional<ToolTunnelling> tunnelling_;         ///< none without ground truth
-  std::optional<FrictionalContactReference> ideal_;  ///< with the analytic scene
+  std::optional<ToolTunnelling> tunnelling_;                    ///< none without ground truth
+  std::optional<FrictionalContactReference> ideal_;             ///< with the analytic scene
+  std::optional<ForceReferenceTrack::Reader> force_reference_;  ///< the mesh force reference
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;
@@ -285,6 +287,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   ProgressDisplay* const progress = options.progress;
   for (PreparedAlgorithm& algorithm : prepared.algorithms) {
     if (progress) progress->task(scenario.name + " / " + algorithm.spec->label);
+    report_activity("running " + algorithm.spec->label + "\t" +
+                    algorithm_origin(algorithm.spec->name));
     const std::vector<std::unique_ptr<TimingObserver>> passes =
         run_timing_passes(algorithm, scenario, options.repeat, progress);
     const TimingObserver& timing = *passes.front();
@@ -339,6 +343,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     outcome.report.runs.push_back(std::move(run));
     outcome.ticks_files.push_back(ticks_path);
     outcome.schedule_csv.push_back(std::move(schedule_text));
+    report_activity("idle");
     if (progress) progress->finish_task();
   }
   return outcome;

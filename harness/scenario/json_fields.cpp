@@ -301,6 +301,14 @@ std::string JsonField::string(const std::string& expected) const {
   return value_->get<std::string>();
 }
 
+std::string JsonField::file_name_inside(const std::string& expected) const {
+  const std::string name = string(expected);
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
+      name.find('\0') != std::string::npos)
+    fail(expected + ", a name inside the folder (no '/', not \".\" or \"..\")");
+  return name;
+}
+
 bool JsonField::boolean(const std::string& expected) const {
   if (!value_->is_boolean()) fail(expected);
   return value_->get<bool>();

@@ -61,6 +61,10 @@ class JsonField {
   /// A whole number in [min, max] (JSON integer or a float with no fraction).
   int64_t integer(int64_t min, int64_t max, const std::string& expected) const;
   std::string string(const std::string& expected) const;
+  /// A string naming a file inside the folder it was read from: no '/', not
+  /// "." or "..", not empty (a summary's ticks_file: "../../etc/passwd"
+  /// must not be opened).
+  std::string file_name_inside(const std::string& expected) const;
   bool boolean(const std::string& expected) const;
   /// A string equal to one of `allowed`.
   std::string choice(std::initializer_list<std::string_view> allowed) const;

@@ -14,7 +14,9 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
+#include "algorithms/core/input_file.h"
 #include "algorithms/registry.h"
 #include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
@@ -42,6 +44,10 @@ constexpr double kDefaultToolDensity = 1000;  // kg/m³, water
 constexpr double kUnitQuaternionTolerance = 1e-6;
 constexpr double kMaxTraceDurationS = kMaxRunDurationS;
 constexpr double kMaxOracleSamples = 1e6;  ///< tool surface samples the oracles may test per tick
+constexpr double kNotApplicable = std::numeric_limits<double>::quiet_NaN();
+/// The finest encoder resolutions a closed-loop device may have (m, rad):
+/// below them a position divided by the resolution leaves the doubles.
+constexpr double kFinestEncoderM = 1e-9, kFinestEncoderRad = 1e-9;
 
 std::string range_warning(const PlausibleRange& range, double value) {
   std::ostringstream text;
@@ -52,30 +58,57 @@ std::string range_warning(const PlausibleRange& range, double value) {
 
 constexpr PlausibleRange kPlausibleRanges[] = {
     {"/coupling/k_t", "N/m", 10, 1e6, "haptic couplings render 0.1 to 10 kN/m",
-     [](const RenderContext& c) { return c.coupling.k_t; }},
+     [](const Scenario& s) { return s.context.coupling.k_t; }},
     {"/coupling/b_t", "N·s/m", 0, 1e3, "beyond it the coupling is a brake",
-     [](const RenderContext& c) { return c.coupling.b_t; }},
+     [](const Scenario& s) { return s.context.coupling.b_t; }},
     {"/coupling/k_r", "N·m/rad", 1e-3, 1e3, "devices render up to a few N·m/rad",
-     [](const RenderContext& c) { return c.coupling.k_r; }},
+     [](const Scenario& s) { return s.context.coupling.k_r; }},
     {"/coupling/b_r", "N·m·s/rad", 0, 10, "beyond it the coupling is a brake",
-     [](const RenderContext& c) { return c.coupling.b_r; }},
+     [](const Scenario& s) { return s.context.coupling.b_r; }},
     {"/device/max_force_n", "N", 0.1, 1000, "desktop devices display up to tens of N",
-     [](const RenderContext& c) { return c.device.max_force_n; }},
+     [](const Scenario& s) { return s.context.device.max_force_n; }},
     {"/device/max_torque_nm", "N·m", 1e-3, 100, "desktop devices display up to a few N·m",
-     [](const RenderContext& c) { return c.device.max_torque_nm; }},
+     [](const Scenario& s) { return s.context.device.max_torque_nm; }},
     {"/tool", "kg", 1e-4, 100, "the tool's mass (from its density and volume, or mass_kg)",
-     [](const RenderContext& c) { return c.tool.mass.mass_kg; }},
+     [](const Scenario& s) { return s.context.tool.mass.mass_kg; }},
     {"/gravity", "m/s²", 0, 100, "the length of the gravity vector",
-     [](const RenderContext& c) { return c.gravity.norm(); }},
+     [](const Scenario& s) { return s.context.gravity.norm(); }},
+    // Closed-loop replay's hand and device (docs/closed-loop.md).
+    {"/closed_loop/hand/mass_kg", "kg", 0, 5, "a hand and forearm moving with the grip",
+     [](const Scenario& s) {
+       return s.closed_loop ? s.closed_loop->hand.mass_kg : kNotApplicable;
+     }},
+    {"/closed_loop/hand/k_t", "N/m", 0, 1e4, "a grip's stiffness is up to a few kN/m",
+     [](const Scenario& s) { return s.closed_loop ? s.closed_loop->hand.k_t : kNotApplicable; }},
+    {"/closed_loop/hand/b_t", "N·s/m", 0, 100, "a grip's damping is up to tens of N·s/m",
+     [](const Scenario& s) { return s.closed_loop ? s.closed_loop->hand.b_t : kNotApplicable; }},
+    {"/closed_loop/device/mass_kg", "kg", 1e-3, 10, "desktop devices move tens to hundreds of g",
+     [](const Scenario& s) {
+       return s.closed_loop ? s.closed_loop->device.mass_kg : kNotApplicable;
+     }},
+    {"/closed_loop/device/friction_n", "N", 0, 10, "backdrive friction is a fraction of a N",
+     [](const Scenario& s) {
+       return s.closed_loop ? s.closed_loop->device.friction_n : kNotApplicable;
+     }},
+    {"/closed_loop/device/encoder_m", "m", 0, 1e-3, "encoders resolve µm to tens of µm",
+     [](const Scenario& s) {
+       return s.closed_loop ? s.closed_loop->device.encoder_m : kNotApplicable;
+     }},
+    {"/closed_loop/device/velocity_filter_hz", "Hz", 0, 1000,
+     "a filter above the 500 Hz Nyquist rate of 1 kHz samples filters nothing",
+     [](const Scenario& s) {
+       return s.closed_loop ? s.closed_loop->device.velocity_filter_hz : kNotApplicable;
+     }},
 };
 
-std::vector<std::string> plausibility_warnings(const RenderContext& context) {
+std::vector<std::string> plausibility_warnings(const Scenario& scenario) {
   // A device without limits (the default when "device" is not given) is
   // not a setting to warn about.
   const DeviceLimits unlimited;
   std::vector<std::string> warnings;
   for (const PlausibleRange& range : kPlausibleRanges) {
-    const double value = range.value(context);
+    const double value = range.value(scenario);
+    if (std::isnan(value)) continue;  // does not apply
     const bool unlimited_device =
         range.pointer.starts_with("/device/") &&
         (value == unlimited.max_force_n || value == unlimited.max_torque_nm);
@@ -117,9 +150,8 @@ const char* const kSafeNameExpected =
     "expected a non-empty string of letters, digits, '_', '.', '-' and '='";
 
 std::string read_file_bytes(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw InputError(path, "", "cannot open scenario file (no such file)");
+  // "file not found", or what it is instead (a folder, a FIFO, a device).
+  require_regular_file(path, "a scenario file (.json)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open scenario file");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -196,7 +228,9 @@ class ScenarioReader {
     read_trace(root.member("trace", "{\"generator\": ...} or {\"file\": ...}"), scenario);
     check_oracle_sample_count(scenario);
 
-    scenario.warnings = plausibility_warnings(scenario.context);
+    scenario.warnings = plausibility_warnings(scenario);
+    scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
+                             unchecked_algorithms_.end());
     scenario.content_hash = scenario_hash_.hex();
     return scenario;
   }
@@ -436,16 +470,20 @@ class ScenarioReader {
     return tool;
   }
 
-  // Each plugin file, relative to the scenario, is loaded (once per process)
-  // and hashed with the scenario.
+  // Each plugin file, relative to the scenario, is loaded (once per process,
+  // and only as the plugin policy allows: plugin_loader.h) and hashed with
+  // the scenario.
   void read_plugins(const JsonField& field) {
     const std::size_t count =
         field.array_size("expected an array of plugin file paths (shared libraries)");
     for (std::size_t i = 0; i < count; ++i) {
       const JsonField entry = field.element(i);
       const std::string path = existing_file(entry, "plugin");
+      // Refused by policy: the scenario's field is at fault, not the file.
+      if (const std::optional<std::string> refused = scenario_plugin_refusal(path))
+        entry.fail_with(*refused);
       try {
-        load_plugin(path, entry.pointer());
+        if (!load_scenario_plugin(path, entry.pointer())) plugins_not_loaded_ = true;
       } catch (const InputError& error) {
         throw with_reference_note(error, path_, entry.pointer());
       }
@@ -550,6 +588,18 @@ class ScenarioReader {
                      {"encoder_rad", "rad", &device.encoder_rad, false},
                      {"velocity_filter_hz", "Hz", &device.velocity_filter_hz, false}});
     }
+    if (field.has("device")) {
+      const JsonField device = field.existing_member("device");
+      for (const auto& [key, value, finest, unit] :
+           {std::tuple{"encoder_m", model.device.encoder_m, kFinestEncoderM, "m"},
+            std::tuple{"encoder_rad", model.device.encoder_rad, kFinestEncoderRad, "rad"}})
+        if (value > 0 && value < finest) {
+          std::ostringstream text;
+          text << "expected 0 (exact) or a resolution of at least " << finest << " " << unit
+               << ", got " << value << " (finer ones overflow the position counts)";
+          device.existing_member(key).fail(text.str());
+        }
+    }
     if (!ClosedLoopDevice(model, 1 / kTicksPerSecond).well_defined())
       field.fail(
           "the hand and device give a motion too fast to integrate over a tick "
@@ -639,6 +689,13 @@ class ScenarioReader {
       spec.name = name.string("expected an algorithm name (known: " + known + ")");
       bool registered = false;
       for (const AlgorithmEntry& row : algorithm_table()) registered |= row.name == spec.name;
+      if (!registered && plugins_not_loaded_) {
+        unchecked_algorithms_.push_back(
+            name.pointer() + ": algorithm \"" + spec.name +
+            "\" is not checked: it is not built in, and the scenario's plugins, "
+            "which may register it, are not loaded here (they would run code)");
+        continue;
+      }
       if (!registered)
         name.fail_with("unknown algorithm \"" + spec.name + "\" (known: " + known + ")");
 
@@ -673,8 +730,10 @@ class ScenarioReader {
   // The oracles test about area / spacing² tool surface samples every tick;
   // a spacing far below the tool's size would take hours and gigabytes
   // (1e-5 m on a 2 cm sphere ran past 120 s at 6.4 GB), so it is refused.
+  // The tool's surface samples serve the oracles and the mesh force
+  // reference alike: the limit holds whenever either may run.
   void check_oracle_sample_count(const Scenario& scenario) const {
-    if (scenario.reference.oracle_backends.empty()) return;
+    if (scenario.reference.oracle_backends.empty() && scenario.reference.force != "auto") return;
     const TriangleMesh& tool = scenario.context.tool.mesh;
     const double spacing = scenario.reference.sample_spacing_m > 0
                                ? scenario.reference.sample_spacing_m
@@ -748,6 +807,8 @@ class ScenarioReader {
 
   std::string path_;
   std::filesystem::path directory_;
+  bool plugins_not_loaded_ = false;  // the plugin policy left a named plugin unloaded
+  mutable std::vector<std::string> unchecked_algorithms_;  // warnings: algorithms left unchecked
   ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
 };
 

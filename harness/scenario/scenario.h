@@ -80,7 +80,9 @@ struct PlausibleRange {
   std::string_view unit;
   double low, high;  ///< in unit
   std::string_view why;
-  double (*value)(const RenderContext& context);  ///< the setting's value in a loaded scenario
+  /// The setting's value in a loaded scenario; NaN where it does not apply
+  /// (a closed-loop setting of an open-loop scenario).
+  double (*value)(const Scenario& scenario);
 };
 
 /// Every plausible range, in the order the warnings check them.

@@ -7,8 +7,10 @@
 #include <iterator>
 #include <sstream>
 
+#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/run/scenario_runner.h"
+#include "harness/scenario/json_fields.h"
 #include "harness/scenario/scenario.h"
 #include "harness/sweep/sweep_jobs.h"
 #include "harness/sweep/sweep_spec.h"
@@ -55,14 +57,13 @@ ScenarioProber::ScenarioProber(std::string scenario_path, std::string label,
       criterion_(criterion),
       epsilon_j_(epsilon_j),
       progress_(progress) {
+  // The reader every scenario goes through: a regular file only (a FIFO
+  // would block), nesting and duplicate keys checked before parsing.
+  require_regular_file(path_, "a scenario file (.json)");
   std::ifstream in(path_, std::ios::binary);
   if (!in) throw InputError(path_, "", "cannot open scenario file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  try {
-    document_ = Json::parse(text);
-  } catch (const Json::exception& e) {
-    throw InputError(path_, "", std::string("not valid JSON: ") + e.what());
-  }
+  document_ = parse_json_document(text, path_);
   base_dir_ = std::filesystem::absolute(path_).parent_path().string();
 }
 

@@ -19,6 +19,8 @@ const char* sweep_job_status_name(SweepJobStatus status) {
       return "ok";
     case SweepJobStatus::kBudgetFailed:
       return "budget_failed";
+    case SweepJobStatus::kFailed:
+      return "failed";
     case SweepJobStatus::kCrashed:
       return "crashed";
   }

@@ -19,10 +19,11 @@ enum class SweepJobStatus {
   kPending,       ///< not run yet (or run by another shard that has not finished it)
   kOk,            ///< summary.json written, every budget met
   kBudgetFailed,  ///< summary.json written, a budget failed
-  kCrashed,       ///< the worker ended without writing its run folder
+  kFailed,        ///< the worker stopped on an error it named (exit 2: a full disk, bad input)
+  kCrashed,       ///< the worker ended otherwise without writing its run folder
 };
 
-/// "pending", "ok", "budget_failed", "crashed".
+/// "pending", "ok", "budget_failed", "failed", "crashed".
 const char* sweep_job_status_name(SweepJobStatus status);
 
 struct SweepJobState {

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 
+#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
@@ -18,6 +19,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 std::string read_text(const std::string& path) {
+  require_regular_file(path, "a scenario file (.json)");  // a FIFO would block
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open scenario file");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -79,8 +81,8 @@ std::optional<std::string> set_at_pointer(Json& document, const std::vector<std:
 
 namespace {
 
-// Mesh and trace file paths as absolute paths, so that the job's JSON means
-// the same from any folder.
+// Mesh, trace and plugin file paths as absolute paths, so that the job's
+// JSON means the same from any folder.
 void make_file_paths_absolute(Json& scenario, const fs::path& base_dir) {
   auto absolute = [&](Json& holder, const char* key) {
     if (!holder.is_object() || !holder.contains(key) || !holder[key].is_string()) return;
@@ -92,6 +94,11 @@ void make_file_paths_absolute(Json& scenario, const fs::path& base_dir) {
     for (Json& object : scenario["scene"]) absolute(object, "mesh");
   if (scenario.contains("tool")) absolute(scenario["tool"], "mesh");
   if (scenario.contains("trace")) absolute(scenario["trace"], "file");
+  if (scenario.contains("plugins") && scenario["plugins"].is_array())
+    for (Json& entry : scenario["plugins"])
+      if (entry.is_string() && !entry.get<std::string>().empty() &&
+          fs::path(entry.get<std::string>()).is_relative())
+        entry = (base_dir / entry.get<std::string>()).lexically_normal().string();
 }
 
 std::string algorithm_label(const Json& entry) {

@@ -11,6 +11,7 @@
 
 #include "hapticbench/input_error.h"
 #include "harness/output/output_ownership.h"
+#include "harness/output/run_folder.h"
 #include "harness/output/run_table.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/run/scenario_run_folder.h"
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Exit codes of a sweep and its workers (harness/cli/commands.h has the list).
-constexpr int kSweepOk = 0, kSweepBudgetFailed = 1, kSweepCrashed = 3;
+constexpr int kSweepOk = 0, kSweepBudgetFailed = 1, kSweepFailed = 2, kSweepCrashed = 3;
 
 fs::path output_folder(const SweepRunSettings& args, const SweepSpec& spec) {
   return args.out ? fs::path(*args.out) : fs::path("out") / "sweeps" / spec.name;
@@ -92,9 +93,9 @@ std::vector<std::string> validate_jobs(const SweepSpec& spec, const std::vector<
 }
 
 // Staging folders an interrupted worker left beside a job's run folder
-// (<job>.partial-<pid>, <job>.old-<pid>); only this shard's jobs are
-// touched, since another shard may be writing its own right now, and only
-// folders that carry hapticbench's ownership marker.
+// (<job>.partial-<pid>, <job>.old-<pid>) whose lock no live process holds;
+// only this shard's jobs are looked at, and only folders that carry
+// hapticbench's ownership marker are removed.
 void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string>& job_names) {
   std::error_code error;
   if (!fs::is_directory(out_dir, error)) return;
@@ -102,15 +103,9 @@ void remove_stale_staging(const fs::path& out_dir, const std::vector<std::string
   for (const auto& entry : fs::directory_iterator(out_dir, error)) {
     const std::string file = entry.path().filename().string();
     for (const std::string& job : job_names)
-      for (const char* suffix : {".partial-", ".old-"}) {
-        const std::string prefix = job + suffix;
-        if (file.size() > prefix.size() && file.compare(0, prefix.size(), prefix) == 0 &&
-            file.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
-          stale.push_back(entry.path());
-      }
+      if (is_staging_sibling(file, job)) stale.push_back(entry.path());
   }
-  for (const fs::path& path : stale)
-    if (is_owned_folder(path)) fs::remove_all(path, error);
+  for (const fs::path& path : stale) remove_abandoned_staging(path);
 }
 
 std::string last_lines(const std::string& text, std::size_t count) {
@@ -188,7 +183,7 @@ int run_sweep(const SweepRunSettings& args) {
   std::ostream silent(nullptr);  // --progress none: everything written is dropped
   SweepProgress progress(args.progress == ProgressStyle::kNone ? silent : std::cerr, to_run.size(),
                          terminal, terminal_width());
-  std::size_t ok = 0, budget_failed = 0, crashed = 0;
+  std::size_t ok = 0, budget_failed = 0, failed = 0, crashed = 0;
   WorkerCallbacks callbacks;
   callbacks.on_start = [&](std::size_t launch) { progress.started(names[launch]); };
   callbacks.on_wait = [&] { progress.refresh(); };
@@ -203,24 +198,31 @@ int run_sweep(const SweepRunSettings& args) {
     } else if (result.end.exited && result.end.exit_code == kSweepBudgetFailed && wrote_folder) {
       state.status = SweepJobStatus::kBudgetFailed;
       ++budget_failed;
+    } else if (result.end.exited && result.end.exit_code == kSweepFailed) {
+      // The worker said what went wrong (a full disk, a job's bad input).
+      state.status = SweepJobStatus::kFailed;
+      state.detail = "exit code 2, an error the worker named";
+      ++failed;
     } else {
       state.status = SweepJobStatus::kCrashed;
       state.detail = result.end.description() + (wrote_folder ? "" : ", no run folder written");
       ++crashed;
     }
+    const bool went_wrong =
+        state.status == SweepJobStatus::kCrashed || state.status == SweepJobStatus::kFailed;
     if (terminal) std::cerr << "\r\033[K" << std::flush;
     std::cout << result.stdout_text << std::flush;
-    if (state.status == SweepJobStatus::kCrashed && !result.stderr_text.empty())
+    if (went_wrong && !result.stderr_text.empty())
       std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
                 << last_lines(result.stderr_text, 20) << "\n";
     const char* verdict = state.status == SweepJobStatus::kOk             ? "ok"
                           : state.status == SweepJobStatus::kBudgetFailed ? "budgets failed"
+                          : state.status == SweepJobStatus::kFailed       ? "FAILED"
                                                                           : "CRASHED";
-    progress.finished(job.name,
-                      state.status == SweepJobStatus::kCrashed
-                          ? std::string(verdict) + " (" + state.detail + ")"
-                          : std::string(verdict),
-                      result.seconds, state.status != SweepJobStatus::kCrashed);
+    progress.finished(
+        job.name,
+        went_wrong ? std::string(verdict) + " (" + state.detail + ")" : std::string(verdict),
+        result.seconds, !went_wrong);
     write_index(false);
   };
   {
@@ -236,8 +238,10 @@ int run_sweep(const SweepRunSettings& args) {
       ++failed_budgets_in_shard;
   std::cout << "sweep " << spec.name << " -> " << out_dir.string()
             << "/sweep.json: " << to_run.size() << " ran (" << ok << " ok, " << budget_failed
-            << " budgets failed, " << crashed << " crashed), " << done_earlier << " done earlier\n";
+            << " budgets failed, " << failed << " failed, " << crashed << " crashed), "
+            << done_earlier << " done earlier\n";
   if (crashed > 0) return kSweepCrashed;
+  if (failed > 0) return kSweepFailed;
   return failed_budgets_in_shard > 0 ? kSweepBudgetFailed : kSweepOk;
 }
 

@@ -64,6 +64,11 @@ void read_grid(const JsonField& field, SweepSpec& spec) {
     if (tokens->size() == 1 && tokens->front() == "name")
       axis_field.fail_with(
           "grid key \"/name\": the sweep names each job itself (scenario name and grid values)");
+    // A sweep file is data: it may not make a trusted scenario load code.
+    if (!tokens->empty() && tokens->front() == "plugins")
+      axis_field.fail_with("grid key \"" + item.key() +
+                           "\": a sweep may not set a scenario's plugins (shared libraries run "
+                           "code); name them in the scenario, or load them with --plugin");
     const std::string expected = "expected a non-empty array of values for \"" + item.key() + "\"";
     const std::size_t count = axis_field.array_size(expected);
     if (count == 0) axis_field.fail(expected);

@@ -336,8 +336,19 @@ void read_sidecar(const std::string& path, const std::string& trace_path, TraceI
       throw InputError(path, "/rate_hz", "expected a positive number (Hz)");
     info.rate_hz = rate.get<double>();
   }
-  if (!json.contains("content_hash") || !json["content_hash"].is_string())
-    throw InputError(path, "/content_hash", "expected the hex hash of " + trace_path);
+  if (!json.contains("content_hash") || !json["content_hash"].is_string()) {
+    // Most likely a file of another kind that happens to share the trace's
+    // name: say what the name makes it and how to get out of the way.
+    const bool scenario_like = json.contains("trace") || json.contains("scene");
+    throw InputError(
+        path, "/content_hash",
+        "expected the hex hash of " + trace_path +
+            ": a .json file with a trace's name beside it is read as the trace's sidecar "
+            "(its metadata, with the hash that ties it to the trace's bytes)" +
+            (scenario_like ? std::string(", and this one looks like a scenario: rename the "
+                                         "scenario or the trace so that their names differ")
+                           : std::string("; rename or remove it if it is not the sidecar")));
+  }
   const std::string recorded = json["content_hash"].get<std::string>();
   if (recorded != info.content_hash)
     throw InputError(path, "/content_hash",

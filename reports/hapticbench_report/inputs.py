@@ -43,8 +43,10 @@ class Run:
         self.folder = folder
         self.summary = summary_run
         self.label = str(summary_run.get("label", summary_run.get("algorithm", "?")))
-        self.ticks_path = os.path.join(folder.path, summary_run.get("ticks_file")
-                                       or "ticks_%s.csv" % self.label)
+        # A name inside the run folder only (hapticbench checks it too).
+        ticks_name = os.path.basename(str(summary_run.get("ticks_file")
+                                          or "ticks_%s.csv" % self.label))
+        self.ticks_path = os.path.join(folder.path, ticks_name)
         self.ticks = read_ticks(self.ticks_path) if os.path.isfile(self.ticks_path) else None
 
     @property

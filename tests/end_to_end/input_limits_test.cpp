@@ -105,6 +105,12 @@ TEST_CASE("a memory ceiling: an allocation beyond it is exit 2 saying so") {
   check_refused(run_hapticbench("validate long.csv --memory-limit 64", work.path()),
                 {"needs more than 64 MB of memory", "--memory-limit"});
   CHECK(run_hapticbench("validate long.csv", work.path()).exit_code == 0);
+  // The ceiling is counted beyond the program's own code and libraries:
+  // the documented minimum runs a smoke scenario (it once ran nothing).
+  const CommandResult small = run_hapticbench(
+      "run " + kPress + " --out small --quiet --memory-limit 64", work.path());
+  INFO(small.stderr_text);
+  CHECK(small.exit_code == 0);
   check_refused(run_hapticbench("validate long.csv --memory-limit lots", work.path()),
                 {"--memory-limit expects a whole number of MB"});
 }
@@ -248,6 +254,115 @@ TEST_CASE("report: an unwritable page or a damaged run folder is exit 2 without 
   check_refused(damaged, {"run"});
   CHECK_FALSE(contains(damaged.stderr_text, "Traceback"));
   CHECK_FALSE(fs::exists(work.path() / "r.html"));
+}
+
+TEST_CASE("stability and zwidth read their scenario as every command does, and check early") {
+  const ScratchDir work("limits_stability_input");
+  const fs::path dir = work.path();
+  // Nested brackets: refused at the nesting limit (it crashed the reader).
+  write_file(dir / "deep.json", std::string(100000, '[') + std::string(100000, ']'));
+  // A FIFO: refused at once (it blocked forever).
+  REQUIRE(::mkfifo((dir / "fifo.json").c_str(), 0600) == 0);
+  write_file(dir / "press.json", read_text_file(kPress));
+  const auto stability = [&](const std::string& scenario, const std::string& rest) {
+    return hb::test::run_hapticbench_after(
+        "timeout 60", "stability " + scenario + " --label coupling_only " + rest, dir);
+  };
+  check_refused(stability("deep.json", "--param /coupling/k_t --range 100 200"),
+                {"deep.json", "nest"});
+  check_refused(stability("fifo.json", "--param /coupling/k_t --range 100 200"),
+                {"fifo.json", "not a regular file"});
+  // A high end the scenario refuses (a trace longer than an hour) is found
+  // before any run, not after the runs at the low end.
+  const CommandResult high = stability("press.json", "--param /trace/duration_s --range 1 1e6");
+  check_refused(high, {"press.json", "/trace/duration_s"});
+  CHECK_FALSE(contains(high.stderr_text, "run 1"));
+  CHECK_FALSE(fs::exists(dir / "out"));
+  // zwidth: thousands of x values are a typo, refused before anything runs.
+  std::string values = "1";
+  for (int i = 2; i <= 300; ++i) values += "," + std::to_string(i);
+  check_refused(hb::test::run_hapticbench_after(
+                    "timeout 60",
+                    "zwidth press.json --label coupling_only --x /coupling/b_t --x-values " +
+                        values + " --y /coupling/k_t --y-range 100 200",
+                    dir),
+                {"--x-values", "at most 256"});
+}
+
+TEST_CASE("a summary's file names stay inside its run folder") {
+  const ScratchDir work("limits_summary_names");
+  REQUIRE(run_hapticbench("run " + kPress + " --out run --quiet", work.path()).exit_code == 0);
+  nlohmann::json summary = nlohmann::json::parse(read_text_file(work.path() / "run/summary.json"));
+  summary["runs"][0]["ticks_file"] = "../../../../../../etc/passwd";
+  write_file(work.path() / "run/summary.json", summary.dump());
+  check_refused(run_hapticbench("compare run run", work.path()), {"summary.json", "ticks_file"});
+  check_refused(run_hapticbench("report run --out r.html", work.path()),
+                {"summary.json", "ticks_file"});
+  CHECK_FALSE(fs::exists(work.path() / "r.html"));
+}
+
+TEST_CASE("closed-loop values: a resolution the doubles cannot hold is refused, absurd ones warned") {
+  const ScratchDir work("limits_closed_loop");
+  nlohmann::json scenario =
+      nlohmann::json::parse(read_text_file(kSource / "scenarios/closed_loop/cube_wall_zwidth.json"));
+  scenario["closed_loop"]["device"]["encoder_m"] = 5e-324;
+  write_file(work.path() / "tiny_encoder.json", scenario.dump());
+  check_refused(run_hapticbench("validate tiny_encoder.json", work.path()),
+                {"tiny_encoder.json", "/closed_loop/device/encoder_m", "at least 1e-09"});
+  scenario["closed_loop"]["device"]["encoder_m"] = 1e-5;
+  scenario["closed_loop"]["hand"]["k_t"] = 1e7;
+  write_file(work.path() / "stiff_hand.json", scenario.dump());
+  const CommandResult warned = run_hapticbench("validate stiff_hand.json", work.path());
+  CHECK(warned.exit_code == 0);
+  CHECK(contains(warned.stderr_text, "warning: stiff_hand.json: /closed_loop/hand/k_t"));
+}
+
+TEST_CASE("the tool's surface samples are limited for the force reference too") {
+  // With the oracles off, the mesh force reference still samples the tool:
+  // the same limit holds (2.28 GB were taken before it was checked).
+  const ScratchDir work("limits_force_spacing");
+  std::string text = read_text_file(kSource / "scenarios/meshes/knot_press_knot.json");
+  const std::string key = "\"reference\": {";
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  text.insert(at + key.size(), "\"sample_spacing_m\": 1e-5, \"oracle\": \"none\", ");
+  nlohmann::json scenario = nlohmann::json::parse(text);
+  scenario["reference"].erase("exact_every");
+  const fs::path file = kSource / "scenarios/meshes" / ".limits_force_spacing_test.json";
+  write_file(file, scenario.dump());
+  const CommandResult result =
+      run_hapticbench_limited("validate '" + file.string() + "'", work.path(), kBudgetKib);
+  fs::remove(file);
+  check_refused(result, {"/reference/sample_spacing_m", "at most 1000000"});
+}
+
+TEST_CASE("errors name the real cause: what a path is, TMPDIR, long names, sidecars") {
+  const ScratchDir work("limits_causes");
+  const fs::path dir = work.path();
+  fs::create_directories(dir / "folder.json");
+  REQUIRE(::mkfifo((dir / "fifo.so").c_str(), 0600) == 0);
+  check_refused(run_hapticbench("validate folder.json", dir), {"folder.json", "not a regular file"});
+  check_refused(run_hapticbench("list --plugin fifo.so", dir), {"fifo.so", "not a regular file"});
+  // TMPDIR naming no folder: named, with the variable.
+  check_refused(hb::test::run_hapticbench_after("TMPDIR=/no/such/tmp", "run " + kPress + " --out r",
+                                                dir),
+                {"/no/such/tmp", "TMPDIR"});
+  CHECK_FALSE(fs::exists(dir / "r"));
+  // A 245-byte name is the user's to choose; the tool's temporary names fit.
+  const std::string long_name = std::string(240, 'g') + ".csv";
+  const CommandResult generated =
+      run_hapticbench("generate press --duration 0.1 --out " + long_name, dir);
+  INFO(generated.stderr_text);
+  CHECK(generated.exit_code == 0);
+  CHECK(fs::exists(dir / long_name));
+  // A scenario named like its trace is read as the trace's sidecar: said so.
+  REQUIRE(run_hapticbench("generate press --duration 0.2 --out rec.csv", dir).exit_code == 0);
+  nlohmann::json scenario = nlohmann::json::parse(read_text_file(kPress));
+  scenario["trace"] = {{"file", "rec.csv"}};
+  write_file(dir / "rec.json", scenario.dump());
+  write_file(dir / "scenario.json", scenario.dump());
+  check_refused(run_hapticbench("validate scenario.json", dir),
+                {"rec.json", "read as the trace's sidecar", "looks like a scenario"});
 }
 
 }  // namespace

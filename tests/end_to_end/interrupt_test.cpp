@@ -64,8 +64,15 @@ Started start(const std::vector<std::string>& args, const fs::path& work) {
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, (work / "stderr.txt").c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  // A process group of its own, as a job a shell starts: a signal to the
+  // group (a terminal's Ctrl-C) reaches it and what it starts, not this test.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   Started started;
-  const int error = posix_spawn(&started.pid, raw[0], &actions, nullptr, raw.data(), environ);
+  const int error = posix_spawn(&started.pid, raw[0], &actions, &attributes, raw.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   REQUIRE(error == 0);
   return started;
@@ -165,6 +172,76 @@ TEST_CASE("SIGTERM during a convex hierarchy build ends it within moments") {
   ::unsetenv("HAPTICBENCH_CACHE_DIR");
   check_stopped_in_stage(run, work.path() / "stderr.txt",
                          "convex hierarchy of bunny00.off: building");
+}
+
+// A free-space rub of `duration_s` above a box, with the analytic
+// reference off: the mesh force reference follows every tick.
+std::string free_space_mesh_reference_scenario(double duration_s) {
+  return R"({
+  "name": "free_space",
+  "scene": [ { "shape": { "type": "box", "size": [0.4, 0.4, 0.02] }, "pose": { "p": [0, 0, -0.01] } } ],
+  "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 2 }, "density": 1000 },
+  "trace": { "generator": "rub", "duration_s": )" +
+         std::to_string(duration_s) + R"(, "seed": 1,
+             "params": { "centre": [0, 0, 0.5], "surface_distance": 0.01, "depth": 0.004, "radius": 0.02, "turns": 100 } },
+  "coupling": { "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 },
+  "algorithms": [ { "name": "coupling_only" } ],
+  "reference": { "oracle": "none", "analytic": "none" }
+})";
+}
+
+TEST_CASE("a stop signal during the mesh force reference ends it there, in run and validate") {
+  // The reference of an hour's trace takes minutes; it once polled no
+  // signal: run stopped only when it was done (48 s late), and validate
+  // printed OK. Stopped in the phase, it leaves no cache file behind.
+  for (const char* command : {"run", "validate"}) {
+    SECTION(command) {
+      const ScratchDir work("interrupt_force_reference");
+      write_file(work.path() / "long.json", free_space_mesh_reference_scenario(3600));
+      ::setenv("HAPTICBENCH_CACHE_DIR", (work.path() / "cache").c_str(), 1);
+      const Started run = start({command, "long.json", "--progress", "plain"}, work.path());
+      ::unsetenv("HAPTICBENCH_CACHE_DIR");
+      check_stopped_in_stage(run, work.path() / "stderr.txt", "force reference");
+      const std::string out = hb::test::read_text_file(work.path() / "stdout.txt");
+      CHECK(out.find("OK") == std::string::npos);
+      bool cached = false;
+      if (fs::exists(work.path() / "cache"))
+        for (const auto& entry : fs::directory_iterator(work.path() / "cache"))
+          cached = cached || entry.path().filename().string().rfind("force_reference", 0) == 0;
+      CHECK_FALSE(cached);
+      CHECK_FALSE(fs::exists(work.path() / "out"));
+    }
+  }
+}
+
+TEST_CASE("report stops its renderer on a stop signal: no page, no traceback, 128 + the signal") {
+  // A renderer that takes its time; it would leave a mark had it finished.
+  const ScratchDir work("interrupt_report");
+  write_file(work.path() / "renderer" / "render_report.py",
+             "import time\ntime.sleep(30)\nopen('finished.txt', 'w').write('done')\n");
+  write_file(work.path() / "long.json", press_scenario(0.2));
+  REQUIRE(std::system(("cd '" + work.path().string() + "' && '" + hb::test::hapticbench_bin() +
+                       "' run long.json --out run --quiet > /dev/null 2>&1")
+                          .c_str()) == 0);
+  ::setenv("HAPTICBENCH_REPORTS_DIR", (work.path() / "renderer").c_str(), 1);
+  for (const int signal : {SIGTERM, SIGINT}) {
+    CAPTURE(signal);
+    const Started report = start({"report", "run", "--out", "r.html"}, work.path());
+    // Once the renderer runs (a second is ample for hapticbench's checks).
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    // To the process alone, as `timeout` sends it; SIGINT to its process
+    // group, as a terminal's Ctrl-C does.
+    REQUIRE(kill(signal == SIGINT ? -report.pid : report.pid, signal) == 0);
+    CHECK(exit_code_of(report.pid) == 128 + signal);
+    const std::string err = hb::test::read_text_file(work.path() / "stderr.txt");
+    INFO(err);
+    CHECK(err.find("Traceback") == std::string::npos);
+    CHECK_FALSE(fs::exists(work.path() / "r.html"));
+    CHECK_FALSE(fs::exists(work.path() / "finished.txt"));
+    for (const auto& entry : fs::directory_iterator(work.path()))
+      CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+  }
+  ::unsetenv("HAPTICBENCH_REPORTS_DIR");
 }
 
 TEST_CASE("SIGTERM during a sweep keeps finished jobs, and the next sweep runs only the rest") {

@@ -2,8 +2,11 @@
 // write. Each case puts something of the user's at the output path and
 // checks the exit code (2), the message (names the path) and that the
 // user's thing is untouched and nothing else was written.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -11,6 +14,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "tests/support/cli_runner.h"
 #include "tests/support/end_to_end.h"
@@ -168,22 +172,51 @@ TEST_CASE("export and generate write through temporary names of their own, never
   CHECK(listing(work) == expected);
 }
 
-TEST_CASE("the next run removes what a killed run left: its staging and scratch folders") {
-  // As SIGKILL leaves them: with hapticbench's markers, named after a
-  // process that is gone (99999999 is above any pid_max). A folder of the
-  // same form without a marker is someone else's and stays.
+// Holds an exclusive flock on <folder>/.hapticbench-lock while it lives, as
+// a live hapticbench process does on the folders it works in.
+struct HeldLock {
+  explicit HeldLock(const fs::path& folder)
+      : fd(::open((folder / ".hapticbench-lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600)) {
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX) == 0);
+  }
+  ~HeldLock() { ::close(fd); }
+  int fd;
+};
+
+TEST_CASE("the next run removes what a killed run left, and nothing a live run holds") {
+  // As SIGKILL leaves them: with hapticbench's markers and an unlocked lock
+  // file, named after a process id that does not exist here (99999999 is
+  // above any pid_max). The "live" ones are named the same way but their
+  // lock is held, as by a run in another PID namespace (a container
+  // sharing /tmp), where every id looks gone. A folder of the same form
+  // without a marker is someone else's and stays.
   const ScratchDir work_dir("e2e_out_stale");
   const fs::path& work = work_dir.path();
   fs::create_directories(work / "tmp");
-  const fs::path staging = work / "run.partial-99999999";
-  fs::create_directories(staging);
-  write_file(staging / ".hapticbench-output",
-             R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
-  write_file(staging / "ticks_a.csv", "tick\n");
-  const fs::path scratch = work / "tmp/hapticbench-run-99999999-AbC123";
-  fs::create_directories(scratch);
-  write_file(scratch / ".hapticbench-scratch", "scratch folder of hapticbench process 99999999\n");
-  write_file(scratch / "ticks_penalty.csv", std::string(100000, 'x'));
+  const auto staging_at = [&](const std::string& name) {
+    const fs::path staging = work / name;
+    fs::create_directories(staging);
+    write_file(staging / ".hapticbench-output",
+               R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
+    write_file(staging / ".hapticbench-lock", "");
+    write_file(staging / "ticks_a.csv", "tick\n");
+    return staging;
+  };
+  const auto scratch_at = [&](const std::string& name) {
+    const fs::path scratch = work / "tmp" / name;
+    fs::create_directories(scratch);
+    write_file(scratch / ".hapticbench-scratch", "scratch folder of hapticbench process\n");
+    write_file(scratch / ".hapticbench-lock", "");
+    write_file(scratch / "ticks_penalty.csv", std::string(100000, 'x'));
+    return scratch;
+  };
+  const fs::path staging = staging_at("run.partial-99999999");
+  const fs::path set_aside = staging_at("run.old-99999999-1");
+  const fs::path scratch = scratch_at("hapticbench-run-99999999-AbC123");
+  const fs::path live_staging = staging_at("run.partial-99999997");
+  const fs::path live_scratch = scratch_at("hapticbench-run-99999997-DeF456");
+  const HeldLock staging_held(live_staging), scratch_held(live_scratch);
   const fs::path foreign = work / "tmp/hapticbench-run-99999998-mine";
   fs::create_directories(foreign);
   write_file(foreign / "notes.txt", "mine");
@@ -193,10 +226,54 @@ TEST_CASE("the next run removes what a killed run left: its staging and scratch 
   INFO(result.stderr_text);
   REQUIRE(result.exit_code == 0);
   CHECK_FALSE(fs::exists(staging));
+  CHECK_FALSE(fs::exists(set_aside));
   CHECK_FALSE(fs::exists(scratch));
+  CHECK(read_text_file(live_staging / "ticks_a.csv") == "tick\n");
+  CHECK(fs::file_size(live_scratch / "ticks_penalty.csv") == 100000);
   CHECK(read_text_file(foreign / "notes.txt") == "mine");
-  // Its own scratch folder is gone too: only the foreign one is left.
-  CHECK(listing(work / "tmp") == std::set<std::string>{"hapticbench-run-99999998-mine"});
+  // Its own scratch folder is gone: only the live and the foreign are left.
+  CHECK(listing(work / "tmp") ==
+        std::set<std::string>{"hapticbench-run-99999997-DeF456", "hapticbench-run-99999998-mine"});
+  CHECK(listing(work) == std::set<std::string>{"run", "run.partial-99999997", "tmp"});
+}
+
+TEST_CASE("a run in another PID namespace keeps its folders while a run here starts beside it") {
+  // Where user and PID namespaces cannot be made (no unshare, or the kernel
+  // forbids them), there is nothing to test.
+  if (std::system("unshare -r -p -f true > /dev/null 2>&1") != 0) {
+    WARN("skipped: unshare -r -p -f is not available here");
+    return;
+  }
+  const ScratchDir work_dir("e2e_out_namespace");
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "tmp");
+  write_file(work / "long.json", read_text_file(kPress));
+  // The run in the namespace gets a process id that no process has here:
+  // the old rule (kill(pid, 0) fails, so the run is gone) took it for dead.
+  const std::string inner =
+      "unshare -r -p -f sh -c 'echo 4190000 > /proc/sys/kernel/ns_last_pid; "
+      "TMPDIR=tmp \"$0\" run " +
+      kPress + " --out run --quiet --repeat 20' '" + hb::test::hapticbench_bin() +
+      "' > inner.txt 2>&1";
+  int inner_status = -1;
+  std::thread inner_run(
+      [&] { inner_status = std::system(("cd '" + work.string() + "' && " + inner).c_str()); });
+  bool started = false;
+  for (int i = 0; i < 1000 && !started; ++i) {
+    started = !fs::is_empty(work / "tmp");  // its scratch folder, holding its ticks
+    if (!started) ::usleep(10000);
+  }
+  REQUIRE(started);
+  const CommandResult outer = hb::test::run_hapticbench_after(
+      "TMPDIR='" + (work / "tmp").string() + "'", "run " + kPress + " --out run --quiet", work);
+  CHECK(outer.exit_code == 0);
+  inner_run.join();
+  // The run here started while the other ran: the other's ticks were kept.
+  INFO(read_text_file(work / "inner.txt"));
+  CHECK(WIFEXITED(inner_status));
+  CHECK(WEXITSTATUS(inner_status) == 0);
+  CHECK(fs::exists(work / "run/summary.json"));
+  CHECK(listing(work / "tmp").empty());
 }
 
 TEST_CASE("report and compare never replace a file or folder of the user's") {

@@ -25,6 +25,8 @@ using hb::test::CommandResult;
 const fs::path kPlugins = hb::test::in_own_build("tests/plugins", HAPTICBENCH_TEST_PLUGINS_DIR);
 const fs::path kExample = kSource / "examples/out_of_tree_renderer";
 const std::string kVertexPenalty = (kPlugins / "vertex_penalty.so").string();
+const std::string kLeavesMark = (kPlugins / "plugin_leaves_mark.so").string();
+const std::string kMisbehaving = (kPlugins / "plugin_misbehaving.so").string();
 
 // The example's scenario, 0.3 s long, with the built-in penalty proxy
 // beside the plugin's renderer, in the work folder.
@@ -59,7 +61,7 @@ TEST_CASE("a plugin's renderer runs like a built-in one and its summary names th
         std::string::npos);
 }
 
-TEST_CASE("a scenario names its plugins relative to itself") {
+TEST_CASE("a scenario names its plugins relative to itself, loaded only when allowed") {
   const hb::test::ScratchDir work_dir("e2e_plugin_field");
   const fs::path& work = work_dir.path();
   fs::create_directories(work / "scenarios" / "plugins");
@@ -68,10 +70,83 @@ TEST_CASE("a scenario names its plugins relative to itself") {
   json scenario = json::parse(hb::test::read_text_file(work / "scenarios" / "press.json"));
   scenario["plugins"] = {"plugins/vertex_penalty.so"};
   std::ofstream(work / "scenarios" / "press.json") << scenario.dump(2);
-  const CommandResult run = hb::test::run_hapticbench("run scenarios/press.json --out runs", work);
-  INFO(run.stderr_text);
-  CHECK(run.exit_code == 0);
-  CHECK(fs::exists(work / "runs/ticks_vertex_penalty.csv"));
+
+  const CommandResult refused =
+      hb::test::run_hapticbench("run scenarios/press.json --out runs", work);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.stderr_text.find("/plugins/0") != std::string::npos);
+  CHECK(refused.stderr_text.find("--allow-scenario-plugins") != std::string::npos);
+  CHECK_FALSE(fs::exists(work / "runs"));
+
+  for (const char* allow :
+       {"--allow-scenario-plugins", "--plugin scenarios/plugins/vertex_penalty.so"}) {
+    CAPTURE(allow);
+    const CommandResult run = hb::test::run_hapticbench(
+        "run scenarios/press.json --out runs " + std::string(allow), work);
+    INFO(run.stderr_text);
+    CHECK(run.exit_code == 0);
+    CHECK(fs::exists(work / "runs/ticks_vertex_penalty.csv"));
+  }
+}
+
+TEST_CASE("a data file alone never loads a library: scenarios, validate, sweeps, the variable") {
+  // The library's constructor leaves a mark when it is loaded, whatever
+  // happens after: no mark, no code of its ran.
+  const hb::test::ScratchDir work_dir("e2e_plugin_mark");
+  const fs::path& work = work_dir.path();
+  const fs::path mark = work / "mark.txt";
+  const std::string with_mark = "export HAPTICBENCH_TEST_MARK='" + mark.string() + "' &&";
+  write_short_example_scenario(work / "press.json");
+  json scenario = json::parse(hb::test::read_text_file(work / "press.json"));
+  scenario["algorithms"] = json::array({{{"name", "penalty_analytic"}}});
+  std::ofstream(work / "trusted.json") << scenario.dump(2);
+  scenario["plugins"] = {kLeavesMark};
+  std::ofstream(work / "theirs.json") << scenario.dump(2);
+  const auto run = [&](const std::string& args, const std::string& setup = "") {
+    return hb::test::run_hapticbench_after(with_mark + setup, args, work);
+  };
+
+  const CommandResult refused = run("run theirs.json --out runs");
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.stderr_text.find("theirs.json: /plugins/0") != std::string::npos);
+  const CommandResult validated = run("validate theirs.json");
+  INFO(validated.stderr_text);
+  CHECK(validated.exit_code == 0);  // its built-in algorithm checked, the library not loaded
+  CHECK(validated.stdout_text.find("OK: theirs.json") != std::string::npos);
+  // A plugin algorithm in a scenario validate reads is left unchecked, and said so.
+  scenario["algorithms"].push_back({{"name", "their_renderer"}});
+  std::ofstream(work / "theirs_algorithm.json") << scenario.dump(2);
+  const CommandResult unchecked = run("validate theirs_algorithm.json");
+  CHECK(unchecked.exit_code == 0);
+  CHECK(unchecked.stderr_text.find("\"their_renderer\" is not checked") != std::string::npos);
+
+  std::ofstream(work / "sweep.json") << json{{"name", "grid_plugins"},
+                                             {"scenarios", {"trusted.json"}},
+                                             {"grid", {{"/plugins", {json::array({kLeavesMark})}}}}}
+                                            .dump(2);
+  const CommandResult sweep = run("sweep sweep.json --out sweep_runs");
+  CHECK(sweep.exit_code == 2);
+  CHECK(sweep.stderr_text.find("/grid/~1plugins") != std::string::npos);
+
+  const CommandResult relative =
+      run("list", "cd '" + kPlugins.string() + "' && export HAPTICBENCH_PLUGINS=" +
+                      fs::path(kLeavesMark).filename().string() + " &&");
+  CHECK(relative.exit_code == 2);
+  CHECK(relative.stderr_text.find("HAPTICBENCH_PLUGINS: a relative plugin path") !=
+        std::string::npos);
+  CHECK_FALSE(fs::exists(mark));
+  CHECK_FALSE(fs::exists(work / "runs"));
+  CHECK_FALSE(fs::exists(work / "sweep_runs"));
+
+  // Help comes even when the variable names something unusable.
+  const CommandResult help = run("help", "export HAPTICBENCH_PLUGINS=/no/such.so &&");
+  CHECK(help.exit_code == 0);
+  CHECK(help.stdout_text.find("usage: hapticbench") != std::string::npos);
+
+  // Asked for, it loads: the mark shows it.
+  const CommandResult allowed = run("run theirs.json --out runs --allow-scenario-plugins");
+  CHECK(allowed.exit_code == 2);  // not a hapticbench plugin, but loaded as asked
+  CHECK(fs::exists(mark));
 }
 
 TEST_CASE("a sweep's jobs load the plugin given to the sweep") {
@@ -102,6 +177,29 @@ TEST_CASE("a sweep's jobs load the plugin given to the sweep") {
   INFO(report.stderr_text);
   CHECK(report.exit_code == 0);
   CHECK(hb::test::read_text_file(work / "report.html").find("vertex_penalty") != std::string::npos);
+}
+
+TEST_CASE("a plugin that crashes, exits or throws inside step() is named, and nothing passes") {
+  for (const char* failure : {"crash", "exit_0", "throw"}) {
+    SECTION(failure) {
+      const hb::test::ScratchDir work_dir("e2e_plugin_failure");
+      const fs::path& work = work_dir.path();
+      write_short_example_scenario(work / "press.json");
+      json scenario = json::parse(hb::test::read_text_file(work / "press.json"));
+      scenario["algorithms"] = json::array({{{"name", "penalty_analytic"}},
+                                            {{"name", "misbehaving"},
+                                             {"label", "bad_renderer"},
+                                             {"params", {{"failure", failure}}}}});
+      std::ofstream(work / "press.json") << scenario.dump(2);
+      const CommandResult run = hb::test::run_hapticbench(
+          "run press.json --plugin " + kMisbehaving + " --out runs", work);
+      INFO(run.stderr_text);
+      CHECK(run.exit_code == 3);
+      CHECK(run.stderr_text.find("\"bad_renderer\" of plugin " +
+                                 fs::canonical(kMisbehaving).string()) != std::string::npos);
+      CHECK_FALSE(fs::exists(work / "runs"));
+    }
+  }
 }
 
 TEST_CASE("a plugin that cannot be used is exit 2 with its path and the reason") {

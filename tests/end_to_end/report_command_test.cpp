@@ -401,4 +401,59 @@ TEST_CASE("report rejects bad input with exit code 2 and writes nothing") {
   }
 }
 
+// A renderer standing in for render_report.py: runs `body` (shell) and
+// exits with `exit_code`, writing no page.
+fs::path fake_renderer(const fs::path& folder, int exit_code) {
+  fs::create_directories(folder);
+  std::ofstream(folder / "render_report.py") << "import sys\nsys.exit(" << exit_code << ")\n";
+  return folder;
+}
+
+TEST_CASE("report writes through no planted name and leaves nothing when no page was drawn") {
+  const hb::test::ScratchDir work_dir("e2e_report_planted");
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "run");
+  std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
+  std::ofstream(work / "victim.txt") << "the user's file\n";
+  for (const int renderer_exit : {0, 1}) {
+    CAPTURE(renderer_exit);
+    const fs::path renderer = fake_renderer(work / "renderer", renderer_exit);
+    // `exec` keeps the shell's process id, so the names the tool would take
+    // from its id are known in advance: symlinks to the victim wait there.
+    const std::string plant =
+        "sh -c 'for n in \"\" -0 -1 -2; do ln -s victim.txt .r.html.tmp-$$$n; done; "
+        "HAPTICBENCH_REPORTS_DIR=renderer exec \"$0\" report run --out r.html' '" +
+        hb::test::hapticbench_bin() + "'";
+    const CommandResult result = shell(plant, work);
+    CHECK(result.exit_code == 3);
+    CHECK(result.stderr_text.find("render_report.py") != std::string::npos);
+    CHECK(hb::test::read_text_file(work / "victim.txt") == "the user's file\n");
+    CHECK_FALSE(fs::exists(work / "r.html"));
+    for (const auto& entry : fs::directory_iterator(work))
+      if (entry.path().filename().string().rfind(".r.html.tmp-", 0) == 0) fs::remove(entry.path());
+  }
+}
+
+TEST_CASE("a copied binary runs no renderer that another user could have put beside it") {
+  // The copy in bin/ would find share/hapticbench/reports/ beside it; that
+  // folder is writable by every user, as a shared /tmp would make it.
+  const hb::test::ScratchDir work_dir("e2e_report_beside_copy");
+  const fs::path& work = work_dir.path();
+  fs::create_directories(work / "bin");
+  fs::copy_file(hb::test::hapticbench_bin(), work / "bin/hapticbench");
+  const fs::path planted = work / "share/hapticbench/reports";
+  fs::create_directories(planted / "hapticbench_report");
+  std::ofstream(planted / "render_report.py")
+      << "open('" << (work / "mark.txt").string() << "', 'w').write('ran')\n";
+  fs::permissions(planted, fs::perms::others_write, fs::perm_options::add);
+  fs::create_directories(work / "run");
+  std::ofstream(work / "run/summary.json") << sweep_summary(1000).dump();
+  const CommandResult result = shell("bin/hapticbench report run --out r.html", work);
+  CHECK(result.exit_code == 2);
+  CHECK(result.stderr_text.find("writable by every user") != std::string::npos);
+  CHECK(result.stderr_text.find("HAPTICBENCH_REPORTS_DIR") != std::string::npos);
+  CHECK_FALSE(fs::exists(work / "mark.txt"));
+  CHECK_FALSE(fs::exists(work / "r.html"));
+}
+
 }  // namespace

@@ -238,12 +238,14 @@ TEST_CASE("running a sweep again skips finished jobs and runs only what is missi
   }
 
   // An interrupted job leaves no run folder, at most a staging folder
-  // with hapticbench's marker, which is cleaned up; a folder of the same
-  // name without the marker is not hapticbench's and stays.
+  // with hapticbench's marker and a lock no live process holds, which is
+  // cleaned up; a folder of the same name without the marker is not
+  // hapticbench's and stays.
   fs::remove_all(out / names[2]);
   const fs::path staging = out / (names[2] + ".partial-99999999");
   write_file(staging / ".hapticbench-output",
              R"({"written_by": "hapticbench", "kind": "run folder", "files": ["ticks_a.csv"]})");
+  write_file(staging / ".hapticbench-lock", "");
   write_file(staging / "ticks_a.csv", "tick\n");
   const fs::path foreign = out / (names[2] + ".partial-99999998");
   write_file(foreign / "notes.txt", "mine");

@@ -127,11 +127,13 @@ std::size_t first_node_offset(const std::string& payload) {
 
 TEST_CASE("a crafted mesh-features file that passes its checksum is rebuilt, not followed") {
   // The checksum only catches accidents: anyone can recompute it. A tree
-  // whose root is its own child (an endless search) or whose child lies
-  // past the last node (a read out of bounds) is rebuilt.
+  // whose root is its own child (an endless search), whose child lies past
+  // the last node (a read out of bounds), or whose root shares a child with
+  // another node (children 2 and 3, node 3 being node 1's child too: a DAG,
+  // whose search is exponential in its depth) is rebuilt.
   const TriangleMesh mesh = sphere_mesh();
   const MeshFeatures fresh = build_mesh_features(mesh.vertices, mesh.triangles, "tool");
-  for (const int root_child : {0, 1 << 20}) {
+  for (const int root_child : {0, 1 << 20, 2}) {
     INFO("root's first child " << root_child);
     const CacheFolder cache;
     bool hit = false;

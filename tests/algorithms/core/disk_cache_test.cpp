@@ -2,10 +2,12 @@
 
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include "tests/support/scratch_dir.h"
@@ -96,6 +98,85 @@ TEST_CASE("without a folder the cache is off") {
   CHECK(cache.write("k", "payload").empty());
   CHECK_FALSE(cache.read("k").payload);
   CHECK(cache.path_of("k").empty());
+}
+
+TEST_CASE("a file anyone else wrote or can write is not trusted, whatever its checksum") {
+  // The checksum can be recomputed by anyone: the bytes below are a valid
+  // cache file, but a stranger could have written them.
+  const test::ScratchDir folder("disk_cache_trust");
+  const DiskCache cache(folder.path(), "force_reference");
+  const fs::path file = cache.path_of("k");
+  REQUIRE(cache.write("k", "0.0025 N").empty());
+  REQUIRE(cache.read("k").payload);
+
+  SECTION("writable by every user") {
+    fs::permissions(file, fs::perms::others_write, fs::perm_options::add);
+    const DiskCache::Lookup lookup = cache.read("k");
+    CHECK_FALSE(lookup.payload);
+    CHECK_THAT(lookup.problem, Catch::Contains("writable by other users"));
+  }
+  SECTION("written by another user") {
+    if (::geteuid() != 0) {
+      WARN("skipped: only root can give a file to another user here");
+      return;
+    }
+    REQUIRE(::chown(file.c_str(), 65534, 65534) == 0);
+    const DiskCache::Lookup lookup = cache.read("k");
+    CHECK_FALSE(lookup.payload);
+    CHECK_THAT(lookup.problem, Catch::Contains("written by user 65534"));
+  }
+  SECTION("in a folder every user can change") {
+    fs::permissions(folder.path(), fs::perms::others_write, fs::perm_options::add);
+    const DiskCache::Lookup lookup = cache.read("k");
+    CHECK_FALSE(lookup.payload);
+    CHECK_THAT(lookup.problem, Catch::Contains("is writable by every user"));
+  }
+  SECTION("a symlink in the file's place") {
+    const fs::path elsewhere = folder.path() / "elsewhere.hbcache";
+    fs::rename(file, elsewhere);
+    fs::create_symlink(elsewhere, file);
+    CHECK_FALSE(cache.read("k").payload);
+  }
+}
+
+TEST_CASE("a cache write follows no name planted beside it") {
+  // Names the writer once used (<file>.tmp-<pid>-<n>), each a symlink to a
+  // file of the victim's: none is written through.
+  const test::ScratchDir folder("disk_cache_planted");
+  const DiskCache cache(folder.path(), "grid");
+  const fs::path victim = folder.path() / "victim.txt";
+  std::ofstream(victim) << "precious";
+  const fs::path file = cache.path_of("k");
+  for (int n = 0; n < 4; ++n)
+    fs::create_symlink(
+        victim, file.string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(n));
+  for (int n = 0; n < 4; ++n) CHECK(cache.write("k", std::string(100, 'x')).empty());
+  CHECK(test::read_text_file(victim) == "precious");
+  CHECK(cache.read("k").payload == std::string(100, 'x'));
+}
+
+TEST_CASE("a payload written and read in parts equals the whole, and damage is found") {
+  const test::ScratchDir folder("disk_cache_parts");
+  const DiskCache cache(folder.path(), "track");
+  // Parts of odd sizes, across the checksum's 32-byte blocks and the
+  // reader's 1 MB parts.
+  std::string whole;
+  for (int i = 0; whole.size() < 3 * DiskCache::kPartBytes; ++i)
+    whole += std::string(static_cast<std::size_t>(1 + i % 97), static_cast<char>('a' + i % 26));
+  const auto produce = [&](const std::function<void(std::string_view)>& put) {
+    for (std::size_t at = 0; at < whole.size(); at += 70001)
+      put(std::string_view(whole).substr(at, 70001));
+  };
+  REQUIRE(cache.write_parts("k", whole.size(), produce).empty());
+  CHECK(cache.read("k").payload == whole);  // the same file as a whole write
+  std::string read;
+  CHECK(cache.read_parts("k", [&](std::string_view part) { read.append(part); }));
+  CHECK(read == whole);
+  overwrite_byte(cache.path_of("k"), 5, '#');
+  std::string problem;
+  CHECK_FALSE(cache.read_parts(
+      "k", [](std::string_view) {}, &problem));
+  CHECK_THAT(problem, Catch::Contains("damaged"));
 }
 
 }  // namespace
