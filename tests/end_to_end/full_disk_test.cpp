@@ -77,6 +77,21 @@ TEST_CASE("a full disk is named as such, and nothing half-written is left on it"
   // A trace larger than the filesystem: nothing of it stays.
   check_full_disk(run_hapticbench("generate press --duration 5 --out full/t.csv", work), "full/");
   CHECK(disk.listing().empty());
+  // Room for the run folder's marker, not for its ticks: the ticks file is
+  // copied across filesystems from TMPDIR, and the copy says why it failed
+  // (the library's copy said "Input/output error").
+  check_full_disk(run_hapticbench("run " + kPress + " --out full/run --quiet", work), "full/");
+  CHECK(disk.listing().empty());
+  // A sweep whose jobs fail on the full disk: each job "failed" on an error
+  // it named, exit 2; none "crashed".
+  hb::test::write_file(work / "sweep.json", R"({"name": "full", "scenarios": [")" + kPress +
+                                                R"("], "grid": {"/coupling/k_t": [1000, 2000]}})");
+  const CommandResult sweep = run_hapticbench("sweep sweep.json --out full/sweep --quiet", work);
+  INFO(sweep.stdout_text << sweep.stderr_text);
+  CHECK(sweep.exit_code == 2);
+  CHECK(sweep.stderr_text.find("No space left on device") != std::string::npos);
+  CHECK(sweep.stdout_text.find(" 0 crashed") != std::string::npos);
+  fs::remove_all(work / "full" / "sweep");
 
   disk.fill("filler");
   const std::set<std::string> filled = {"filler"};

@@ -244,6 +244,36 @@ TEST_CASE("report stops its renderer on a stop signal: no page, no traceback, 12
   ::unsetenv("HAPTICBENCH_REPORTS_DIR");
 }
 
+TEST_CASE("a stability search stopped midway keeps the runs that finished") {
+  // Eleven runs of a 20 s press; stopped after the second finished.
+  const ScratchDir work("interrupt_stability");
+  write_file(work.path() / "long.json", press_scenario(20));
+  const Started search = start({"stability", "long.json", "--label", "penalty", "--param",
+                                "/coupling/k_t", "--range", "100", "100000", "--out", "out"},
+                               work.path());
+  const fs::path err = work.path() / "stderr.txt";
+  const auto finished_runs = [&] {
+    const std::string text = hb::test::read_text_file(err);
+    std::size_t count = 0;
+    for (std::size_t at = text.find("stability: /coupling/k_t"); at != std::string::npos;
+         at = text.find("stability: /coupling/k_t", at + 1))
+      ++count;
+    return count;
+  };
+  REQUIRE(wait_for([&] { return finished_runs() >= 2; }, 120));
+  REQUIRE(kill(search.pid, SIGTERM) == 0);
+  CHECK(exit_code_of(search.pid) == 128 + SIGTERM);
+  INFO(hb::test::read_text_file(err));
+  CHECK_FALSE(
+      fs::exists(work.path() / "out/stability.json"));  // no verdict: the search did not end
+  const fs::path partial = work.path() / "out/stability.partial.json";
+  REQUIRE(fs::exists(partial));
+  const std::string kept = hb::test::read_text_file(partial);
+  CHECK(kept.find("\"interrupted\": true") != std::string::npos);
+  CHECK(kept.find("\"param\": \"/coupling/k_t\"") != std::string::npos);
+  CHECK(kept.find("\"runs\": [") != std::string::npos);
+}
+
 TEST_CASE("SIGTERM during a sweep keeps finished jobs, and the next sweep runs only the rest") {
   const ScratchDir work("interrupt_sweep");
   write_file(work.path() / "scenarios" / "long.json", press_scenario(40));
