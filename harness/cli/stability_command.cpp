@@ -24,7 +24,6 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
-#include "harness/process/interrupt.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -104,26 +103,18 @@ int stability_command(const std::vector<std::string>& args) {
     StagedRunFolder folder(out, OutputFolderKind::kRun);
 
     // The runs that finished are kept if a stop signal ends the search.
-    std::vector<StabilityProbe> finished;
-    StabilityBracket bracket;
-    try {
-      bracket = search_largest_stable(
-          [&](double value) {
-            finished.push_back(prober.probe({{parsed->pointer, value}}));
-            return finished.back();
-          },
-          parsed->low, parsed->high, parsed->search.tolerance);
-    } catch (const Interrupted&) {
-      progress.close();
-      keep_interrupted_search(folder, "stability.partial.json",
-                              {{"scenario", prober.scenario_name()},
-                               {"scenario_file", parsed->search.scenario},
-                               {"label", parsed->search.label},
-                               {"param", parsed->pointer},
-                               {"range", {parsed->low, parsed->high}}},
-                              finished);
-      throw;
-    }
+    SearchKeepingRuns searcher(folder, "stability.partial.json",
+                               {{"scenario", prober.scenario_name()},
+                                {"scenario_file", parsed->search.scenario},
+                                {"label", parsed->search.label},
+                                {"param", parsed->pointer},
+                                {"range", {parsed->low, parsed->high}}},
+                               progress);
+    const StabilityBracket bracket = searcher.search(
+        [&](double value) {
+          return prober.probe({{parsed->pointer, value}});
+        },
+        parsed->low, parsed->high, parsed->search.tolerance);
     const std::optional<double>& largest_stable = bracket.largest_stable;
     const std::optional<double>& smallest_unstable = bracket.smallest_unstable;
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "harness/cli/command_line.h"
+#include "harness/process/interrupt.h"
 
 namespace hb {
 
@@ -57,16 +58,28 @@ void require_stability_search_options(const StabilitySearchOptions& options) {
   if (options.label.empty()) throw UsageError{"--label LABEL is required"};
 }
 
-void keep_interrupted_search(StagedRunFolder& folder, const std::string& name,
-                             nlohmann::ordered_json document,
-                             const std::vector<StabilityProbe>& finished) {
-  if (finished.empty()) return;
-  document["interrupted"] = true;
-  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  for (const StabilityProbe& probe : finished) runs.push_back(probe_json(probe));
-  document["runs"] = runs;
-  folder.write_file(name, document.dump(2) + "\n");
-  folder.commit();
+StabilityBracket SearchKeepingRuns::search(const std::function<StabilityProbe(double)>& probe,
+                                           double low, double high, double tolerance) {
+  try {
+    return search_largest_stable(
+        [&](double value) {
+          finished_.push_back(probe(value));
+          return finished_.back();
+        },
+        low, high, tolerance);
+  } catch (const Interrupted&) {
+    progress_.close();
+    if (!finished_.empty()) {
+      nlohmann::ordered_json document = description_;
+      document["interrupted"] = true;
+      nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+      for (const StabilityProbe& finished : finished_) runs.push_back(probe_json(finished));
+      document["runs"] = runs;
+      folder_.write_file(partial_name_, document.dump(2) + "\n");
+      folder_.commit();
+    }
+    throw;
+  }
 }
 
 }  // namespace hb

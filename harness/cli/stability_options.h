@@ -3,6 +3,7 @@
 // folder and the progress display.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -40,13 +41,32 @@ void require_stability_search_options(const StabilitySearchOptions& options);
 /// naming `option` otherwise.
 double finite_number_option(const std::string& option, const std::string& text, bool positive);
 
-/// After a stop signal ended a search: writes `document` (what was being
-/// searched) with "interrupted": true and the runs that finished to
-/// `name` in `folder` (stability.partial.json, zwidth.partial.json: not
-/// the name a report reads), and commits the folder. Nothing when no run
+/// Stability searches whose finished runs outlive a stop signal: when one
+/// ends a search, the runs finished so far (across every search made
+/// through this object) are written with `description` and "interrupted":
+/// true to `partial_name` in `folder` (stability.partial.json,
+/// zwidth.partial.json: not the name a report reads), the folder is
+/// committed, and Interrupted is thrown on. Nothing is written when no run
 /// finished.
-void keep_interrupted_search(StagedRunFolder& folder, const std::string& name,
-                             nlohmann::ordered_json document,
-                             const std::vector<StabilityProbe>& finished);
+class SearchKeepingRuns {
+ public:
+  SearchKeepingRuns(StagedRunFolder& folder, std::string partial_name,
+                    nlohmann::ordered_json description, ProgressDisplay& progress)
+      : folder_(folder),
+        partial_name_(std::move(partial_name)),
+        description_(std::move(description)),
+        progress_(progress) {}
+
+  /// search_largest_stable over [low, high], each finished run kept.
+  StabilityBracket search(const std::function<StabilityProbe(double)>& probe, double low,
+                          double high, double tolerance);
+
+ private:
+  StagedRunFolder& folder_;
+  std::string partial_name_;
+  nlohmann::ordered_json description_;
+  ProgressDisplay& progress_;
+  std::vector<StabilityProbe> finished_;
+};
 
 }  // namespace hb

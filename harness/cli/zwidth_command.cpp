@@ -18,7 +18,6 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
-#include "harness/process/interrupt.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -126,29 +125,21 @@ int zwidth_command(const std::vector<std::string>& args) {
 
     Json points = Json::array(), runs = Json::array();
     // The runs that finished are kept if a stop signal ends the search.
-    std::vector<StabilityProbe> finished;
+    SearchKeepingRuns searcher(folder, "zwidth.partial.json",
+                               {{"scenario", prober.scenario_name()},
+                                {"scenario_file", parsed->search.scenario},
+                                {"label", parsed->search.label},
+                                {"x_param", parsed->x_pointer},
+                                {"y_param", parsed->y_pointer},
+                                {"x_values", parsed->x_values},
+                                {"y_range", {parsed->y_low, parsed->y_high}}},
+                               progress);
     for (double x : parsed->x_values) {
-      StabilityBracket bracket;
-      try {
-        bracket = search_largest_stable(
-            [&](double y) {
-              finished.push_back(prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}}));
-              return finished.back();
-            },
-            parsed->y_low, parsed->y_high, parsed->search.tolerance);
-      } catch (const Interrupted&) {
-        progress.close();
-        keep_interrupted_search(folder, "zwidth.partial.json",
-                                {{"scenario", prober.scenario_name()},
-                                 {"scenario_file", parsed->search.scenario},
-                                 {"label", parsed->search.label},
-                                 {"x_param", parsed->x_pointer},
-                                 {"y_param", parsed->y_pointer},
-                                 {"x_values", parsed->x_values},
-                                 {"y_range", {parsed->y_low, parsed->y_high}}},
-                                finished);
-        throw;
-      }
+      const StabilityBracket bracket = searcher.search(
+          [&](double y) {
+            return prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
+          },
+          parsed->y_low, parsed->y_high, parsed->search.tolerance);
       points.push_back({{"x", x},
                         {"largest_stable", or_null(bracket.largest_stable)},
                         {"smallest_unstable", or_null(bracket.smallest_unstable)},
