@@ -22,6 +22,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
 #include "harness/stability/stability_search.h"
@@ -95,6 +96,11 @@ int stability_command(const std::vector<std::string>& args) {
     // failed after a 300,000-tick run at the low end).
     prober.check({{parsed->pointer, parsed->low}});
     prober.check({{parsed->pointer, parsed->high}});
+    // A plugin's renderer runs in a child this process watches.
+    if (should_isolate_plugins({prober.algorithm()})) {
+      progress.close();
+      return run_plugins_isolated("stability", args);
+    }
     const fs::path out = parsed->search.out
                              ? fs::path(*parsed->search.out)
                              : fs::path("out") / "stability" /

@@ -19,7 +19,9 @@
 #include "hapticbench/triangle_mesh.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/plugin_isolation.h"
 #include "harness/mesh_io/mesh_io.h"
+#include "harness/plugins/plugin_loader.h"
 #include "harness/process/interrupt.h"
 #include "harness/process/memory_limit.h"
 #include "harness/run/scenario_runner.h"
@@ -179,6 +181,13 @@ int validate_command(const std::vector<std::string>& args) {
       parse_command_line([&] { return parse_validate_arguments(args); }, kUsage, exit_code);
   if (!parsed_files) return exit_code;
   const std::vector<std::string>& files = parsed_files->files;
+  // Building renderers runs the code of the plugins given (--plugin,
+  // HAPTICBENCH_PLUGINS): in a child this process watches.
+  std::vector<std::string> plugin_algorithms;
+  for (const LoadedPlugin& plugin : loaded_plugins())
+    plugin_algorithms.insert(plugin_algorithms.end(), plugin.algorithms.begin(),
+                             plugin.algorithms.end());
+  if (should_isolate_plugins(plugin_algorithms)) return run_plugins_isolated("validate", args);
 
   // Building a scenario's renderers and oracles can take a while (meshes
   // without cached structures); progress shows when it takes over a second.

@@ -16,6 +16,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
 #include "harness/stability/stability_search.h"
@@ -117,6 +118,11 @@ int zwidth_command(const std::vector<std::string>& args) {
     for (double x : parsed->x_values)
       for (double y : {parsed->y_low, parsed->y_high})
         prober.check({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
+    // A plugin's renderer runs in a child this process watches.
+    if (should_isolate_plugins({prober.algorithm()})) {
+      progress.close();
+      return run_plugins_isolated("zwidth", args);
+    }
     const fs::path out =
         parsed->search.out
             ? fs::path(*parsed->search.out)

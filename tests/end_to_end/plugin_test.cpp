@@ -179,27 +179,40 @@ TEST_CASE("a sweep's jobs load the plugin given to the sweep") {
   CHECK(hb::test::read_text_file(work / "report.html").find("vertex_penalty") != std::string::npos);
 }
 
-TEST_CASE("a plugin that crashes, exits or throws inside step() is named, and nothing passes") {
-  for (const char* failure : {"crash", "exit_0", "throw"}) {
-    SECTION(failure) {
+TEST_CASE("a plugin that crashes, exits or throws is named, and nothing passes") {
+  // In `run` (inside step()), `stability` (inside step()) and `validate`
+  // (when the renderer is created): each runs the plugin in a child it
+  // watches.
+  struct Case {
+    const char* command;
+    const char* when;
+  };
+  for (const Case c : {Case{"run press.json --out runs", "step"},
+                       Case{"stability press.json --label bad_renderer --param /coupling/k_t "
+                            "--range 1000 3000 --out runs",
+                            "step"},
+                       Case{"validate press.json", "create"}})
+    for (const char* failure : {"crash", "exit_0", "throw"}) {
+      CAPTURE(c.command, failure);
       const hb::test::ScratchDir work_dir("e2e_plugin_failure");
       const fs::path& work = work_dir.path();
       write_short_example_scenario(work / "press.json");
       json scenario = json::parse(hb::test::read_text_file(work / "press.json"));
-      scenario["algorithms"] = json::array({{{"name", "penalty_analytic"}},
-                                            {{"name", "misbehaving"},
-                                             {"label", "bad_renderer"},
-                                             {"params", {{"failure", failure}}}}});
+      scenario["algorithms"] =
+          json::array({{{"name", "penalty_analytic"}},
+                       {{"name", "misbehaving"},
+                        {"label", "bad_renderer"},
+                        {"params", {{"failure", failure}, {"when", c.when}}}}});
       std::ofstream(work / "press.json") << scenario.dump(2);
-      const CommandResult run = hb::test::run_hapticbench(
-          "run press.json --plugin " + kMisbehaving + " --out runs", work);
-      INFO(run.stderr_text);
+      const CommandResult run =
+          hb::test::run_hapticbench(std::string(c.command) + " --plugin " + kMisbehaving, work);
+      INFO(run.stdout_text << run.stderr_text);
       CHECK(run.exit_code == 3);
       CHECK(run.stderr_text.find("\"bad_renderer\" of plugin " +
                                  fs::canonical(kMisbehaving).string()) != std::string::npos);
+      CHECK(run.stdout_text.find("OK") == std::string::npos);
       CHECK_FALSE(fs::exists(work / "runs"));
     }
-  }
 }
 
 TEST_CASE("a plugin that cannot be used is exit 2 with its path and the reason") {

@@ -1,8 +1,8 @@
-// A plugin whose renderer fails on purpose at a chosen tick of step(): it
-// dereferences a null pointer ("crash"), ends the process with exit code 0
-// from inside step() ("exit_0", through _exit, so that nothing of the
-// process's own runs), or throws ("throw"). hapticbench must name the
-// plugin and the label, and never report success.
+// A plugin whose renderer fails on purpose at a chosen tick of step(), or
+// when it is created ("when": "create"): it dereferences a null pointer
+// ("crash"), ends the process with exit code 0 ("exit_0", through _exit, so
+// that nothing of the process's own runs), or throws ("throw").
+// hapticbench must name the plugin and the label, and never report success.
 #include <hapticbench/plugin.h>
 #include <unistd.h>
 
@@ -16,7 +16,9 @@ class Misbehaving final : public hb::Renderer {
  public:
   explicit Misbehaving(const hb::ParamSet& params)
       : failure_(params.choice("failure", "crash", {"crash", "exit_0", "throw"})),
-        at_tick_(params.integer("at_tick", 10, 0, 1000000)) {}
+        at_tick_(params.integer("at_tick", 10, 0, 1000000)) {
+    if (params.choice("when", "step", {"step", "create"}) == "create") fail();
+  }
 
   void reset(const hb::Pose& start) override {
     pose_ = start;
