@@ -29,7 +29,7 @@ struct AnalyticScene {
                                             ///< torques about it; the frictionless
                                             ///< quasi-static rendering without gravity
                                             ///< does not depend on it.
-  CouplingGains coupling;  ///< only k_t (N/m) and k_r (N·m/rad) enter the quasi-static rendering
+  CouplingGains coupling;  ///< k_t (N/m) and k_r (N·m/rad) here; b_t, b_r in IdealCouplingDamper
   double friction = 0;     ///< Coulomb μ of the box (its scene object's "friction")
 };
 
@@ -52,7 +52,9 @@ struct IdealRendering {
   Pose proxy;
   /// What the device displays: −(spring part of the coupling) at the proxy,
   /// force k_T (x_p − x_h) in N, torque −k_R θ(q_h q_p⁻¹) in N·m about the tool
-  /// frame's origin, world frame. No damping (quasi-static) and no device
+  /// frame's origin, world frame. The spring part only: the coupling's
+  /// damper on the proxy's path is IdealCouplingDamper's
+  /// (coupling_damper.h), which the run's evaluation adds. No device
   /// saturation: a caller comparing with a saturated output applies the limits.
   Wrench display;
   /// True when the device pose penetrates the box, i.e. the constraint is active.

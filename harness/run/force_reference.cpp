@@ -9,6 +9,7 @@
 #include "hapticbench/content_hash.h"
 #include "hapticbench/disk_cache.h"
 #include "harness/process/interrupt.h"
+#include "harness/reference/coupling_damper.h"
 #include "harness/reference/rigid_proxy_reference.h"
 
 namespace hb {
@@ -16,7 +17,7 @@ namespace hb {
 namespace {
 
 // Bump when the reference's results change for the same inputs.
-constexpr int kReferenceVersion = 2;
+constexpr int kReferenceVersion = 3;  // 3: the coupling's damper in the display
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;
@@ -30,6 +31,8 @@ std::string cache_key(const Scenario& scenario, const RigidProxySettings& settin
   hash.add(mesh_geometry_hash(scenario.context.tool.mesh));
   add_double(scenario.context.coupling.k_t);
   add_double(scenario.context.coupling.k_r);
+  add_double(scenario.context.coupling.b_t);
+  add_double(scenario.context.coupling.b_r);
   add_double(settings.sample_spacing_m);
   add_double(settings.clearance_m);
   hash.add(std::to_string(scenario.reference.force_every)).add(";");
@@ -38,6 +41,11 @@ std::string cache_key(const Scenario& scenario, const RigidProxySettings& settin
         std::string_view(reinterpret_cast<const char*>(sample.pose.p.data()), 3 * sizeof(double)));
     hash.add(std::string_view(reinterpret_cast<const char*>(sample.pose.q.coeffs().data()),
                               4 * sizeof(double)));
+    // The damper reads the device's velocity.
+    hash.add(
+        std::string_view(reinterpret_cast<const char*>(sample.twist.v.data()), 3 * sizeof(double)));
+    hash.add(
+        std::string_view(reinterpret_cast<const char*>(sample.twist.w.data()), 3 * sizeof(double)));
   });
   return hash.hex();
 }
@@ -132,7 +140,8 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   ForceReferenceDescription d;
   d.method =
       "rigid proxy: coupling energy minimised over non-penetrating poses reached continuously "
-      "(Embree geometry), the scene's Coulomb friction on its translation";
+      "(Embree geometry), the scene's Coulomb friction on its translation, the coupling's "
+      "damper on the proxy's path";
   d.every = scenario.reference.force_every;
   d.clearance_m = settings.clearance_m;
   for (const SceneObject& object : scenario.context.scene)
@@ -155,6 +164,9 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
   RigidProxyReference reference(scenario.context.scene, scenario.context.tool.mesh,
                                 scenario.context.coupling, settings);
   out.tool_points = static_cast<int64_t>(reference.sample_count());
+  // The whole coupling, as every algorithm displays it: its damper too,
+  // with the ideal proxy's velocity over the ticks between samples.
+  IdealCouplingDamper damper(scenario.context.coupling, scenario.context.dt_s);
   if (progress) {
     progress->task(scenario.name + " / force reference");
     progress->phase("force reference", ticks);
@@ -167,7 +179,8 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
     while (static_cast<int64_t>(track.ticks.size()) < tick) track.ticks.push_back({});
     ForceReferenceRecord record;
     if (tick % out.every == 0 && is_finite(sample.pose)) {
-      if (const std::optional<IdealRendering> ideal = reference.update(sample.pose)) {
+      if (std::optional<IdealRendering> ideal = reference.update(sample.pose)) {
+        damper.apply(tick, sample.twist, *ideal);
         const RigidProxyUpdateStats& stats = reference.last_stats();
         ++out.evaluated_ticks;
         out.max_iterations = std::max(out.max_iterations, stats.iterations);

@@ -20,6 +20,7 @@
 #include "harness/output/ticks_csv.h"
 #include "harness/process/activity_report.h"
 #include "harness/reference/analytic_reference.h"
+#include "harness/reference/coupling_damper.h"
 #include "harness/reference/tunnelling.h"
 #include "harness/replay/noise_floor.h"
 
@@ -97,6 +98,7 @@ class EvaluatingObserver : public TickObserver {
       tunnelling_.emplace(tunnelling_points(tool_mesh),
                           [&] { return std::make_unique<BoxTunnellingDetector>(scene); });
       ideal_.emplace(*truth_.analytic);
+      damper_.emplace(truth_.analytic->coupling, static_cast<double>(kTickNs) * 1e-9);
     } else if (truth_.oracle && truth_.oracle->primary_oracle()) {
       const Oracle& oracle = *truth_.oracle->primary_oracle();
       tunnelling_.emplace(tunnelling_points(tool_mesh),
@@ -121,7 +123,9 @@ class EvaluatingObserver : public TickObserver {
     TickEvaluation evaluation;
     const bool proxy_finite = is_finite(record.result.proxy);
     if (truth_.analytic) {
-      const IdealRendering ideal = ideal_->update(record.device->pose);
+      IdealRendering ideal = ideal_->update(record.device->pose);
+      // The whole coupling, as every algorithm displays it: its damper too.
+      damper_->apply(record.device->tick, record.device->twist, ideal);
       evaluation.ideal_display = ideal.display;
       evaluation.reference_contact = ideal.in_contact;
       if (proxy_finite)
@@ -168,6 +172,7 @@ class EvaluatingObserver : public TickObserver {
   GroundTruth& truth_;
   std::optional<ToolTunnelling> tunnelling_;                    ///< none without ground truth
   std::optional<FrictionalContactReference> ideal_;             ///< with the analytic scene
+  std::optional<IdealCouplingDamper> damper_;                   ///< ideal_'s coupling damper
   std::optional<ForceReferenceTrack::Reader> force_reference_;  ///< the mesh force reference
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
