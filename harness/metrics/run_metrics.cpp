@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "harness/metrics/spectrum.h"
 
@@ -434,10 +435,25 @@ RunMetrics MetricsAccumulator::finish() const {
     closed.display_energy_min_j = display_energy_min_j_;
     const double n = static_cast<double>(stiffness_n_);
     const double variance = stiffness_dd_ - stiffness_d_ * stiffness_d_ / std::max(n, 1.0);
-    if (stiffness_n_ >= kMinStiffnessTicks &&
-        stiffness_d_max_ - stiffness_d_min_ >= kMinStiffnessSpanM && variance > 0)
+    const double span_m = stiffness_d_max_ - stiffness_d_min_;
+    const double needed_m = std::max(kMinStiffnessSpanM, kMinStiffnessCounts * settings_.encoder_m);
+    std::ostringstream note;
+    if (stiffness_n_ < kMinStiffnessTicks) {
+      note << stiffness_n_ << " ticks with the device in the scene; the fit needs "
+           << kMinStiffnessTicks;
+    } else if (span_m < needed_m) {
+      note << "the device's penetration spans " << span_m * 1e6 << " µm; the fit needs "
+           << needed_m * 1e6 << " µm"
+           << (settings_.encoder_m > 0 ? " (10 encoder counts: over fewer it measures the "
+                                         "encoder's staircase, not the stiffness)"
+                                       : "");
+    } else if (variance > 0) {
       closed.displayed_stiffness_n_per_m =
           (stiffness_df_ - stiffness_d_ * stiffness_f_ / n) / variance;
+    } else {
+      note << "the device's penetration does not vary";
+    }
+    closed.displayed_stiffness_note = note.str();
   }
   return m;
 }

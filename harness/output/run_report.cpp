@@ -64,8 +64,11 @@ json oracle_json(const std::optional<OracleMetrics>& o) {
 // The closed-loop block's values outside the metric table; null in open loop.
 json closed_loop_json(const std::optional<ClosedLoopMetrics>& c) {
   if (!c) return nullptr;
-  return {{"contact_blocks", c->limit_cycles.contact_blocks},
-          {"oscillating_blocks", c->limit_cycles.oscillating_blocks}};
+  return {
+      {"contact_blocks", c->limit_cycles.contact_blocks},
+      {"oscillating_blocks", c->limit_cycles.oscillating_blocks},
+      {"displayed_stiffness_note",
+       c->displayed_stiffness_note.empty() ? json(nullptr) : json(c->displayed_stiffness_note)}};
 }
 
 // Every metric of the table at its place, typed by its kind: a flag as

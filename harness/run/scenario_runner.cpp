@@ -229,6 +229,7 @@ MetricsSettings metrics_settings_for(const Scenario& scenario) {
     // An encoder's quantization alone dithers by about its resolution.
     settings.limit_cycle_floor_m =
         std::max(LimitCycleDetector::kDefaultFloorM, 2 * scenario.closed_loop->device.encoder_m);
+    settings.encoder_m = scenario.closed_loop->device.encoder_m;
   }
   return settings;
 }
