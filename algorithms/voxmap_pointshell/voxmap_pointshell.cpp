@@ -67,6 +67,14 @@ VoxmapPointShellSettings read_settings(const RenderContext& context, const Param
   settings.voxmap.signed_distance = true;
   settings.voxmap.interior_layers = static_cast<int>(params.integer("interior_layers", 3, 1, 64));
   settings.voxmap.proximity_layers = static_cast<int>(params.integer("proximity_layers", 2, 0, 64));
+  // The signed-distance force is the gradient of one potential only when a
+  // point entering the surface layer has a layer outside it to come from:
+  // with none, a point 0.5 mm deep felt nothing and a loop generated 51 µJ.
+  if (settings.gains.signed_distance && settings.voxmap.proximity_layers == 0)
+    throw InputError("", params.field("proximity_layers"),
+                     "the signed_distance variant needs at least 1 proximity layer (its force "
+                     "is the gradient of one potential only with a layer outside the surface); "
+                     "got 0");
   settings.gains.braking_viscosity = params.number("braking_viscosity", 5, 0, 1e9);
   settings.point_budget = params.integer("point_budget", kDefaultPointBudget, 0, 100000000);
   settings.proxy = read_proxy_settings(params, context.tool);

@@ -411,6 +411,11 @@ TEST_CASE("bad parameters are named by field", "[voxmap_pointshell]") {
   CHECK(location_of(params_of({{"interior_layers", 2.5}})) == p + "interior_layers");
   CHECK(location_of(params_of({{"variant", std::string("signed_distance")},
                                {"interior_layers", 0.0}})) == p + "interior_layers");
+  // Without a proximity layer the signed-distance force is no potential's
+  // gradient (a loop generated 51 µJ); the voxmap variant may have none.
+  CHECK(location_of(params_of({{"variant", std::string("signed_distance")},
+                               {"proximity_layers", 0.0}})) == p + "proximity_layers");
+  CHECK(location_of(params_of({{"proximity_layers", 0.0}})) == "(no error)");
   // An open surface has no inside for the signed-distance variant.
   RenderContext open_scene = sphere_over_slab();
   open_scene.scene[0].distance_only = true;
