@@ -436,8 +436,8 @@ def passivity_figure(runs):
     span = max(nonzero) if nonzero else 1e-6
     ax.set_xlim(-span * 30, span * 30)
     ax.axvline(0, color="black", lw=0.8)
-    ax.set_xlabel("passivity observer minimum E_min (J), symmetric log scale; below 0 the "
-                  "rendering gave energy away")
+    ax.set_xlabel("passivity_energy_min_j (J), symmetric log scale; below 0 the rendering "
+                  "gave energy away")
     ax.grid(True, axis="x", alpha=0.3)
     fig.tight_layout()
     return png_data_uri(fig), shown, without

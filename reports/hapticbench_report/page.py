@@ -82,14 +82,24 @@ def scenario_section(folder):
     return "".join(parts)
 
 
-def stability_html(folders, runs):
+def metric_description(metric_table, name):
+    """The metric table's own definition of `name` (hapticbench list --metrics), so that
+    a caption never keeps a second, older copy of it."""
+    for metric in metric_table or []:
+        if metric.get("name") == name:
+            return metric.get("description") or name
+    return name
+
+
+def stability_html(folders, runs, metric_table=()):
     parts = []
     uri, shown, without = passivity_figure(runs)
     if uri:
         parts.append(figure_html(
             "fig-passivity", uri, "passivity energy minimum per run",
-            "Minimum over time of the passivity observer E = Σ (F·v + τ·ω) Δt at the device "
-            "port, per run (red: below zero; diverged runs are marked)."
+            "<code>passivity_energy_min_j</code> per run: the "
+            + esc(metric_description(metric_table, "passivity_energy_min_j"))
+            + " (red: below zero; diverged runs are marked)."
             + (" The %d lowest of %d runs are shown." % (len(shown), len(runs) - len(without))
                if len(shown) < len(runs) - len(without) else "")))
     if without:
@@ -200,7 +210,7 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     body.append(stress_matrix_html(folders))
     body.append(stability_margins_html(list(stability_results)))
     body.append(zwidth_html(list(zwidth_results)))
-    body.append(stability_html(folders, runs))
+    body.append(stability_html(folders, runs, metric_table))
     body.append(friction_html(folders))
     body.append("</section><section id='scenarios'><h2>Scenarios</h2>")
     for done, folder in enumerate(folders):
