@@ -12,8 +12,9 @@
 // kFrictionSubsteps substeps, each with the friction force
 // held (stick when the velocity would reverse and the other forces stay
 // within the friction). Rotation is advanced in the rotation vector of the
-// device's offset from the intent, exact for rotations about a fixed axis
-// (the error otherwise is of second order in the tick's rotation).
+// device's offset from the intent, exact for rotations about a fixed axis;
+// otherwise it errs at first order in the offset times the intent's rate of
+// turn (docs/closed-loop.md).
 #pragma once
 
 #include <cstdint>
