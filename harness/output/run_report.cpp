@@ -231,6 +231,23 @@ json timing_json(const AlgorithmRun& run) {
 
 // One run of summary.json: the blocks written here, then every metric of
 // the table at its place.
+json force_reference_json(const ForceReferenceDescription& f) {
+  return {{"method", f.method},
+          {"every", f.every},
+          {"evaluated_ticks", f.evaluated_ticks},
+          {"not_started_ticks", f.not_started_ticks},
+          {"unconverged_ticks", f.unconverged_ticks},
+          {"infeasible_ticks", f.infeasible_ticks},
+          {"max_iterations", f.max_iterations},
+          {"kkt_residual_max", f.kkt_residual_max},
+          {"tool_points", f.tool_points},
+          {"clearance_m", f.clearance_m},
+          {"friction", f.friction},
+          {"sticking_ticks", f.sticking_ticks},
+          {"seconds", f.seconds},
+          {"cache_hit", f.cache_hit}};
+}
+
 json run_json(const AlgorithmRun& run) {
   const RunMetrics& m = run.metrics;
   json out = {
@@ -239,6 +256,8 @@ json run_json(const AlgorithmRun& run) {
       {"renders_friction", run.renders_friction},
       {"plugin", run.plugin.empty() ? json(nullptr) : json(run.plugin)},
       {"params", json::parse(run.params_json.empty() ? "{}" : run.params_json)},
+      {"force_reference",
+       run.force_reference ? force_reference_json(*run.force_reference) : json(nullptr)},
       {"ticks_file", run.ticks_file},
       {"preprocess", preprocess_json(run.preprocess)},
       {"timing", timing_json(run)},
@@ -308,22 +327,7 @@ json summary_json(const ScenarioRun& run) {
               {"build_seconds", run.oracle->build_seconds}};
   }
   json force_reference = nullptr;
-  if (const auto& f = run.force_reference) {
-    force_reference = {{"method", f->method},
-                       {"every", f->every},
-                       {"evaluated_ticks", f->evaluated_ticks},
-                       {"not_started_ticks", f->not_started_ticks},
-                       {"unconverged_ticks", f->unconverged_ticks},
-                       {"infeasible_ticks", f->infeasible_ticks},
-                       {"max_iterations", f->max_iterations},
-                       {"kkt_residual_max", f->kkt_residual_max},
-                       {"tool_points", f->tool_points},
-                       {"clearance_m", f->clearance_m},
-                       {"friction", f->friction},
-                       {"sticking_ticks", f->sticking_ticks},
-                       {"seconds", f->seconds},
-                       {"cache_hit", f->cache_hit}};
-  }
+  if (run.force_reference) force_reference = force_reference_json(*run.force_reference);
   return {{"schema_version", 1},
           {"context",
            {{"commit", run.context.commit},

@@ -49,12 +49,36 @@ struct InstructionCounts {
 };
 
 /// One algorithm's run within a scenario.
+/// How the mesh force reference (harness/run/force_reference.h) went, for
+/// summary.json's "force_reference".
+struct ForceReferenceDescription {
+  std::string method;  ///< what it is, in one phrase
+  int64_t every = 1;   ///< evaluated on ticks k with k % every == 0
+  int64_t evaluated_ticks = 0;
+  int64_t not_started_ticks = 0;  ///< sampled ticks before the device was first outside the scene
+  int64_t unconverged_ticks = 0;
+  int64_t infeasible_ticks = 0;
+  int max_iterations = 0;       ///< most iterations one tick took
+  double kkt_residual_max = 0;  ///< largest KKT residual over converged ticks
+  int64_t tool_points = 0;      ///< tool vertices and samples kept outside
+  double clearance_m = 0;       ///< ε
+  /// The scene has μ > 0 and the reference applies it (Coulomb friction on
+  /// the proxy's translation, the analytic reference's model).
+  bool friction = false;
+  int64_t sticking_ticks = 0;  ///< evaluated ticks on which friction held the proxy
+  double seconds = 0;          ///< computing it (0 from the cache)
+  bool cache_hit = false;
+};
+
 struct AlgorithmRun {
   std::string name;
   std::string label;
   bool renders_friction = false;  ///< its registry entry's renders_friction
   std::string plugin;             ///< the plugin file it came from; empty when built in
   std::string params_json;        ///< the params object as written in the scenario
+  /// Closed loop: the mesh force reference that followed this run's own
+  /// device (runs[].force_reference); nullopt otherwise.
+  std::optional<ForceReferenceDescription> force_reference;
   /// "measured" (default), "1", "5" (fixed), "replayed"; empty without a slow loop.
   std::string slow_loop_latency;
   std::string schedule_file;    ///< schedule_<label>.csv in the run folder; empty without
@@ -86,27 +110,6 @@ struct OracleDescription {
   double sample_spacing_m = 0;
   std::vector<std::string> distance_only_objects;
   double build_seconds = 0;
-};
-
-/// How the mesh force reference (harness/run/force_reference.h) went, for
-/// summary.json's "force_reference".
-struct ForceReferenceDescription {
-  std::string method;  ///< what it is, in one phrase
-  int64_t every = 1;   ///< evaluated on ticks k with k % every == 0
-  int64_t evaluated_ticks = 0;
-  int64_t not_started_ticks = 0;  ///< sampled ticks before the device was first outside the scene
-  int64_t unconverged_ticks = 0;
-  int64_t infeasible_ticks = 0;
-  int max_iterations = 0;       ///< most iterations one tick took
-  double kkt_residual_max = 0;  ///< largest KKT residual over converged ticks
-  int64_t tool_points = 0;      ///< tool vertices and samples kept outside
-  double clearance_m = 0;       ///< ε
-  /// The scene has μ > 0 and the reference applies it (Coulomb friction on
-  /// the proxy's translation, the analytic reference's model).
-  bool friction = false;
-  int64_t sticking_ticks = 0;  ///< evaluated ticks on which friction held the proxy
-  double seconds = 0;          ///< computing it (0 from the cache)
-  bool cache_hit = false;
 };
 
 struct ScenarioRun {

@@ -134,39 +134,78 @@ bool wants_mesh_force_reference(const Scenario& scenario, bool analytic_covered)
   return scenario.reference.force == "auto" && !analytic_covered && !scenario.context.scene.empty();
 }
 
-ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDisplay* progress) {
+namespace {
+
+RigidProxySettings reference_settings(const Scenario& scenario) {
   RigidProxySettings settings;
   settings.sample_spacing_m = scenario.reference.sample_spacing_m;
+  return settings;
+}
+
+// What the reference is, and its settings; the counts come from following.
+ForceReferenceDescription base_description(const Scenario& scenario, const std::string& path) {
+  const RigidProxySettings settings = reference_settings(scenario);
   ForceReferenceDescription d;
   d.method =
       "rigid proxy: coupling energy minimised over non-penetrating poses reached continuously "
       "(Embree geometry), the scene's Coulomb friction on its translation, the coupling's "
-      "damper on the proxy's path";
+      "damper on the proxy's path; along " +
+      path;
   d.every = scenario.reference.force_every;
   d.clearance_m = settings.clearance_m;
   for (const SceneObject& object : scenario.context.scene)
     d.friction = d.friction || (settings.friction && object.friction > 0);
-  const int64_t ticks = scenario.trajectory.ticks();
+  return d;
+}
 
+}  // namespace
+
+ForceReferenceFollower::ForceReferenceFollower(const Scenario& scenario, std::string path)
+    : reference_(scenario.context.scene, scenario.context.tool.mesh, scenario.context.coupling,
+                 reference_settings(scenario)),
+      damper_(scenario.context.coupling, scenario.context.dt_s),
+      description_(base_description(scenario, path)) {
+  description_.tool_points = static_cast<int64_t>(reference_.sample_count());
+}
+
+std::optional<IdealRendering> ForceReferenceFollower::follow(const DeviceSample& sample) {
+  if (sample.tick % description_.every != 0 || !is_finite(sample.pose)) return std::nullopt;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::optional<IdealRendering> ideal = reference_.update(sample.pose);
+  if (ideal) {
+    damper_.apply(sample.tick, sample.twist, *ideal);
+    const RigidProxyUpdateStats& stats = reference_.last_stats();
+    ForceReferenceDescription& out = description_;
+    ++out.evaluated_ticks;
+    out.max_iterations = std::max(out.max_iterations, stats.iterations);
+    if (!stats.converged) ++out.unconverged_ticks;
+    if (stats.infeasible) ++out.infeasible_ticks;
+    if (stats.sticking) ++out.sticking_ticks;
+    if (stats.converged) out.kkt_residual_max = std::max(out.kkt_residual_max, stats.kkt_residual);
+  } else {
+    ++description_.not_started_ticks;
+  }
+  description_.seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return ideal;
+}
+
+ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDisplay* progress) {
+  const RigidProxySettings settings = reference_settings(scenario);
+  const int64_t ticks = scenario.trajectory.ticks();
   const DiskCache cache(default_cache_directory(), "force_reference");
   const std::string key = cache_key(scenario, settings);
+  constexpr const char* kAlongTrace = "the trace";
   ForceReferenceTrack track;
-  track.description = d;
+  track.description = base_description(scenario, kAlongTrace);
   if (deserialise(cache, key, ticks, track)) {
     track.description.cache_hit = true;
     return track;
   }
   track = ForceReferenceTrack{};
-  track.description = d;
-  ForceReferenceDescription& out = track.description;
 
-  const auto t0 = std::chrono::steady_clock::now();
-  RigidProxyReference reference(scenario.context.scene, scenario.context.tool.mesh,
-                                scenario.context.coupling, settings);
-  out.tool_points = static_cast<int64_t>(reference.sample_count());
-  // The whole coupling, as every algorithm displays it: its damper too,
-  // with the ideal proxy's velocity over the ticks between samples.
-  IdealCouplingDamper damper(scenario.context.coupling, scenario.context.dt_s);
+  // The follower builds the reference's geometry: made only on a miss.
+  ForceReferenceFollower follower(scenario, kAlongTrace);
   if (progress) {
     progress->task(scenario.name + " / force reference");
     progress->phase("force reference", ticks);
@@ -178,32 +217,19 @@ ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDi
     // One record per tick of the trajectory, in order.
     while (static_cast<int64_t>(track.ticks.size()) < tick) track.ticks.push_back({});
     ForceReferenceRecord record;
-    if (tick % out.every == 0 && is_finite(sample.pose)) {
-      if (std::optional<IdealRendering> ideal = reference.update(sample.pose)) {
-        damper.apply(tick, sample.twist, *ideal);
-        const RigidProxyUpdateStats& stats = reference.last_stats();
-        ++out.evaluated_ticks;
-        out.max_iterations = std::max(out.max_iterations, stats.iterations);
-        if (!stats.converged) ++out.unconverged_ticks;
-        if (stats.infeasible) ++out.infeasible_ticks;
-        if (stats.sticking) ++out.sticking_ticks;
-        if (stats.converged)
-          out.kkt_residual_max = std::max(out.kkt_residual_max, stats.kkt_residual);
-        record.evaluated = 1;
-        record.in_contact = ideal->in_contact ? 1 : 0;
-        for (int k = 0; k < 3; ++k) {
-          record.display[k] = ideal->display.force[k];
-          record.display[3 + k] = ideal->display.torque[k];
-        }
-      } else {
-        ++out.not_started_ticks;
+    if (const std::optional<IdealRendering> ideal = follower.follow(sample)) {
+      record.evaluated = 1;
+      record.in_contact = ideal->in_contact ? 1 : 0;
+      for (int k = 0; k < 3; ++k) {
+        record.display[k] = ideal->display.force[k];
+        record.display[3 + k] = ideal->display.torque[k];
       }
     }
     track.ticks.push_back(record);
   });
   while (static_cast<int64_t>(track.ticks.size()) < ticks) track.ticks.push_back({});
   if (progress) progress->finish_task();
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  track.description = follower.description();
   cache.write_parts(
       key, serialised_bytes(track),
       [&](const std::function<void(std::string_view)>& put) { serialise(track, put); });

@@ -15,6 +15,8 @@
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/run_report.h"
 #include "harness/progress/progress_display.h"
+#include "harness/reference/coupling_damper.h"
+#include "harness/reference/rigid_proxy_reference.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -58,5 +60,30 @@ bool wants_mesh_force_reference(const Scenario& scenario, bool analytic_covered)
 /// Follows the trajectory (with progress, phase "force reference").
 /// Throws InputError for scene objects the oracles refuse.
 ForceReferenceTrack compute_force_reference(const Scenario& scenario, ProgressDisplay* progress);
+
+/// The rigid-proxy reference following device samples tick by tick, in
+/// order: the ideal rendering (its coupling damper included) on the ticks
+/// it evaluates, and the description's counts and time. compute_force_
+/// reference follows the trace with it; in closed loop each run's
+/// evaluation pass follows that run's own device with one (the device stops
+/// short of the intent, by the hand's spring: a reference along the intent
+/// charged 18 N RMS of the hand to the algorithm).
+class ForceReferenceFollower {
+ public:
+  /// `path`: what it follows, for the description ("the trace", "this
+  /// run's device path (closed loop)"). Throws InputError for scene objects
+  /// the oracles refuse.
+  ForceReferenceFollower(const Scenario& scenario, std::string path);
+  /// The reference at the sample's tick, or nullopt on a tick it does not
+  /// evaluate (off the force_every grid, a non-finite pose, before it could
+  /// start outside the scene).
+  std::optional<IdealRendering> follow(const DeviceSample& sample);
+  const ForceReferenceDescription& description() const { return description_; }
+
+ private:
+  RigidProxyReference reference_;
+  IdealCouplingDamper damper_;
+  ForceReferenceDescription description_;
+};
 
 }  // namespace hb

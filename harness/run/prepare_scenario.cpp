@@ -146,7 +146,21 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (progress) progress->finish_task();
   }
-  if (wants_mesh_force_reference(scenario, truth.analytic.has_value())) {
+  if (wants_mesh_force_reference(scenario, truth.analytic.has_value()) && scenario.closed_loop) {
+    // Built per run as its device moves; checked here, so that a scene the
+    // oracles refuse stops the command before anything runs.
+    try {
+      const ForceReferenceFollower check(scenario, "the device");
+    } catch (const InputError& error) {
+      throw InputError(with_source(error, scenario.path), error.location(),
+                       error.message() + " (scenario " + scenario.path + ")");
+    }
+    truth.force_follows_device = &scenario;
+    truth.analytic_name =
+        "mesh reference along each run's own device path (closed loop): rigid proxy with the "
+        "coupling's damper and the scene's friction";
+    truth.analytic_note.clear();
+  } else if (wants_mesh_force_reference(scenario, truth.analytic.has_value())) {
     try {
       truth.force = compute_force_reference(scenario, progress);
     } catch (const InputError& error) {

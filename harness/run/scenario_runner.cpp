@@ -91,6 +91,8 @@ class EvaluatingObserver : public TickObserver {
       : truth_(truth), metrics_(settings), ticks_(ticks_out), progress_(progress) {
     if (timing) timing_.emplace(timing->times);
     if (truth_.force) force_reference_.emplace(*truth_.force);
+    if (truth_.force_follows_device)
+      follower_.emplace(*truth_.force_follows_device, "this run's device path (closed loop)");
     // Tunnelling by the exact box where there is one, else by the oracle,
     // for the tool's origin and extreme vertices.
     if (truth_.analytic) {
@@ -131,7 +133,12 @@ class EvaluatingObserver : public TickObserver {
       if (proxy_finite)
         evaluation.penetration_m = exact_penetration_depth(*truth_.analytic, record.result.proxy);
     }
-    if (force_reference_) {
+    if (follower_) {
+      if (const std::optional<IdealRendering> ideal = follower_->follow(*record.device)) {
+        evaluation.ideal_display = ideal->display;
+        evaluation.reference_contact = ideal->in_contact;
+      }
+    } else if (force_reference_) {
       const ForceReferenceTick& tick = force_reference_->at(record.device->tick);
       if (tick.evaluated) {
         evaluation.ideal_display = tick.display;
@@ -165,6 +172,10 @@ class EvaluatingObserver : public TickObserver {
   }
 
   RunMetrics metrics() const { return metrics_.finish(); }
+  /// The mesh reference that followed this run's device (closed loop).
+  std::optional<ForceReferenceDescription> followed_reference() const {
+    return follower_ ? std::optional(follower_->description()) : std::nullopt;
+  }
   TicksCsvWriter& ticks() { return ticks_; }
   const ContentHash& results() const { return results_; }
 
@@ -174,6 +185,7 @@ class EvaluatingObserver : public TickObserver {
   std::optional<FrictionalContactReference> ideal_;             ///< with the analytic scene
   std::optional<IdealCouplingDamper> damper_;                   ///< ideal_'s coupling damper
   std::optional<ForceReferenceTrack::Reader> force_reference_;  ///< the mesh force reference
+  std::optional<ForceReferenceFollower> follower_;  ///< closed loop: it, following the device
   MetricsAccumulator metrics_;
   std::optional<SpillBuffer<std::array<int64_t, 2>>::Reader> timing_;
   ContentHash results_;
@@ -214,6 +226,27 @@ ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) 
   }
   if (truth.force) report.force_reference = truth.force->description;
   return report;
+}
+
+// The scenario's force_reference in closed loop: the runs' followed
+// references together (their counts and times summed, their extremes kept).
+void add_followed_reference(const ForceReferenceDescription& run, ScenarioRun& report) {
+  if (!report.force_reference) {
+    report.force_reference = run;
+    report.force_reference->method =
+        "rigid proxy along each run's own device path (closed loop), the runs together; "
+        "each run's own: runs[].force_reference";
+    return;
+  }
+  ForceReferenceDescription& all = *report.force_reference;
+  all.evaluated_ticks += run.evaluated_ticks;
+  all.not_started_ticks += run.not_started_ticks;
+  all.unconverged_ticks += run.unconverged_ticks;
+  all.infeasible_ticks += run.infeasible_ticks;
+  all.sticking_ticks += run.sticking_ticks;
+  all.max_iterations = std::max(all.max_iterations, run.max_iterations);
+  all.kkt_residual_max = std::max(all.kkt_residual_max, run.kkt_residual_max);
+  all.seconds += run.seconds;
 }
 
 MetricsSettings metrics_settings_for(const Scenario& scenario) {
@@ -327,6 +360,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     run.params_json = algorithm.spec->params_json;
     run.preprocess = algorithm.preprocess;
     run.metrics = observer.metrics();
+    run.force_reference = observer.followed_reference();
+    if (run.force_reference) add_followed_reference(*run.force_reference, outcome.report);
     run.noise = timing.noise;
     run.repeats = timing_repeats(passes);
     std::string schedule_text;

@@ -43,6 +43,11 @@ struct GroundTruth {
   /// The mesh force reference along the trajectory, where the closed forms
   /// do not cover the scene (reference.force "auto").
   std::optional<ForceReferenceTrack> force;
+  /// Closed loop, where the closed forms do not cover the scene: the mesh
+  /// reference follows each run's own device path during its evaluation
+  /// pass (ForceReferenceFollower), not the trace, which is the operator's
+  /// intent the device stops short of. The scenario it is built from.
+  const Scenario* force_follows_device = nullptr;
   double oracle_build_seconds = 0;
 };
 
