@@ -113,11 +113,17 @@ LimitCycleMetrics LimitCycleDetector::finish() const {
   m.amplitude_m = median(amplitudes);
   m.frequency_hz = median(frequencies);
   // Sustained: enough oscillating blocks, and the last quarter of the
-  // contact blocks not quieter than the quarter before by kDecayRatio.
-  const std::size_t quarter = contact_blocks_.size() / 4;
+  // oscillating blocks not quieter than the quarter before by kDecayRatio.
+  // Over the oscillating blocks, not all contact blocks: a press, hold and
+  // release ends in quiet contact blocks (the release), which made a bounce
+  // through the whole hold look like one dying out.
+  std::vector<Block> oscillating;
+  for (const Block& block : contact_blocks_)
+    if (block.oscillates) oscillating.push_back(block);
+  const std::size_t quarter = oscillating.size() / 4;
   bool dying = false;
   if (quarter > 0) {
-    const auto end = contact_blocks_.end();
+    const auto end = oscillating.end();
     const double last = mean_amplitude(end - static_cast<std::ptrdiff_t>(quarter), end);
     const double before = mean_amplitude(end - static_cast<std::ptrdiff_t>(2 * quarter),
                                          end - static_cast<std::ptrdiff_t>(quarter));

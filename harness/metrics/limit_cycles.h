@@ -9,11 +9,14 @@
 //   frequency  = sign changes of the residual / (2 × block duration) (Hz).
 // A block oscillates when the device's amplitude is at least the floor, at
 // least kIntentRatio times the intent's, and the residual changes sign at
-// least kMinSignChanges times (two periods: at least 20 Hz for 100-tick
-// blocks). The run has a limit cycle when at least kMinShare of its
-// contact blocks oscillate and the oscillation is not dying out: the mean
-// amplitude of the last quarter of contact blocks is at least kDecayRatio
-// times that of the quarter before.
+// least kMinSignChanges times (one and a half periods: 15 Hz and up for
+// 100-tick blocks; four, which a 20 Hz bounce reaches only in some
+// phases, missed the default hand's bounce). The run has a limit cycle
+// when at least kMinShare of its contact blocks oscillate and the
+// oscillation is not dying out: the mean amplitude of the last quarter of
+// the oscillating blocks is at least kDecayRatio times that of the quarter
+// before (of the oscillating blocks: the quiet blocks of a release at the
+// end of a hold are no decay).
 #pragma once
 
 #include <cstdint>
@@ -38,7 +41,7 @@ class LimitCycleDetector {
   static constexpr int kBlockTicks = 100;
   static constexpr double kMinContactShare = 0.1;
   static constexpr double kIntentRatio = 2;
-  static constexpr int kMinSignChanges = 4;
+  static constexpr int kMinSignChanges = 3;
   static constexpr double kMinShare = 0.25;
   static constexpr double kDecayRatio = 0.9;
   static constexpr double kDefaultFloorM = 1e-5;

@@ -141,7 +141,9 @@ StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, do
 
 std::string bracket_note(const StabilityBracket& bracket, double low, double high) {
   std::ostringstream note;
-  if (!bracket.largest_stable)
+  if (!bracket.non_monotonic.empty())
+    note << bracket.non_monotonic;
+  else if (!bracket.largest_stable)
     note << "unstable already at the range's bottom (" << low
          << "): the search assumes stability is lost as the value grows and does not look "
             "below it; give a lower bottom";
@@ -153,8 +155,10 @@ std::string bracket_note(const StabilityBracket& bracket, double low, double hig
 StabilityBracket search_largest_stable(const std::function<StabilityProbe(double)>& probe,
                                        double low, double high, double tolerance) {
   StabilityBracket bracket;
+  std::vector<std::pair<double, bool>> verdicts;  // (value, stable) of every probe
   const auto run = [&](double value) {
     bracket.probes.push_back(probe(value));
+    verdicts.emplace_back(value, bracket.probes.back().stable);
     return bracket.probes.back().stable;
   };
   if (!run(low)) {
@@ -171,6 +175,29 @@ StabilityBracket search_largest_stable(const std::function<StabilityProbe(double
        k<kMaxProbes&& * bracket.smallest_unstable / *bracket.largest_stable - 1> tolerance; ++k) {
     const double middle = std::sqrt(*bracket.largest_stable * *bracket.smallest_unstable);
     (run(middle) ? bracket.largest_stable : bracket.smallest_unstable) = middle;
+  }
+  // The bisection assumes the verdict changes once, from stable to unstable,
+  // as the value grows. Checked beyond the bracket, one probe on each side
+  // where there is room, and over every probe run.
+  const double above = std::sqrt(*bracket.smallest_unstable * high);
+  if (above / *bracket.smallest_unstable - 1 > tolerance) run(above);
+  const double below = std::sqrt(low * *bracket.largest_stable);
+  if (*bracket.largest_stable / below - 1 > tolerance) run(below);
+  std::optional<double> highest_stable, lowest_unstable;
+  for (const auto& [value, stable] : verdicts) {
+    if (stable)
+      highest_stable = std::max(highest_stable.value_or(value), value);
+    else
+      lowest_unstable = std::min(lowest_unstable.value_or(value), value);
+  }
+  if (highest_stable && lowest_unstable && *highest_stable > *lowest_unstable) {
+    std::ostringstream note;
+    note << "not monotonic: stable at " << *highest_stable << " above unstable at "
+         << *lowest_unstable << "; the verdict changes more than once in the range, so no limit "
+         << "is reported (the runs are listed)";
+    bracket.non_monotonic = note.str();
+    bracket.largest_stable.reset();
+    bracket.smallest_unstable.reset();
   }
   return bracket;
 }

@@ -80,6 +80,10 @@ struct StabilityBracket {
   std::optional<double> largest_stable;     ///< null: unstable at the range's bottom
   std::optional<double> smallest_unstable;  ///< null: stable at the range's top
   std::vector<StabilityProbe> probes;       ///< in the order run
+  /// Set when the verdicts are not monotonic in the value (a stable value
+  /// above an unstable one among the probes): what was seen. Both ends are
+  /// then null: there is no limit to report, only that.
+  std::string non_monotonic;
 };
 
 /// What a bracket without both ends means, for people: "" when it has both;

@@ -80,5 +80,27 @@ TEST_CASE("only contact blocks count, and oscillations below the floor do not") 
   CHECK(tiny.oscillating_blocks == 0);
 }
 
+TEST_CASE("a 20 Hz bounce is a limit cycle in any phase, also when a release ends the run") {
+  // The default hand bounces at 20 Hz: two periods a block, which four
+  // sign changes missed in some phases. A press, a bounce through the hold,
+  // then quiet contact as the device is released: the quiet blocks are no
+  // decay of the bounce.
+  for (const double phase : {0.0, 0.4, 0.8, 1.2, 1.6}) {
+    CAPTURE(phase);
+    const LimitCycleMetrics m = detect(
+        2000,
+        [&](double t) {
+          const double bounce = t < 1.5 ? 2.5e-3 * std::sin(2 * M_PI * 20 * t + phase) : 0.0;
+          return 0.01 + bounce;
+        },
+        [](double) { return 0.01; });
+    CHECK(m.oscillating_blocks >= 14);
+    CHECK(m.limit_cycle);
+    REQUIRE(m.frequency_hz);
+    // Sign changes per block: a resolution of one change, 5 Hz.
+    CHECK(*m.frequency_hz == Approx(20).margin(5.01));
+  }
+}
+
 }  // namespace
 }  // namespace hb
