@@ -124,6 +124,13 @@ int stability_command(const std::vector<std::string>& args) {
     const std::optional<double>& largest_stable = bracket.largest_stable;
     const std::optional<double>& smallest_unstable = bracket.smallest_unstable;
 
+    // What the linear loop alone allows (small_signal.h), beside what the
+    // runs found: a limit says what sets it.
+    const SmallSignalLimit small =
+        parsed->pointer == "/coupling/k_t"
+            ? prober.small_signal({{parsed->pointer, parsed->low}})
+            : SmallSignalLimit{std::nullopt,
+                               "the small-signal limit is computed for /coupling/k_t only"};
     Json runs = Json::array();
     for (const StabilityProbe& p : bracket.probes) runs.push_back(probe_json(p));
     const Json result = {
@@ -140,6 +147,8 @@ int stability_command(const std::vector<std::string>& args) {
         {"largest_stable", largest_stable ? Json(*largest_stable) : Json(nullptr)},
         {"smallest_unstable", smallest_unstable ? Json(*smallest_unstable) : Json(nullptr)},
         {"note", bracket_note(bracket, parsed->low, parsed->high)},
+        {"small_signal_limit", small.k_t_n_per_m ? Json(*small.k_t_n_per_m) : Json(nullptr)},
+        {"small_signal_note", small.note},
         {"runs", runs}};
     folder.write_file("stability.json", result.dump(2) + "\n");
     folder.commit();
@@ -155,6 +164,8 @@ int stability_command(const std::vector<std::string>& args) {
               << "\n";
     const std::string note = bracket_note(bracket, parsed->low, parsed->high);
     if (!note.empty()) std::cout << "  " << note << "\n";
+    if (small.k_t_n_per_m)
+      std::cout << "  small-signal limit (the linear loop) " << *small.k_t_n_per_m << " N/m\n";
     return kExitOk;
   } catch (const InputError& error) {
     progress.close();

@@ -146,11 +146,19 @@ int zwidth_command(const std::vector<std::string>& args) {
             return prober.probe({{parsed->x_pointer, x}, {parsed->y_pointer, y}});
           },
           parsed->y_low, parsed->y_high, parsed->search.tolerance);
+      // What the linear loop alone allows at this x (small_signal.h).
+      const SmallSignalLimit small =
+          parsed->y_pointer == "/coupling/k_t"
+              ? prober.small_signal({{parsed->x_pointer, x}, {parsed->y_pointer, parsed->y_low}})
+              : SmallSignalLimit{std::nullopt,
+                                 "the small-signal limit is computed for y = /coupling/k_t only"};
       points.push_back({{"x", x},
                         {"largest_stable", or_null(bracket.largest_stable)},
                         {"smallest_unstable", or_null(bracket.smallest_unstable)},
                         {"runs", bracket.probes.size()},
-                        {"note", bracket_note(bracket, parsed->y_low, parsed->y_high)}});
+                        {"note", bracket_note(bracket, parsed->y_low, parsed->y_high)},
+                        {"small_signal_limit", or_null(small.k_t_n_per_m)},
+                        {"small_signal_note", small.note}});
       for (const StabilityProbe& p : bracket.probes) runs.push_back(probe_json(p));
       std::cout << prober.scenario_name() << " / " << parsed->search.label << ", "
                 << parsed->x_pointer << " = " << x << ": largest stable " << parsed->y_pointer

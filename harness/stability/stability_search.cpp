@@ -102,6 +102,16 @@ void ScenarioProber::check(const std::vector<std::pair<std::string, double>>& se
   load(settings);
 }
 
+SmallSignalLimit ScenarioProber::small_signal(
+    const std::vector<std::pair<std::string, double>>& settings) {
+  const Loaded loaded = load(settings);
+  const Scenario& scenario = loaded.scenario;
+  if (!scenario.closed_loop)
+    return {std::nullopt, "open loop: there is no hand and device whose loop to linearise"};
+  return small_signal_k_t_limit(*scenario.closed_loop, scenario.context.coupling.b_t,
+                                scenario.context.dt_s, algorithm_);
+}
+
 StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, double>>& settings) {
   const Loaded loaded = load(settings);
   std::ostringstream prefix;

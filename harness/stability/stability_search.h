@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "harness/progress/progress_display.h"
+#include "harness/stability/small_signal.h"
 #include "harness/stability/stability_verdict.h"
 
 namespace hb {
@@ -55,6 +56,11 @@ class ScenarioProber {
 
   /// One full run with `settings` applied, judged by the criterion.
   StabilityProbe probe(const std::vector<std::pair<std::string, double>>& settings);
+
+  /// The small-signal k_t limit (small_signal.h) of the scenario with
+  /// `settings` applied, at its coupling damping; a note instead for an
+  /// open-loop scenario or a renderer the model does not cover.
+  SmallSignalLimit small_signal(const std::vector<std::pair<std::string, double>>& settings);
 
   const std::string& scenario_name() const { return name_; }
   const std::string& algorithm() const { return algorithm_; }

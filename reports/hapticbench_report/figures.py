@@ -581,8 +581,11 @@ def sweep_figure(by_integrator, closed_form_bound):
 
 def zwidth_figure(scenario, results):
     """One scenario's Z-width map: per algorithm label, the largest stable
-    value of the y field against the x field, the band up to the smallest
-    unstable value shaded; below the line is stable."""
+    value of the y field against the x field (the large-signal search: full
+    runs, with the device's friction and quantisation), the band up to the
+    smallest unstable value shaded; below the line is stable. Dashed, where
+    the map has it, the small-signal limit of the same loop linearised
+    (small_signal_limit: no friction, no quantisation)."""
     fig = Figure(figsize=(8, 4.2))
     ax = fig.subplots()
     palette = matplotlib.colormaps["tab10"]
@@ -597,6 +600,11 @@ def zwidth_figure(scenario, results):
         if band:
             ax.fill_between([b[0] for b in band], [b[1] for b in band], [b[2] for b in band],
                             color=colour, alpha=0.25, lw=0)
+        small = [(p["x"], p["small_signal_limit"]) for p in points
+                 if finite_number(p.get("small_signal_limit"))]
+        if small:
+            ax.plot([x for x, _ in small], [k for _, k in small], color=colour, ls="--", lw=1,
+                    label=data["label"] + " (small-signal)")
         top = [p["x"] for p in points if p.get("smallest_unstable") is None]
         if top:
             range_top = dig(data, "y_range")
@@ -604,7 +612,8 @@ def zwidth_figure(scenario, results):
                 ax.plot(top, [range_top[1]] * len(top), ls="none", marker="^", color=colour)
     first = results[0][1]
     values = [p[key] for _, d in results for p in d["points"]
-              for key in ("largest_stable", "smallest_unstable") if p.get(key)]
+              for key in ("largest_stable", "smallest_unstable", "small_signal_limit")
+              if p.get(key)]
     if values and max(values) > 10 * min(values):  # a decade or more: log scale
         ax.set_yscale("log")
         sparse_minor_ticks(ax.yaxis)

@@ -416,7 +416,13 @@ def zwidth_html(results):
              note("The stable region over two parameters (Colgate & Brown 1994), found by "
                   "<code>hapticbench zwidth</code>: for each value on the x axis, the largest "
                   "stable value (the line; stable below it) and the smallest unstable one (the "
-                  "band's top). ▲: stable up to the range's top. Criterion: %s"
+                  "band's top): the large-signal search, full runs with the device's Coulomb "
+                  "friction and encoder quantisation. Dashed: the small-signal limit, the same "
+                  "loop linearised at the contact (hand, device, zero-order-held coupling, "
+                  "filtered velocity; no friction, no quantisation), where the map has it. Between "
+                  "the two, friction can hold the encoder's force staircase, so that small "
+                  "oscillations die and a larger bounce grows. ▲: stable up to the range's top. "
+                  "Criterion: %s"
                   % esc(" / ".join(sorted({str(d.get("criterion", "")) for _, d in results}))))]
     for scenario, scenario_results in by_scenario.items():
         uri = zwidth_figure(scenario, scenario_results)

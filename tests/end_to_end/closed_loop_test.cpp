@@ -209,6 +209,9 @@ TEST_CASE("closed loop: the device buzzes above the exact stability limit of the
       work);
   CHECK(found.stable == Approx(limit).epsilon(0.02));
   CHECK(found.unstable == Approx(limit).epsilon(0.02));
+  // The small-signal limit stability.json gives beside the search is the
+  // same loop's (eigenvalues there, Jury's conditions here).
+  CHECK(found.search.at("small_signal_limit").get<double>() == Approx(limit).epsilon(1e-3));
   bool buzzed = false;
   for (const json& run : found.search.at("runs"))
     if (!run.at("stable").get<bool>()) {
@@ -247,6 +250,7 @@ TEST_CASE("closed loop: the Z-width map follows Jury's limit as the coupling dam
     INFO("B = " << b << " N·s/m, Jury's limit " << limit << " N/m");
     CHECK(point.at("largest_stable").get<double>() == Approx(limit).epsilon(0.03));
     CHECK(point.at("smallest_unstable").get<double>() == Approx(limit).epsilon(0.03));
+    CHECK(point.at("small_signal_limit").get<double>() == Approx(limit).epsilon(1e-3));
   }
   CHECK(points[1].at("largest_stable").get<double>() >
         1.5 * points[0].at("largest_stable").get<double>());
