@@ -85,6 +85,15 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     proxy_.w = rotation_vector(next.q * proxy_.q.conjugate()) / dt_s_;
     proxy_.x = next.x;
     proxy_.q = next.q;
+    if (haptic_.contacts().empty() && is_finite(device)) {
+      // Out of contact the proxy is the device: its velocity is the
+      // device's own estimate, so that the coupling's damper compares like
+      // with like (the device's filtered velocity against the proxy's raw
+      // backward difference rattled at every encoder step: 63 mN peaks in
+      // closed loop with the default device).
+      proxy_.w = device.twist.w;
+      proxy_.v = device.twist.v - proxy_.w.cross(com_to_tool_origin(body_, proxy_.q));
+    }
     Wrench raw = evaluate_coupling(gains_, body_, proxy_, device.pose, device.twist, false).display;
     if (point_tool_) raw.torque.setZero();
     result.display = device_output(raw, limits_, result.flags);

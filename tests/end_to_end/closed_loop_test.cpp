@@ -335,6 +335,31 @@ TEST_CASE("closed loop: the mesh force reference follows the device, as the clos
   CHECK(error_n[1] == Approx(error_n[0]).margin(0.005));
 }
 
+TEST_CASE("closed loop: the god-object renders no force in free space with the default device") {
+  // The device reports a filtered velocity; the god-object's proxy, which
+  // is the device out of contact, took its velocity from a raw backward
+  // difference of the quantised pose: the coupling's damper rattled at
+  // every encoder step (91 mN peaks on this press).
+  const hb::test::ScratchDir work("e2e_closed_loop_free_space");
+  json scenario = json::parse(
+      hb::test::read_text_file(hb::test::kSource / "scenarios/closed_loop/sphere_press_wall.json"));
+  json algorithms = json::array();
+  for (const json& algorithm : scenario["algorithms"])
+    if (algorithm.value("label", algorithm["name"].get<std::string>()) == "god_object")
+      algorithms.push_back(algorithm);
+  scenario["algorithms"] = algorithms;
+  std::ofstream(work.path() / "press.json") << scenario.dump(2);
+  const auto result = hb::test::run_hapticbench("run press.json --out run --quiet", work.path());
+  INFO(result.stderr_text);
+  REQUIRE(result.exit_code <= 1);
+  const json transparency = json::parse(hb::test::read_text_file(work.path() / "run/summary.json"))
+                                .at("runs")
+                                .at(0)
+                                .at("transparency");
+  CHECK(transparency.at("free_space_ticks").get<int>() > 500);
+  CHECK(transparency.at("free_space_force_max_n").get<double>() <= 0.005);
+}
+
 TEST_CASE("closed loop: the same scenario gives the same ticks twice, in both passes") {
   // The slow loops' measured latencies feed back through the device, so the
   // second run follows the first one's schedule (--schedule), as a
