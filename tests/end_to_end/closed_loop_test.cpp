@@ -77,6 +77,16 @@ void write_scenario(const fs::path& folder, Intent intent, double duration_s) {
   std::ofstream(folder / "wall.json") << scenario.dump(2);
 }
 
+// Keeps the one algorithm labelled (or named) `label` in a scenario.
+void keep_only_label(json& scenario, const std::string& label) {
+  json kept = json::array();
+  for (const json& algorithm : scenario["algorithms"])
+    if (algorithm.value("label", algorithm["name"].get<std::string>()) == label)
+      kept.push_back(algorithm);
+  REQUIRE(kept.size() == 1);
+  scenario["algorithms"] = kept;
+}
+
 struct Margin {
   json search;
   double stable = 0, unstable = 0;
@@ -274,11 +284,7 @@ TEST_CASE("closed loop: the displayed stiffness is fitted only over ten encoder 
   const hb::test::ScratchDir work("e2e_closed_loop_stiffness");
   json scenario = json::parse(hb::test::read_text_file(
       hb::test::kSource / "scenarios/closed_loop/sphere_wall_at_limit.json"));
-  json algorithms = json::array();
-  for (const json& algorithm : scenario["algorithms"])
-    if (algorithm.value("label", algorithm["name"].get<std::string>()) == "god_object")
-      algorithms.push_back(algorithm);
-  scenario["algorithms"] = algorithms;
+  keep_only_label(scenario, "god_object");
   for (const bool exact : {false, true}) {
     CAPTURE(exact);
     if (exact) scenario["closed_loop"]["device"]["encoder_m"] = 0;
@@ -308,12 +314,7 @@ TEST_CASE("closed loop: the mesh force reference follows the device, as the clos
   const hb::test::ScratchDir work("e2e_closed_loop_mesh_reference");
   json scenario = json::parse(
       hb::test::read_text_file(hb::test::kSource / "scenarios/closed_loop/sphere_press_wall.json"));
-  json algorithms = json::array();
-  for (const json& algorithm : scenario["algorithms"])
-    if (algorithm.value("label", algorithm["name"].get<std::string>()) == "god_object")
-      algorithms.push_back(algorithm);
-  REQUIRE(algorithms.size() == 1);
-  scenario["algorithms"] = algorithms;
+  keep_only_label(scenario, "god_object");
   double error_n[2] = {0, 0};
   for (const int mesh : {0, 1}) {
     scenario["reference"]["analytic"] = mesh ? "none" : "auto";
@@ -343,11 +344,7 @@ TEST_CASE("closed loop: the god-object renders no force in free space with the d
   const hb::test::ScratchDir work("e2e_closed_loop_free_space");
   json scenario = json::parse(
       hb::test::read_text_file(hb::test::kSource / "scenarios/closed_loop/sphere_press_wall.json"));
-  json algorithms = json::array();
-  for (const json& algorithm : scenario["algorithms"])
-    if (algorithm.value("label", algorithm["name"].get<std::string>()) == "god_object")
-      algorithms.push_back(algorithm);
-  scenario["algorithms"] = algorithms;
+  keep_only_label(scenario, "god_object");
   std::ofstream(work.path() / "press.json") << scenario.dump(2);
   const auto result = hb::test::run_hapticbench("run press.json --out run --quiet", work.path());
   INFO(result.stderr_text);

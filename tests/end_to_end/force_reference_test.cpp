@@ -28,24 +28,6 @@ constexpr double kSpeed = 0.05;      // m/s, into the face
 constexpr double kHalf = 0.02;       // m, half the tool cube's side
 constexpr double kStartZ = 0.025;    // m, the cube's centre 5 mm above contact
 
-// The columns of a ticks CSV, by name, one vector per column.
-std::map<std::string, std::vector<double>> read_columns(const fs::path& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
-  std::map<std::string, std::vector<double>> columns;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string field;
-    for (std::size_t i = 0; i < names.size() && std::getline(row, field, ','); ++i)
-      columns[names[i]].push_back(field.empty() ? NAN : std::stod(field));
-  }
-  return columns;
-}
-
 TEST_CASE("both references display the coupling's damper on a press at constant speed") {
   const ScratchDir work("e2e_reference_damper");
   // 0.3 s at 5 cm/s from 5 mm above the face: 15 mm of travel, 10 mm past contact.
@@ -64,13 +46,13 @@ TEST_CASE("both references display the coupling's damper on a press at constant 
   "coupling": { "k_t": 2000, "b_t": 5, "k_r": 5, "b_r": 0.05 },
   "algorithms": [ { "name": "coupling_only" } ],
   "reference": { "oracle": "none", "analytic": ")" +
-                                               std::string(analytic) +
-                                               R"(", "force_every": 1 }
+                                                  std::string(analytic) +
+                                                  R"(", "force_every": 1 }
 })");
     const auto result = run_hapticbench("run scenario.json --out run --quiet", work.path());
     INFO(result.stderr_text);
     REQUIRE(result.exit_code == 0);
-    auto columns = read_columns(work.path() / "run/ticks_coupling_only.csv");
+    auto columns = hb::test::read_tick_columns(work.path() / "run/ticks_coupling_only.csv");
     const std::vector<double>& z = columns["dev_pz"];
     const std::vector<double>& ref_fz = columns["ref_fz"];
     REQUIRE(z.size() == ref_fz.size());

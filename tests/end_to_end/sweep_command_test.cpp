@@ -93,24 +93,6 @@ std::set<std::string> run_folders(const fs::path& out) {
   return names;
 }
 
-// Rows of a ticks CSV as column name -> values.
-std::map<std::string, std::vector<double>> read_tick_values(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
-  std::map<std::string, std::vector<double>> columns;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string field;
-    for (std::size_t i = 0; i < names.size() && std::getline(row, field, ','); ++i)
-      columns[names[i]].push_back(field.empty() ? 0.0 : std::strtod(field.c_str(), nullptr));
-  }
-  return columns;
-}
-
 }  // namespace
 
 TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values") {
@@ -142,7 +124,7 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
       // The values reached the physics: held at the deepest point, the
       // quasi-static proxy pushes back with coupling and contact springs in
       // series, k_t k_c / (k_t + k_c) per metre of depth.
-      auto ticks = read_tick_values(folder / "ticks_penalty.csv");
+      auto ticks = hb::test::read_tick_columns(folder / "ticks_penalty.csv");
       REQUIRE(ticks["dev_pz"].size() == 200);
       std::size_t deepest = 0;
       for (std::size_t k = 0; k < ticks["dev_pz"].size(); ++k)

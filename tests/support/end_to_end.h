@@ -2,10 +2,14 @@
 // scenarios from, and small helpers on files and text.
 #pragma once
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace hb::test {
 
@@ -35,6 +39,26 @@ inline std::set<std::string> listing(const std::filesystem::path& folder) {
     if (name != "stdout.txt" && name != "stderr.txt") names.insert(name);
   }
   return names;
+}
+
+/// The columns of a ticks CSV by name, one value per row (an empty field
+/// reads as 0).
+inline std::map<std::string, std::vector<double>> read_tick_columns(
+    const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  std::map<std::string, std::vector<double>> columns;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string field;
+    for (std::size_t i = 0; i < names.size() && std::getline(row, field, ','); ++i)
+      columns[names[i]].push_back(field.empty() ? 0.0 : std::strtod(field.c_str(), nullptr));
+  }
+  return columns;
 }
 
 }  // namespace hb::test
