@@ -9,12 +9,12 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
-#include <new>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
