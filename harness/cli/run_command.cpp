@@ -95,8 +95,12 @@ int run_command(const std::vector<std::string>& args) {
   std::vector<Scenario> scenarios;
   std::vector<PreparedScenario> prepared;
   ProgressDisplay progress = make_progress_display(parsed->progress);
+  // Scenario warnings wait until it is known whether a child process runs
+  // the scenarios (plugins: it says them itself); an error says them first.
+  std::vector<std::string> warnings;
   // Errors end the live line first, so that they stand on lines of their own.
-  const auto report_error = [&progress](const InputError& error) {
+  const auto report_error = [&progress, &warnings](const InputError& error) {
+    for (const std::string& warning : warnings) progress.print_above(std::cerr, warning);
     progress.close();
     std::cerr << "error: " << error.what() << "\n";
     return kExitBadInput;
@@ -115,7 +119,7 @@ int run_command(const std::vector<std::string>& args) {
       scenarios.push_back(load_scenario(path));
       progress.finish_task();
       for (const std::string& warning : scenarios.back().warnings)
-        progress.print_above(std::cerr, "warning: " + path + ": " + warning + "\n");
+        warnings.push_back("warning: " + path + ": " + warning + "\n");
       for (std::size_t i = 0; i + 1 < scenarios.size(); ++i)
         if (scenarios[i].name == scenarios.back().name)
           throw InputError(path, "/name",
@@ -130,8 +134,10 @@ int run_command(const std::vector<std::string>& args) {
           names.push_back(spec.name);
     if (should_isolate_plugins(names)) {
       progress.close();
-      return run_plugins_isolated("run", args);
+      return run_plugins_isolated("run", args);  // the child says the warnings
     }
+    for (const std::string& warning : warnings) progress.print_above(std::cerr, warning);
+    warnings.clear();
     // Every run folder must be writable without destroying anything
     // hapticbench did not write, before any scenario runs.
     if (parsed->out && scenarios.size() > 1) create_output_container(*parsed->out);
