@@ -426,6 +426,18 @@ IdealRendering FrictionalContactReference::update(const Pose& device) {
   if (!sticking_) offset *= limit_m / length;
   rendering.proxy.p += offset;
   rendering.display.force += k_t * offset;
+  if (scene_.tool_shape.type == ShapeType::kSphere) {
+    // The friction acts at the contact point, r below the centre along −n:
+    // its moment about the tool origin (the centre), which the proxy's
+    // rotational coupling balances by turning: θ(q_h q_p⁻¹) = −τ / k_R.
+    // (A sphere's normal force has no moment.)
+    const Vec3 moment = (-scene_.tool_shape.radius * n).cross(k_t * offset);
+    rendering.display.torque += moment;
+    if (scene_.coupling.k_r > 0)
+      rendering.proxy.q =
+          (quat_from_rotation_vector(moment / scene_.coupling.k_r) * rendering.proxy.q)
+              .normalized();
+  }
   last_proxy_p_ = rendering.proxy.p;
   last_normal_ = n;
   return rendering;

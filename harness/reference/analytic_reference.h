@@ -107,11 +107,13 @@ IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& devic
 /// staying behind the device in the same direction with k_T |d| = μ F_n
 /// (slip). The display adds k_T d to the frictionless force. Out of contact,
 /// when the face changes, and where the sphere's ideal proxy lies on a
-/// rounded edge or corner rather than on one face, d is dropped. Not
-/// modelled: the friction force's torque about the tool origin (the tool
-/// neither rolls nor twists: orientation and torque are the frictionless
-/// ideal's), and a proxy kept by friction beyond the face's edge. With
-/// μ = 0 it returns ideal_rigid_contact unchanged.
+/// rounded edge or corner rather than on one face, d is dropped. A sphere
+/// tool's display adds the friction's moment about its centre, (−r n) ×
+/// k_T d, and its proxy turns so that the rotational coupling balances it;
+/// for a box tool that moment (which depends on where on its contact
+/// region the friction acts) is not modelled, nor is a proxy kept by
+/// friction beyond the face's edge. With μ = 0 it returns
+/// ideal_rigid_contact unchanged.
 class FrictionalContactReference {
  public:
   explicit FrictionalContactReference(const AnalyticScene& scene) : scene_(scene) {}

@@ -121,6 +121,7 @@ void refresh_distances(const Oracle& oracle, std::span<const Vec3> points,
 
 /// n·(δx + φ × r) ≥ b, written as a·δ ≥ b with a = (n, r × n).
 struct RigidProxyReference::Row {
+  Vec3 point = Vec3::Zero();  ///< m, world: where the contact acts (on the scene side)
   Vec6 a;
   double b = 0;         ///< m: ε − d
   double distance = 0;  ///< m: d
@@ -183,6 +184,7 @@ void RigidProxyReference::collect_rows(double band) {
   const double eps = settings_.clearance_m;
   const auto add_row = [&](const Vec3& out, const Vec3& point, double distance, double mu) {
     Row row;
+    row.point = point;
     row.a.head<3>() = out;
     row.a.tail<3>() = (point - pose.p).cross(out);
     row.b = eps - distance;
@@ -326,8 +328,25 @@ void RigidProxyReference::apply_friction(const Balance& contacts, const Pose& de
   const double length = offset.norm();
   stats_.sticking = length <= limit_m;
   if (!stats_.sticking) offset *= limit_m / length;
+  // The friction's moment about the tool origin: the friction force acts
+  // at the contacts, taken at their load-weighted centroid (exact for one
+  // contact point, a sphere's; on a face the split of the load between
+  // redundant rows is arbitrary, and with it the twisting part). The proxy
+  // turns so that its rotational coupling balances it.
+  Vec3 centroid = Vec3::Zero();
+  double load = 0;
+  for (std::size_t j = 0; j < contacts.rows.size(); ++j) {
+    centroid += contacts.normal_force[j] * contacts.rows[j]->point;
+    load += contacts.normal_force[j];
+  }
+  const Vec3 lever = load > 0 ? Vec3(centroid / load - rendering.proxy.p) : Vec3::Zero();
+  const Vec3 moment = lever.cross(gains_.k_t * offset);
   rendering.proxy.p += offset;
   rendering.display.force = gains_.k_t * (rendering.proxy.p - device.p);
+  rendering.display.torque += moment;
+  if (gains_.k_r > 0)
+    rendering.proxy.q =
+        (quat_from_rotation_vector(moment / gains_.k_r) * rendering.proxy.q).normalized();
   friction_proxy_p_ = rendering.proxy.p;
 }
 

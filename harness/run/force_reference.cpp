@@ -17,7 +17,8 @@ namespace hb {
 namespace {
 
 // Bump when the reference's results change for the same inputs.
-constexpr int kReferenceVersion = 3;  // 3: the coupling's damper in the display
+// 3: the coupling's damper in the display; 4: the friction's moment.
+constexpr int kReferenceVersion = 4;
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;
@@ -148,7 +149,8 @@ ForceReferenceDescription base_description(const Scenario& scenario, const std::
   ForceReferenceDescription d;
   d.method =
       "rigid proxy: coupling energy minimised over non-penetrating poses reached continuously "
-      "(Embree geometry), the scene's Coulomb friction on its translation, the coupling's "
+      "(Embree geometry), the scene's Coulomb friction on its translation with its moment, the "
+      "coupling's "
       "damper on the proxy's path; along " +
       path;
   d.every = scenario.reference.force_every;

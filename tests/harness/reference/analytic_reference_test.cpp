@@ -534,7 +534,14 @@ TEST_CASE("friction: the ideal proxy sticks until the tangential force reaches m
           ideal_rigid_contact(scene, Pose{Vec3(x, 0, z), Quat::Identity()});
       CHECK(ideal.display.force.z() == Approx(frictionless.display.force.z()));
       CHECK(ideal.display.force.z() == Approx(kStiffness * depth));
-      CHECK(ideal.display.torque.isApprox(frictionless.display.torque));
+      if (tool.type == ShapeType::kSphere) {
+        // The friction's moment about the centre, at the contact point r
+        // below it: (−r ẑ) × (F_x x̂) = −r F_x ŷ.
+        const Vec3 moment(0, -tool.radius * ideal.display.force.x(), 0);
+        CHECK((ideal.display.torque - moment).norm() < 1e-12);
+      } else {
+        CHECK(ideal.display.torque.isApprox(frictionless.display.torque));
+      }
       return std::pair(ideal.display.force.x(), reference.sticking());
     };
     const double limit = mu * kStiffness * depth;  // 2 N
@@ -562,6 +569,29 @@ TEST_CASE("friction: the ideal proxy sticks until the tangential force reaches m
     reference.update(Pose{Vec3(0.0, 0, kPlateTop + 0.05), Quat::Identity()});
     CHECK(at(0.004) == std::pair(0.0, true));
   }
+}
+
+TEST_CASE("friction: a sphere dragged displays the friction's moment about its centre",
+          "[analytic]") {
+  // A 2 cm sphere pressed with F_n = 6 N and dragged at μ = 0.3: the
+  // friction μ F_n = 1.8 N acts at the contact point, 2 cm below the
+  // centre: 0.036 N·m, balanced by the proxy's rotational coupling.
+  const double radius = 0.02, mu = 0.3, normal_n = 6;
+  RenderContext context = context_with(sphere_shape(radius));
+  context.scene.front().friction = mu;
+  const AnalyticScene scene = scene_for(context);
+  FrictionalContactReference reference(scene);
+  const double z = kPlateTop + radius - normal_n / kStiffness;
+  IdealRendering ideal;
+  for (int i = 0; i <= 40; ++i)
+    ideal = reference.update(Pose{Vec3(0.0001 * i, 0, z), Quat::Identity()});
+  REQUIRE_FALSE(reference.sticking());
+  CHECK(ideal.display.force.x() == Approx(-mu * normal_n));
+  CHECK(ideal.display.torque.y() == Approx(radius * mu * normal_n));  // 0.036 N·m
+  CHECK(ideal.display.torque.y() == Approx(0.036));
+  // The proxy turned so that its rotational spring gives that moment.
+  CHECK(-kRotStiffness * rotation_vector(Quat::Identity() * ideal.proxy.q.conjugate()).y() ==
+        Approx(ideal.display.torque.y()));
 }
 
 TEST_CASE("friction: mu = 0 is the frictionless ideal, bit for bit", "[analytic]") {
