@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 #include "algorithms/registry.h"
 #include "harness/cli/commands.h"

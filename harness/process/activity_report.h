@@ -21,8 +21,8 @@ void take_activity_report_fd();
 /// Whether this process reports to a parent.
 bool reports_activity();
 
-/// Sends one line ("running <label>\t<plugin path>", "complete", "ended
-/// <code>"); does nothing when this process reports to nobody.
+/// Sends one line ("running <label>\t<plugin path or nothing>", "idle",
+/// "ended <code>"); does nothing when this process reports to nobody.
 void report_activity(const std::string& line);
 
 }  // namespace hb

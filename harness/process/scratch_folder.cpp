@@ -3,7 +3,6 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include <stdexcept>
 #include <system_error>
 
 #include "algorithms/core/replacing_file.h"

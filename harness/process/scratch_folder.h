@@ -15,7 +15,9 @@ class ScratchFolder {
   /// Creates <temp>/<prefix>-<pid>-XXXXXX holding a marker file and a lock
   /// held for the folder's life, after removing the folders of that form
   /// whose lock no live process holds (SIGKILL, a second SIGINT: hundreds
-  /// of MB of ticks each). Throws std::runtime_error when it cannot.
+  /// of MB of ticks each). Throws InputError naming TMPDIR when the
+  /// temporary folder is unusable, std::filesystem::filesystem_error when
+  /// the marker or the lock cannot be written.
   explicit ScratchFolder(const std::string& prefix);
   ~ScratchFolder();
   ScratchFolder(const ScratchFolder&) = delete;
