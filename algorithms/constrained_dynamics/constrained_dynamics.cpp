@@ -12,6 +12,7 @@
 #include "algorithms/contact/proximity_certifier.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/proxy/device_output.h"
+#include "hapticbench/proxy/dynamic_proxy.h"
 #include "hapticbench/proxy/integrator.h"
 #include "hapticbench/proxy/proxy_settings.h"
 #include "hapticbench/proxy/rigid_body.h"
@@ -74,6 +75,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     mailbox_.clear();
     previous_update_target_.reset();
     previous_update_proxy_.reset();
+    last_device_.reset();
+    at_device_now_ = false;
   }
 
   TickResult step(const DeviceSample& device) override {
@@ -89,26 +92,48 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     if (Certification* update = mailbox_.take(result.flags)) install(*update, result.work);
 
     const Pose start = certifier_.frames().com_frame(tool_pose(body_, state_));
+    // A proxy that is the device stays it while nothing touches.
+    const bool stays_at_device = at_device_now_ && follow_device(device, start, result.work);
+    at_device_now_ = stays_at_device;
+    if (!stays_at_device) solve_and_advance(device, start, result.work);
+    last_device_ = device.pose;
+    finish_step(device, result);
+    return result;
+  }
+
+  // The tick's contact solve and the proxy's move; a proxy leaving contact
+  // then becomes the device once its dynamics have brought it near enough
+  // (display_allows_jump_to_device).
+  void solve_and_advance(const DeviceSample& device, const Pose& start, WorkCounters& work) {
     const Mat6 effective_mass = free_step(device);
-    const double reach_limit = build_rows(start, result.work);
+    const double reach_limit = build_rows(start, work);
     const std::span<const Vec3> warm(impulses_.data(), rows_.size());
     const ConstrainedStep& solved = solver_.solve_system(
         effective_mass, free_velocity_, rows_, friction_, warm_active_,
         std::all_of(warm.begin(), warm.end(), [](const Vec3& i) { return i.isZero(); })
             ? std::span<const Vec3>()
             : warm);
-    result.work.add(ConstrainedDynamicsWork::kSolverIterations, solved.iterations);
-    result.work.add(ConstrainedDynamicsWork::kUnconverged, solved.converged ? 0 : 1);
-    result.work.add(ConstrainedDynamicsWork::kCoulombViolations,
-                    solved.coulomb_residual > kCoulombResidualTolerance);
-    result.work.add(ConstrainedDynamicsWork::kSkewResolves, solved.skew_passes - 1);
+    work.add(ConstrainedDynamicsWork::kSolverIterations, solved.iterations);
+    work.add(ConstrainedDynamicsWork::kUnconverged, solved.converged ? 0 : 1);
+    work.add(ConstrainedDynamicsWork::kCoulombViolations,
+             solved.coulomb_residual > kCoulombResidualTolerance);
+    work.add(ConstrainedDynamicsWork::kSkewResolves, solved.skew_passes - 1);
     std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
     for (std::size_t k = 0; k < rows_.size(); ++k) {
       impulses_[k] = solved.impulses[k];
-      result.work.add(ConstrainedDynamicsWork::kActiveContacts, solved.impulses[k].x() > 0);
+      work.add(ConstrainedDynamicsWork::kActiveContacts, solved.impulses[k].x() > 0);
     }
-    advance(start, solved.step, reach_limit, result.work);
+    advance(start, solved.step, reach_limit, work);
+    if (!last_device_ || !body_.gravity.isZero()) return;
+    const Wrench display =
+        evaluate_coupling(gains_, body_, state_, device.pose, device.twist, false).display;
+    if (display_allows_jump_to_device(gains_, display, device.pose, *last_device_,
+                                      certifier_.radius()))
+      at_device_now_ = follow_device(device, start, work);
+  }
 
+  // The tick's display, proxy and contacts once the proxy has moved.
+  void finish_step(const DeviceSample& device, TickResult& result) {
     if (!is_finite(state_)) {  // restart at rest where the device is, out of the scene
       state_ = state_at_rest(body_, geometry_.escape(device.pose).pose);
       certificate_ = certifier_.certify(tool_pose(body_, state_), certifier_.widest_band());
@@ -126,7 +151,30 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
                       std::llround(escape_.distance_m * 1e6));
     }
     escape_reported_ = true;
-    return result;
+  }
+
+  // Out of contact the proxy is the device (as DynamicProxy's
+  // follow_device_in_free_space): when no listed pair lies within the
+  // standoff plus twice the reach of the move to the device's pose (no
+  // tool point moves farther than that reach, rotation included) and the
+  // move stays within the certificate's reach, the proxy goes there with
+  // the device's velocity, and the coupling displays nothing. Not under
+  // gravity, whose weight the coupling displays.
+  bool follow_device(const DeviceSample& device, const Pose& start, WorkCounters& work) {
+    if (!body_.gravity.isZero()) return false;
+    const RigidBodyState at_device = state_moving_with(body_, device.pose, device.twist);
+    const Pose end = certifier_.frames().com_frame(tool_pose(body_, at_device));
+    free_velocity_ = displacement(start, end) / dt_s_;
+    const double reach_limit = build_rows(start, work);
+    if (!rows_.empty()) return false;
+    if (fraction_within_reach(certificate_.anchor, start, dt_s_ * free_velocity_,
+                              certifier_.radius(), reach_limit) < 1)
+      return false;
+    std::fill(impulses_.begin(), impulses_.end(), Vec3::Zero());
+    warm_active_.clear();
+    moved_ = dt_s_ * free_velocity_;
+    state_ = at_device;
+    return true;
   }
 
   SlowLoop* slow_loop() override { return this; }
@@ -288,6 +336,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   std::optional<Pose> previous_update_proxy_;   ///< the proxy's pose at the last slow update
   StartEscape escape_;
   bool escape_reported_ = false;
+  std::optional<Pose> last_device_;  ///< the last finite device pose (tool frame)
+  bool at_device_now_ = false;       ///< the proxy is the device (free space)
 };
 
 }  // namespace

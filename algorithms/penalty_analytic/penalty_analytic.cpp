@@ -103,6 +103,7 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
       quasi_static_proxy_.emplace(body_, context.coupling, dt_s_, options);
     } else {
       dynamic_proxy_.emplace(body_, context.coupling, settings.proxy.integrator, dt_s_);
+      dynamic_proxy_->follow_device_in_free_space({.tool_radius_m = finder_.tool_radius_m()});
     }
   }
 
@@ -158,9 +159,15 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
 
   Wrench step_dynamic(const DeviceSample& device, TickResult& result) {
     if (!slow_contacts_) {
-      // Planes for every point that may reach the surface within this tick.
+      // Planes for every point that may reach the surface within this tick,
+      // or at the device's pose (where a proxy in free space goes).
       const RigidBodyState& now = state();
-      const double reach = dt_s_ * (now.v.norm() + now.w.norm() * finder_.tool_radius_m());
+      const Pose proxy = tool_pose(body_, now);
+      const double radius = finder_.tool_radius_m();
+      const double reach =
+          std::max(dt_s_ * (now.v.norm() + now.w.norm() * radius),
+                   (device.pose.p - proxy.p).norm() +
+                       rotation_vector(device.pose.q * proxy.q.conjugate()).norm() * radius);
       planes_.clear();
       if (is_finite(now)) finder_.find(now, std::isfinite(reach) ? reach : 0, planes_, result.work);
     } else {

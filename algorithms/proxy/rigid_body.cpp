@@ -24,6 +24,13 @@ RigidBodyState state_at_rest(const RigidBody& body, const Pose& pose) {
   return state;
 }
 
+RigidBodyState state_moving_with(const RigidBody& body, const Pose& pose, const Twist& twist) {
+  RigidBodyState state = state_at_rest(body, pose);
+  state.w = twist.w;
+  state.v = twist.v - twist.w.cross(com_to_tool_origin(body, state.q));
+  return state;
+}
+
 Vec3 gyroscopic_torque(const Mat3& world_inertia, const Vec3& w) {
   return w.cross(world_inertia * w);
 }

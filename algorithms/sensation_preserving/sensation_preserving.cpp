@@ -69,6 +69,8 @@ class SensationPreservingRenderer : public Renderer, public SlowLoop {
         limits_(context.device),
         proxy_(proxy_body(context.tool, settings.proxy.proxy_mass_kg, context.gravity),
                context.coupling, settings.proxy.integrator, context.dt_s) {
+    proxy_.follow_device_in_free_space(
+        {.tool_radius_m = context.tool.mesh.radius_about(context.tool.mass.centre_of_mass)});
     bool all_cached = settings.cache;
     const auto hierarchy_of = [&](const TriangleMesh& mesh, const std::string& content_hash,
                                   const std::string& name) {

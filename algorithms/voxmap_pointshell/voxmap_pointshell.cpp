@@ -173,6 +173,11 @@ class VoxmapPointShellRenderer : public Renderer {
               std::to_string(settings.pointshell_spacing_m) +
               " m: it fits within one voxel; use a smaller spacing");
     shell_ = make_pointshell(points.points, points.normals, context.tool.mass.centre_of_mass);
+    // Out of contact the proxy is the device, jumping to it at most a voxel
+    // at a time, so that it never steps over the proximity voxels, where
+    // braking acts.
+    proxy_.follow_device_in_free_space(
+        {.tool_radius_m = shell_.radius, .max_point_step_m = settings.voxmap.voxel_size_m});
     shell_stats_ = points.stats;
     scene_ = build_scene_voxmap(context.scene, region, settings.voxmap, cache);
     voxel_size_m_ = settings.voxmap.voxel_size_m;

@@ -263,7 +263,8 @@ constexpr MetricDefinition kMetrics[] = {
      },
      .description =
          "the proxy still oscillates from tick to tick at the end of the run (proxy chatter above "
-         "1 um and 10 times the device's)"},
+         "1 um and 10 times the device's, over the last quarter and in at least half of its "
+         "50-tick blocks)"},
     {.name = "force_jump_max_n",
      .json_pointer = "/stability/force_jump_max_n",
      .unit = "N",

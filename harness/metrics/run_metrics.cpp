@@ -421,10 +421,16 @@ RunMetrics MetricsAccumulator::finish() const {
     m.stability.proxy_chatter_m = rms_of(last, blocks, &ChatterBlock::proxy_sq);
     m.stability.device_chatter_m = rms_of(last, blocks, &ChatterBlock::device_sq);
     const double earlier_chatter_m = rms_of(before, last, &ChatterBlock::proxy_sq);
-    m.stability.chatters =
-        m.stability.proxy_chatter_m >
-            std::max(kChatterFloorM, kChatterDeviceRatio * m.stability.device_chatter_m) &&
-        m.stability.proxy_chatter_m >= kChatterDecayRatio * earlier_chatter_m;
+    const double threshold_m =
+        std::max(kChatterFloorM, kChatterDeviceRatio * m.stability.device_chatter_m);
+    // An oscillation, not one jump (a proxy leaving contact that becomes
+    // the device): above the threshold in at least half of the blocks.
+    std::size_t blocks_above = 0;
+    for (std::size_t i = last; i < blocks; ++i)
+      blocks_above += rms_of(i, i + 1, &ChatterBlock::proxy_sq) > threshold_m;
+    m.stability.chatters = m.stability.proxy_chatter_m > threshold_m &&
+                           2 * blocks_above >= blocks - last &&
+                           m.stability.proxy_chatter_m >= kChatterDecayRatio * earlier_chatter_m;
   }
   if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
     m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;

@@ -115,8 +115,9 @@ struct StabilityMetrics {
   double device_chatter_m = 0;
   /// The proxy still oscillates at the end of the run and the oscillation
   /// is not dying out: proxy_chatter_m > max(kChatterFloorM,
-  /// kChatterDeviceRatio × device_chatter_m), and at least
-  /// kChatterDecayRatio × its value over the quarter before.
+  /// kChatterDeviceRatio × device_chatter_m), in at least half of that
+  /// quarter's blocks of ticks too (an oscillation, not one jump), and at
+  /// least kChatterDecayRatio × its value over the quarter before.
   bool chatters = false;
 };
 

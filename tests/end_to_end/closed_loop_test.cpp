@@ -336,25 +336,35 @@ TEST_CASE("closed loop: the mesh force reference follows the device, as the clos
   CHECK(error_n[1] == Approx(error_n[0]).margin(0.005));
 }
 
-TEST_CASE("closed loop: the god-object renders no force in free space with the default device") {
-  // The device reports a filtered velocity; the god-object's proxy, which
-  // is the device out of contact, took its velocity from a raw backward
-  // difference of the quantised pose: the coupling's damper rattled at
-  // every encoder step (91 mN peaks on this press).
+TEST_CASE("closed loop: every proxy renders no force in free space with the default device") {
+  // The device reports a quantised pose and a filtered velocity. The
+  // god-object's proxy, which is the device out of contact, took its
+  // velocity from a raw backward difference of that pose: the coupling's
+  // damper rattled at every encoder step (91 mN peaks on sphere_press_wall,
+  // 64 mN here). The dynamic proxies (constrained dynamics, the penalty's
+  // and sensation-preserving's) followed the 23 µm staircase through the
+  // 21,000 N/m coupling spring with their mass: 0.40-0.44 N peaks. VPS
+  // keeps its dynamics within its braking voxels and is not checked here.
   const hb::test::ScratchDir work("e2e_closed_loop_free_space");
-  json scenario = json::parse(
-      hb::test::read_text_file(hb::test::kSource / "scenarios/closed_loop/sphere_press_wall.json"));
-  keep_only_label(scenario, "god_object");
+  json scenario = json::parse(hb::test::read_text_file(
+      hb::test::kSource / "scenarios/closed_loop/sphere_wall_at_limit.json"));
   std::ofstream(work.path() / "press.json") << scenario.dump(2);
   const auto result = hb::test::run_hapticbench("run press.json --out run --quiet", work.path());
   INFO(result.stderr_text);
   REQUIRE(result.exit_code <= 1);
-  const json transparency = json::parse(hb::test::read_text_file(work.path() / "run/summary.json"))
-                                .at("runs")
-                                .at(0)
-                                .at("transparency");
-  CHECK(transparency.at("free_space_ticks").get<int>() > 500);
-  CHECK(transparency.at("free_space_force_max_n").get<double>() <= 0.005);
+  const json runs =
+      json::parse(hb::test::read_text_file(work.path() / "run/summary.json")).at("runs");
+  int checked = 0;
+  for (const json& run : runs) {
+    const std::string label = run.at("label").get<std::string>();
+    if (label == "vps_2mm") continue;
+    const json& transparency = run.at("transparency");
+    INFO(label << ": " << transparency.dump());
+    CHECK(transparency.at("free_space_ticks").get<int>() > 500);
+    CHECK(transparency.at("free_space_force_max_n").get<double>() <= 0.005);
+    ++checked;
+  }
+  CHECK(checked == 4);
 }
 
 TEST_CASE("closed loop: the same scenario gives the same ticks twice, in both passes") {

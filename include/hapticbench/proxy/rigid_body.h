@@ -40,6 +40,10 @@ Twist tool_twist(const RigidBody& body, const RigidBodyState& state);
 /// State of a body whose tool frame is at `pose`, at rest.
 RigidBodyState state_at_rest(const RigidBody& body, const Pose& pose);
 
+/// State of a body whose tool frame is at `pose` and moves with `twist`
+/// (velocity of the tool frame's origin and angular velocity, world frame).
+RigidBodyState state_moving_with(const RigidBody& body, const Pose& pose, const Twist& twist);
+
 /// Gyroscopic torque ω × (I ω) in world axes (N·m), with I the world inertia.
 Vec3 gyroscopic_torque(const Mat3& world_inertia, const Vec3& w);
 

@@ -203,7 +203,10 @@ TEST_CASE("a fast press: the proxy stays near the surface, contacts push along t
     INFO(variant << ": device " << device_deepest << " m deep, proxy " << proxy_deepest
                  << " m, worst contact normal " << worst_angle * 180 / std::numbers::pi << " deg");
     CHECK(device_deepest == Approx(depth).margin(1e-9));
-    CHECK(proxy_deepest <= 0.3 * device_deepest);
+    // The proxy follows the device in free space, so it meets the slab at
+    // the device's 2 m/s (the signed-distance variant then sinks 2.0 mm; a
+    // proxy left at rest at the start lagged the device and sank 1.3 mm).
+    CHECK(proxy_deepest <= 0.35 * device_deepest);
     CHECK(pushing > 100);
     if (std::string(variant) == "signed_distance") {
       // ∇φ of a plane is its normal (the corners of the slab are far).

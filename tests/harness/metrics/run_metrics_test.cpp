@@ -99,6 +99,14 @@ TEST_CASE(
     early.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt,
                Vec3(0, 0, k < 2000 ? (k % 2 ? a : -a) : 0.0));
   CHECK_FALSE(early.metrics.finish().stability.chatters);
+  // One jump of 0.1 mm in the last quarter (a proxy leaving contact that
+  // becomes the device) is no oscillation, though its RMS is above 1 µm.
+  SyntheticRun jump;
+  for (int k = 0; k < 4000; ++k)
+    jump.tick(Wrench{}, std::nullopt, 100, 0, std::nullopt, Vec3(0, 0, k < 3500 ? 1e-4 : 0.0));
+  const RunMetrics jumped = jump.metrics.finish();
+  CHECK(jumped.stability.proxy_chatter_m > 1e-6);
+  CHECK_FALSE(jumped.stability.chatters);
   // Below the 1 µm floor; and a proxy lagging the device smoothly by up to
   // 2 mm at 2 Hz (0.16 m/s² relative acceleration): no chatter.
   SyntheticRun small, smooth;
