@@ -52,6 +52,11 @@ struct ConstrainedDynamicsWork {
 
 class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
  public:
+  /// How far below the standoff a near pair may end a tick (m).
+  static constexpr double kStandoffSlackM = 1e-7;
+  /// Halvings of the fraction when a step is cut.
+  static constexpr int kCutBisections = 20;
+
   ConstrainedDynamicsRenderer(const RenderContext& context,
                               const ConstrainedDynamicsSettings& settings)
       : settings_(settings),
@@ -154,19 +159,18 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   }
 
   // Out of contact the proxy is the device (as DynamicProxy's
-  // follow_device_in_free_space): when no listed pair lies within the
-  // standoff plus twice the reach of the move to the device's pose (no
-  // tool point moves farther than that reach, rotation included) and the
-  // move stays within the certificate's reach, the proxy goes there with
-  // the device's velocity, and the coupling displays nothing. Not under
-  // gravity, whose weight the coupling displays.
+  // follow_device_in_free_space): when the move to the device's pose keeps
+  // every pair it can bring near above its floor at the end (worst_margin,
+  // exact distances) and stays within the certificate's reach, the proxy
+  // goes there with the device's velocity, and the coupling displays
+  // nothing. Not under gravity, whose weight the coupling displays.
   bool follow_device(const DeviceSample& device, const Pose& start, WorkCounters& work) {
     if (!body_.gravity.isZero()) return false;
     const RigidBodyState at_device = state_moving_with(body_, device.pose, device.twist);
     const Pose end = certifier_.frames().com_frame(tool_pose(body_, at_device));
     free_velocity_ = displacement(start, end) / dt_s_;
     const double reach_limit = build_rows(start, work);
-    if (!rows_.empty()) return false;
+    if (!rows_.empty() && worst_margin(end, work) < 0) return false;
     if (fraction_within_reach(certificate_.anchor, start, dt_s_ * free_velocity_,
                               certifier_.radius(), reach_limit) < 1)
       return false;
@@ -277,17 +281,51 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   }
 
   // Moves the proxy by Δt u, within `reach_limit` of the certificate's anchor.
+  // The rows are linear in the step: they miss a rotation's second-order
+  // motion (a hook's tip beyond the centre of mass along the normal) and an
+  // edge pair's closest points sliding along nearly parallel edges. So every
+  // near pair's exact distance at the end is measured too, and a step that
+  // takes one below its floor is cut to the largest fraction (to 2⁻²⁰)
+  // that keeps every pair above (the start does), as the god-object's
+  // haptic step is.
   void advance(const Pose& start, const Vec6& velocity, double reach_limit, WorkCounters& work) {
     const Vec6 step = dt_s_ * velocity;
-    const double fraction =
+    double fraction =
         fraction_within_reach(certificate_.anchor, start, step, certifier_.radius(), reach_limit);
-    if (fraction < 1) work.add(ConstrainedDynamicsWork::kReachBounded);
+    bool bounded = fraction < 1;
+    if (!rows_.empty() && worst_margin(displaced(start, fraction * step), work) < 0) {
+      double safe = 0, unsafe = fraction;
+      for (int i = 0; i < kCutBisections; ++i) {
+        const double middle = 0.5 * (safe + unsafe);
+        (worst_margin(displaced(start, middle * step), work) >= 0 ? safe : unsafe) = middle;
+      }
+      fraction = safe;
+      bounded = true;
+    }
+    if (bounded) work.add(ConstrainedDynamicsWork::kReachBounded);
     moved_ = fraction * step;
     const Pose end = displaced(start, moved_);
     state_.x = end.p;
     state_.q = end.q;
     state_.v = fraction * velocity.head<3>();
     state_.w = fraction * velocity.tail<3>();
+  }
+
+  // The least margin (m) of the near pairs above their floors at `end`:
+  // each pair's exact distance there, signed by the side it started the
+  // tick on (a pair whose direction between closest points turned over has
+  // crossed), less min(standoff − kStandoffSlackM, its distance at the start).
+  double worst_margin(const Pose& end, WorkCounters& work) {
+    certifier_.evaluate_listed(certificate_, rows_.size(), end, end_contacts_);
+    work.add(ConstrainedDynamicsWork::kPairsEvaluated, static_cast<int64_t>(rows_.size()));
+    const double standoff_floor = settings_.contacts.standoff_m - kStandoffSlackM;
+    double worst = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < rows_.size(); ++k) {
+      const PairContact& contact = end_contacts_[k];
+      const double side = contact.normal.dot(rows_[k].normal) >= 0 ? 1.0 : -1.0;
+      worst = std::min(worst, side * contact.distance - std::min(standoff_floor, distances_[k]));
+    }
+    return worst;
   }
 
   // Pairs within the contact distance at the new pose, for the oracle.
@@ -322,10 +360,11 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   std::vector<Vec3> carried_;
   ConstrainedStepSolver solver_;
   std::vector<GaussConstraint> rows_;
-  std::vector<double> friction_;        ///< μ per row
-  std::vector<int> warm_active_;        ///< the frictionless solve's last active set
-  std::vector<double> distances_;       ///< per listed pair at the start of the tick (m)
-  std::vector<PairContact> evaluated_;  ///< the near pairs at the start of the tick (scratch)
+  std::vector<double> friction_;           ///< μ per row
+  std::vector<int> warm_active_;           ///< the frictionless solve's last active set
+  std::vector<double> distances_;          ///< per listed pair at the start of the tick (m)
+  std::vector<PairContact> evaluated_;     ///< the near pairs at the start of the tick (scratch)
+  std::vector<PairContact> end_contacts_;  ///< the near pairs at a trial end (scratch)
   std::vector<ContactFeatures> reported_pairs_;  ///< report_contacts' candidates (scratch)
   std::vector<PairContact> reported_;            ///< and their contacts at the tick's end
   Vec6 free_velocity_ = Vec6::Zero();
