@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "hapticbench/closest_points.h"
+
 namespace hb {
 
 namespace {
@@ -64,16 +66,21 @@ ToolSceneDistanceSearch::ToolSceneDistanceSearch(const TriangleMesh& tool,
   if (!(spacing_m > 0))
     throw std::invalid_argument("tool-scene distance: sample spacing must be > 0 m");
   triangles_.reserve(tool.triangles.size());
-  for (const auto& [a, b, c] : tool.triangles)
-    triangles_.push_back({tool.vertices[a], tool.vertices[b], tool.vertices[c]});
+  for (const auto& [a, b, c] : tool.triangles) {
+    const TriangleCorners& corners = triangles_.emplace_back(
+        TriangleCorners{tool.vertices[a], tool.vertices[b], tool.vertices[c]});
+    const Vec3 centroid = (corners[0] + corners[1] + corners[2]) / 3;
+    centroids_.push_back(centroid);
+    radii_.push_back(std::max({(corners[0] - centroid).norm(), (corners[1] - centroid).norm(),
+                               (corners[2] - centroid).norm()}));
+  }
 
   // Each triangle to the sample nearest its centroid, then grouped by sample.
   const NearestSample nearest(samples_, spacing_m);
   std::vector<uint32_t> owner(triangles_.size());
   cluster_start_.assign(samples_.size() + 1, 0);
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    const TriangleCorners& corners = triangles_[t];
-    owner[t] = nearest((corners[0] + corners[1] + corners[2]) / 3);
+    owner[t] = nearest(centroids_[t]);
     ++cluster_start_[owner[t] + 1];
   }
   for (std::size_t s = 0; s < samples_.size(); ++s) cluster_start_[s + 1] += cluster_start_[s];
@@ -131,28 +138,41 @@ std::optional<ToolSceneDistance> ToolSceneDistanceSearch::evaluate(
       return std::nullopt;
     if (near_.empty()) continue;
     for (std::size_t row = cluster_start_[s]; row < cluster_start_[s + 1]; ++row) {
+      // No point of the row's triangle is nearer the scene than this.
+      if (sample_distance[s] - reach_[row] > bound + kToolSceneBoundSlackM) continue;
+      const uint32_t t = cluster_triangles_[row];
+      const Vec3 centroid = tool_pose.transform_point(centroids_[t]);
       std::optional<TriangleCorners> tool_triangle;  // posed on first use
       for (const NearTriangle& scene_triangle : near_) {
         // The scene triangle is at least its distance to the sample minus
-        // the tool triangle's reach away from the tool triangle.
+        // the row's reach away from the tool triangle.
         if (scene_triangle.distance - reach_[row] > bound + kToolSceneBoundSlackM) continue;
+        // Every point of the tool triangle is within radii_[t] of its
+        // centroid: the pair is at least `lower` apart. Beyond the bound it
+        // cannot be nearer; above 0 the triangles cannot intersect.
+        const TriangleCorners& scene_corners = scene_triangle.corners;
+        const Vec3 foot = closest_point_on_triangle(centroid, scene_corners[0], scene_corners[1],
+                                                    scene_corners[2]);
+        const double lower = (foot - centroid).norm() - radii_[t];
+        if (lower > bound + kToolSceneBoundSlackM) continue;
         if (!tool_triangle) {
-          const TriangleCorners& local = triangles_[cluster_triangles_[row]];
+          const TriangleCorners& local = triangles_[t];
           tool_triangle = TriangleCorners{tool_pose.transform_point(local[0]),
                                           tool_pose.transform_point(local[1]),
                                           tool_pose.transform_point(local[2])};
         }
         ++result.triangle_pairs;
-        if (triangles_intersect(*tool_triangle, scene_triangle.corners)) {
+        if (!(lower > kToolSceneBoundSlackM) &&
+            triangles_intersect(*tool_triangle, scene_corners)) {
           // A shared point: the distance is 0, nothing can be nearer.
           result.crossing = true;
           result.distance_m = 0;
           result.crossing_tool_triangle = *tool_triangle;
-          result.crossing_scene_triangle = scene_triangle.corners;
+          result.crossing_scene_triangle = scene_corners;
           return result;
         }
         const TrianglePairClosest pair =
-            closest_points_of_disjoint_triangles(*tool_triangle, scene_triangle.corners);
+            closest_points_of_disjoint_triangles(*tool_triangle, scene_corners);
         if (pair.distance < result.distance_m) {
           bound = pair.distance;
           result.distance_m = pair.distance;

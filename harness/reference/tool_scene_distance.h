@@ -77,8 +77,10 @@ class ToolSceneDistanceSearch {
   std::vector<Vec3> samples_;
   std::vector<std::size_t> cluster_start_;
   std::vector<uint32_t> cluster_triangles_;
-  std::vector<double>
-      reach_;  ///< m, per cluster row: farthest corner of the triangle from its sample
+  std::vector<Vec3> centroids_;  ///< m, tool frame, per triangle
+  std::vector<double> radii_;    ///< m, per triangle: farthest corner from its centroid
+  /// m, per cluster row: farthest corner of the row's triangle from its sample
+  std::vector<double> reach_;
   std::vector<double> cluster_radius_;  ///< m, per sample: the largest reach_ of its cluster
   // Scratch of evaluate().
   std::vector<std::pair<double, uint32_t>> open_clusters_;  ///< (lower bound, sample)
