@@ -163,6 +163,20 @@ constexpr MetricDefinition kMetrics[] = {
      .abs_tol = kLengthAbsTolM,
      .read = [](const RunMetrics& m) { return m.accuracy.penetration_rms_m; },
      .description = "RMS penetration over the ticks that penetrate"},
+    {.name = "crossing_ticks",
+     .json_pointer = "/accuracy/crossing_ticks",
+     .unit = "ticks",
+     .kind = ValueKind::kCount,
+     .compare = CompareRule::kCount,
+     .compare_when_present = true,
+     .read = [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.accuracy.crossing_ticks) return std::nullopt;
+       return static_cast<double>(*m.accuracy.crossing_ticks);
+     },
+     .description =
+         "scenes without inside/outside (distance_only): ticks at which the proxy's tool crosses "
+         "the scene's surface (a tool and a scene triangle intersect, exact predicates)",
+     .counted_as = "ticks with the tool crossing the scene's surface"},
     {.name = "embree_penetration_max_m",
      .json_pointer = "/oracle/embree/penetration_max_m",
      .unit = "m",

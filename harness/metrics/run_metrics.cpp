@@ -176,6 +176,9 @@ void MetricsAccumulator::add_accuracy(const Wrench& display, const TickEvaluatio
       ++pen_ticks_;
     }
   }
+  if (evaluation.crossing)
+    partial_.accuracy.crossing_ticks =
+        partial_.accuracy.crossing_ticks.value_or(0) + (*evaluation.crossing ? 1 : 0);
 }
 
 // Stability and passivity (the port energy: passivity_energy.h).

@@ -28,8 +28,12 @@ struct TickEvaluation {
   /// The ideal displayed wrench (N, N·m, tool origin): the analytic
   /// reference's, else the mesh force reference's on the ticks it evaluated.
   std::optional<Wrench> ideal_display;
-  std::optional<double> penetration_m;    ///< proxy penetration into the scene by the reference (m)
-  std::optional<bool> reference_contact;  ///< the reference says the ideal proxy is in contact
+  std::optional<double> penetration_m;  ///< proxy penetration into the scene by the reference (m)
+  /// Scenes without inside/outside: whether the proxy's tool crosses the
+  /// scene's surface (the primary oracle's; false with the tool's bounds
+  /// clear of the scene); null where penetration is measured instead.
+  std::optional<bool> crossing;
+  std::optional<bool> reference_contact;       ///< the reference says the ideal proxy is in contact
   std::optional<OracleTickEvaluation> oracle;  ///< Embree / CGAL on the posed tool, when asked for
   /// Whether the proxy's tool origin has just passed through the scene
   /// (tunnelling.h: the analytic box where there is one, else the primary
@@ -79,6 +83,10 @@ struct AccuracyMetrics {
   std::optional<double> penetration_max_m;   ///< proxy penetration by the reference
   std::optional<double> penetration_rms_m;   ///< RMS over ticks with penetration > 0
   std::optional<int64_t> penetration_ticks;  ///< ticks with penetration > 0
+  /// Scenes without inside/outside (every object distance_only): ticks at
+  /// which the proxy's tool crosses (or exactly touches) the scene's
+  /// surface, by the primary oracle; null on other scenes.
+  std::optional<int64_t> crossing_ticks;
 };
 
 struct StabilityMetrics {

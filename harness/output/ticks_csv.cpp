@@ -22,8 +22,10 @@ const std::string& ticks_csv_header() {
     }
     for (const OracleBackendEntry& entry : oracle_backends())
       if (entry.intersection_volume) column(entry.name, "_volume_m3");
-    // Distance-only scenes: the tool's distance to the scene.
+    // Distance-only scenes: the tool's distance to the scene, and 1 when it
+    // crosses the scene's surface (0 when not).
     text.append(",oracle_distance_m");
+    text.append(",oracle_crossing");
     text.append(",oracle_ns");
     return text;
   }();
@@ -128,6 +130,9 @@ void TicksCsvWriter::add(const TickRecord& record, const TickEvaluation& evaluat
   oracle += ',';
   if (evaluation.oracle && evaluation.oracle->min_distance_m)
     append_number(oracle, *evaluation.oracle->min_distance_m);
+  oracle += ',';
+  if (evaluation.oracle && evaluation.oracle->crossing)
+    append_integer(oracle, *evaluation.oracle->crossing ? 1 : 0);
   if (evaluation.oracle && !evaluation.oracle->broad_phase_skipped)
     append_integer(oracle_ns, evaluation.oracle->total_ns());
 

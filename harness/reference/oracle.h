@@ -6,6 +6,7 @@
 // and oracle_cgal.cpp. All coordinates are metres, world frame.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -56,6 +57,7 @@ struct NearTriangle {
   Vec3 closest = Vec3::Zero();  ///< m, world frame: the triangle's point nearest the query
   double distance = 0;          ///< m, from the query point to `closest`
   int32_t object = -1;          ///< index of the triangle's object in the oracle's scene
+  std::array<Vec3, 3> corners = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  ///< m, world frame
 };
 
 class Oracle {
@@ -75,8 +77,9 @@ class Oracle {
   virtual Eigen::AlignedBox3d bounds() const = 0;
 
   /// Every scene triangle within `radius_m` of `point` (each once, in no
-  /// particular order), appended to `out` after clearing it. False when the
-  /// backend does not answer this query (CGAL).
+  /// particular order), appended to `out` after clearing it; the distances
+  /// are computed in double. False when the backend does not answer this
+  /// query.
   virtual bool triangles_within(const Vec3& point, double radius_m,
                                 std::vector<NearTriangle>& out) const {
     (void)point, (void)radius_m;
@@ -108,6 +111,11 @@ std::unique_ptr<Oracle> make_cgal_oracle(const std::vector<SceneObject>& scene);
 /// boundary, non-manifold, or self-intersecting (CGAL's exact test). Shared
 /// by both backends so they refuse the same objects.
 std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh);
+
+/// Whether the closed triangles a and b (m, one frame) share a point, decided
+/// with exact predicates on the given doubles (CGAL): crossing, touching at
+/// a vertex or an edge, or overlapping in one plane all count.
+bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
 /// One oracle backend the harness can evaluate. A new backend is one row in
 /// oracle_backends() plus its make function; the ticks CSV, summary.json,

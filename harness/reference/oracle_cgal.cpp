@@ -7,6 +7,11 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Intersections_3/Bbox_3_Iso_cuboid_3.h>
+#include <CGAL/Intersections_3/Iso_cuboid_3_Triangle_3.h>
+#include <CGAL/Intersections_3/Segment_3_Segment_3.h>
+#include <CGAL/Intersections_3/Segment_3_Triangle_3.h>
+#include <CGAL/Intersections_3/Triangle_3_Triangle_3.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -14,6 +19,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -23,6 +29,7 @@
 #include <utility>
 
 #include "algorithms/core/build_progress.h"
+#include "hapticbench/closest_points.h"
 #include "hapticbench/input_error.h"
 #include "harness/reference/oracle.h"
 
@@ -38,6 +45,7 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
+using Box = Kernel::Iso_cuboid_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using SideOfMesh = CGAL::Side_of_triangle_mesh<Mesh, Kernel>;
 using FaceTree = SideOfMesh::AABB_tree;
@@ -286,6 +294,28 @@ class CgalOracle final : public Oracle {
     }
   }
 
+  bool triangles_within(const Vec3& point, double radius_m,
+                        std::vector<NearTriangle>& out) const override {
+    out.clear();
+    if (soup_.empty() || !point.allFinite() || !(radius_m >= 0)) return true;
+    // The triangles meeting the sphere's bounding box (exact predicates),
+    // then the sphere itself by the distance in double.
+    const Vec3 reach = Vec3::Constant(radius_m);
+    const Box box(to_point(point - reach), to_point(point + reach));
+    std::vector<SoupIterator> candidates;
+    soup_tree_.all_intersected_primitives(box, std::back_inserter(candidates));
+    for (const SoupIterator triangle : candidates) {
+      const std::array<Vec3, 3> corners = {
+          to_vec3(triangle->vertex(0)), to_vec3(triangle->vertex(1)), to_vec3(triangle->vertex(2))};
+      const Vec3 closest = closest_point_on_triangle(point, corners[0], corners[1], corners[2]);
+      const double distance = (closest - point).norm();
+      if (!(distance <= radius_m)) continue;
+      const auto t = static_cast<std::size_t>(triangle - soup_.begin());
+      out.push_back({closest, distance, soup_object_[t], corners});
+    }
+    return true;
+  }
+
   std::optional<double> intersection_volume(const TriangleMesh& tool_in_world) const override {
     if (!is_readable(tool_in_world)) return std::nullopt;
     const Eigen::AlignedBox3d tool_bounds = tool_in_world.bounds();
@@ -392,6 +422,33 @@ std::optional<std::string> inside_outside_defect(const TriangleMesh& mesh) {
            ")";
   }
   return std::nullopt;
+}
+
+bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+  if (!(a[0].allFinite() && a[1].allFinite() && a[2].allFinite() && b[0].allFinite() &&
+        b[1].allFinite() && b[2].allFinite()))
+    return false;  // exact predicates must never see a non-finite coordinate
+  const Triangle first(to_point(a[0]), to_point(a[1]), to_point(a[2]));
+  const Triangle second(to_point(b[0]), to_point(b[1]), to_point(b[2]));
+  // A degenerate triangle is a segment or a point: CGAL's triangle test
+  // requires proper triangles, so those go through their edges.
+  const auto as_segments = [](const Triangle& t) {
+    return std::array<Kernel::Segment_3, 3>{Kernel::Segment_3(t.vertex(0), t.vertex(1)),
+                                            Kernel::Segment_3(t.vertex(1), t.vertex(2)),
+                                            Kernel::Segment_3(t.vertex(2), t.vertex(0))};
+  };
+  const bool first_degenerate = first.is_degenerate(), second_degenerate = second.is_degenerate();
+  if (!first_degenerate && !second_degenerate) return CGAL::do_intersect(first, second);
+  if (first_degenerate && second_degenerate) {
+    for (const auto& s : as_segments(first))
+      for (const auto& t : as_segments(second))
+        if (CGAL::do_intersect(s, t)) return true;
+    return false;
+  }
+  const Triangle& proper = first_degenerate ? second : first;
+  for (const auto& s : as_segments(first_degenerate ? first : second))
+    if (CGAL::do_intersect(s, proper)) return true;
+  return false;
 }
 
 std::unique_ptr<Oracle> make_cgal_oracle(const std::vector<SceneObject>& scene) {

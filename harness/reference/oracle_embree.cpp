@@ -170,16 +170,17 @@ struct RadiusSearch {
 bool collect_candidate(RTCPointQueryFunctionArguments* args) {
   auto* search = static_cast<RadiusSearch*>(args->userPtr);
   const WorldObject& object = (*search->objects)[args->geomID];
-  const Vec3 closest =
-      closest_point_on_triangle(search->point, object.corner(args->primID, 0),
-                                object.corner(args->primID, 1), object.corner(args->primID, 2));
+  const std::array<Vec3, 3> corners = {object.corner(args->primID, 0),
+                                       object.corner(args->primID, 1),
+                                       object.corner(args->primID, 2)};
+  const Vec3 closest = closest_point_on_triangle(search->point, corners[0], corners[1], corners[2]);
   const double distance = (closest - search->point).norm();
   if (!(distance <= search->radius)) return false;
   // A triangle referenced from several BVH leaves may be visited twice.
   const std::pair<unsigned, unsigned> key(args->geomID, args->primID);
   if (std::find(search->seen.begin(), search->seen.end(), key) != search->seen.end()) return false;
   search->seen.push_back(key);
-  search->found->push_back({closest, distance, static_cast<int32_t>(args->geomID)});
+  search->found->push_back({closest, distance, static_cast<int32_t>(args->geomID), corners});
   return false;
 }
 

@@ -82,6 +82,10 @@ OracleEvaluator::OracleEvaluator(const RenderContext& context,
     const Oracle& primary = *backends_.front().oracle;
     scene_bounds_ = primary.bounds();
     measures_penetration_ = primary.distance_only_objects().size() < context.scene.size();
+    if (!measures_penetration_ && !tool_samples_.empty()) {
+      announce_build_stage("tool triangle clusters");
+      distance_search_.emplace(tool_mesh_, tool_samples_, spacing_m_);
+    }
   }
 }
 
@@ -166,9 +170,18 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
     request.points = world_samples_;
     request.want_inside = false;
     request.want_closest = true;
-    backends_.front().oracle->query_points(request, inside_);
-    if (!inside_.distance.empty())
-      out.min_distance_m = *std::min_element(inside_.distance.begin(), inside_.distance.end());
+    const Oracle& oracle = *backends_.front().oracle;
+    oracle.query_points(request, inside_);
+    // The samples' distances start the search between the tool's triangles
+    // and the scene's; a backend that cannot list the triangles near a
+    // point leaves both figures null rather than a sample's distance.
+    if (distance_search_) {
+      if (const std::optional<ToolSceneDistance> mesh =
+              distance_search_->evaluate(oracle, tool_pose, inside_)) {
+        out.min_distance_m = mesh->distance_m;
+        out.crossing = mesh->crossing;
+      }
+    }
     out.distance_ns = ns_since(start);
   }
 

@@ -1,8 +1,9 @@
 // Per-tick ground truth on real meshes: penetration of the posed tool's
 // surface samples by Embree (every tick) and CGAL (every exact_every-th
 // tick, with the exact intersection volume when the tool touches the
-// scene), their disagreements, and a check of the contacts an algorithm
-// reports. Runs outside the timed window; skipped entirely while the tool's
+// scene), their disagreements, on scenes without inside/outside the tool's
+// distance to the scene and whether it crosses it, and a check of the
+// contacts an algorithm reports. Runs outside the timed window; skipped entirely while the tool's
 // bounds are clear of the scene's (broad phase).
 #pragma once
 
@@ -17,6 +18,7 @@
 #include "hapticbench/renderer.h"
 #include "hapticbench/scene.h"
 #include "harness/reference/oracle.h"
+#include "harness/reference/tool_scene_distance.h"
 
 namespace hb {
 
@@ -48,10 +50,15 @@ struct OracleTickEvaluation {
   std::optional<double> intersection_volume_m3;  ///< when the tool touches the scene
   int64_t volume_ns = 0;
   /// Scenes whose objects are all distance_only (no inside, so no
-  /// penetration): the smallest distance (m) from the tool's surface samples
-  /// to the scene's surface, by the primary backend, while the tool's bounds
-  /// are within one tool diagonal of the scene's; null otherwise.
+  /// penetration), while the tool's bounds are within one tool diagonal of
+  /// the scene's; null otherwise. The least distance (m) between the posed
+  /// tool's triangles and the scene's (tool_scene_distance.h; 0 when they
+  /// cross), with the primary backend's triangles.
   std::optional<double> min_distance_m;
+  /// When min_distance_m is given: whether a tool triangle and a scene
+  /// triangle share a point (exact predicates), i.e. the tool crosses or
+  /// exactly touches the scene's surface. Counted like penetration.
+  std::optional<bool> crossing;
   int64_t distance_ns = 0;
   int64_t inside_disagreements = 0;  ///< samples a backend classifies unlike the primary
   std::vector<ContactCheck> contact_checks;
@@ -91,8 +98,9 @@ class OracleEvaluator {
     return backends_.empty() ? nullptr : backends_.front().oracle.get();
   }
   /// False when every scene object is distance_only: no inside/outside, so
-  /// no penetration; the distance to the scene is reported instead
-  /// (OracleTickEvaluation::min_distance_m) and contacts are checked by distance.
+  /// no penetration; the distance to the scene and whether the tool crosses
+  /// it are reported instead (OracleTickEvaluation::min_distance_m,
+  /// crossing) and contacts are checked by distance.
   bool measures_penetration() const { return measures_penetration_; }
 
  private:
@@ -112,6 +120,7 @@ class OracleEvaluator {
   PointQueryResult inside_;          ///< scratch
   Eigen::AlignedBox3d scene_bounds_;
   bool measures_penetration_ = true;
+  std::optional<ToolSceneDistanceSearch> distance_search_;  ///< distance-only scenes
 };
 
 }  // namespace hb

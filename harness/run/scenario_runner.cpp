@@ -165,6 +165,12 @@ class EvaluatingObserver : public TickObserver {
                  truth_.oracle->measures_penetration()) {
         evaluation.penetration_m = 0.0;  // bounds clear of the scene: no penetration
       }
+      // Without inside/outside, crossing the surface is what penetration is.
+      if (evaluation.oracle->crossing)
+        evaluation.crossing = evaluation.oracle->crossing;
+      else if (evaluation.oracle->broad_phase_skipped && proxy_finite &&
+               !truth_.oracle->measures_penetration())
+        evaluation.crossing = false;  // bounds clear of the scene: no crossing
     }
     metrics_.add(record, evaluation);
     ticks_.add(record, evaluation);

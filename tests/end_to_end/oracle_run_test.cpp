@@ -1,5 +1,6 @@
 // End-to-end: ground truth from the Embree and CGAL oracles in a run.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -256,6 +257,60 @@ TEST_CASE("a distance-only scene reports the tool's distance to it, per tick and
       std::istringstream row(line);
       for (int c = 0; c <= distance_column; ++c) std::getline(row, cell, ',');
       CHECK(std::stod(cell) == Approx(gap).margin(1e-9));
+      ++rows;
+    }
+    CHECK(rows == 20);
+  }
+}
+
+TEST_CASE("a tool crossing a distance-only sheet counts crossing ticks and fails their budget") {
+  // The open square at z = 0 and a 3 x 2 x 1 cm box resting with its
+  // centre at height z: it crosses the sheet exactly while |z| <= 5 mm.
+  const hb::test::ScratchDir work_dir("e2e_oracle_crossing");
+  const fs::path& work = work_dir.path();
+  std::ofstream(work / "square.off") << "OFF\n4 2 0\n-0.1 -0.1 0\n0.1 -0.1 0\n0.1 0.1 0\n"
+                                        "-0.1 0.1 0\n3 0 1 2\n3 0 2 3\n";
+  struct Case {
+    double centre_z;  // m
+    bool crossing;
+    int exit_code;  // with the budget "crossing_ticks": 0
+  };
+  for (const Case& c : {Case{0.0043, true, 1}, Case{-0.0049, true, 1}, Case{0.0053, false, 0}}) {
+    INFO("centre z = " << c.centre_z);
+    std::ofstream(work / "scenario.json") << R"({ "name": "through_square",
+      "scene": [ { "mesh": "square.off", "distance_only": true } ],
+      "tool": { "shape": { "type": "box", "size": [0.03, 0.02, 0.01] }, "density": 1000 },
+      "trace": { "generator": "rest", "duration_s": 0.02,
+                 "params": { "p": [0.011, -0.006, )" +
+                                                 std::to_string(c.centre_z) + R"(] } },
+      "algorithms": [ { "name": "coupling_only" } ],
+      "reference": { "oracle": "embree", "analytic": "none" },
+      "budgets": { "crossing_ticks": 0 } })";
+    fs::remove_all(work / "run");
+    const hb::test::CommandResult result =
+        hb::test::run_hapticbench("run scenario.json --out run", work);
+    INFO(result.stdout_text << result.stderr_text);
+    REQUIRE(result.exit_code == c.exit_code);
+    const json run =
+        json::parse(hb::test::read_text_file(work / "run/summary.json")).at("runs").at(0);
+    CHECK(run.at("accuracy").at("crossing_ticks").get<int>() == (c.crossing ? 20 : 0));
+    CHECK(run.at("budgets").at(0).at("pass").get<bool>() == !c.crossing);
+    const double distance = c.crossing ? 0.0 : std::abs(c.centre_z) - 0.005;
+    CHECK(run.at("oracle").at("distance_min_m").get<double>() == Approx(distance).margin(1e-12));
+    // Every tick's row says it: oracle_crossing 1 or 0.
+    std::istringstream ticks(hb::test::read_text_file(work / "run/ticks_coupling_only.csv"));
+    std::string line, cell;
+    std::getline(ticks, line);
+    std::istringstream header(line);
+    int column = 0, crossing_column = -1;
+    for (; std::getline(header, cell, ','); ++column)
+      if (cell == "oracle_crossing") crossing_column = column;
+    REQUIRE(crossing_column >= 0);
+    int rows = 0;
+    while (std::getline(ticks, line)) {
+      std::istringstream row(line);
+      for (int k = 0; k <= crossing_column; ++k) std::getline(row, cell, ',');
+      CHECK(cell == (c.crossing ? "1" : "0"));
       ++rows;
     }
     CHECK(rows == 20);
