@@ -6,6 +6,7 @@
 #include <limits>
 #include <span>
 
+#include "hapticbench/closest_points.h"
 #include "harness/reference/surface_samples.h"
 
 namespace hb {
@@ -65,20 +66,17 @@ VecX non_negative_least_squares(const MatX& e, const VecX& f) {
   return u;
 }
 
-// Points along the mesh's sharp edges (faces meeting at more than
-// kSharpDegrees, or an open boundary), about `spacing` apart, endpoints
-// excluded: with the vertices they keep a scene's ridges out of the tool
-// between its own samples.
+// The mesh's sharp edges (faces meeting at more than kSharpDegrees, or an
+// open boundary) as pairs of vertex indices.
 constexpr double kSharpDegrees = 5.0;
 
-void add_sharp_edge_points(const TriangleMesh& mesh, const Pose& pose, double spacing,
-                           std::vector<Vec3>& out) {
-  std::vector<std::array<int, 4>> edges;  // (low vertex, high vertex, triangle, unused)
+std::vector<std::array<int, 2>> sharp_edges(const TriangleMesh& mesh) {
+  std::vector<std::array<int, 3>> edges;  // (low vertex, high vertex, triangle)
   edges.reserve(3 * mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      edges.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), 0});
+      edges.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t)});
     }
   std::sort(edges.begin(), edges.end());
   const auto normal = [&](int t) {
@@ -88,18 +86,64 @@ void add_sharp_edge_points(const TriangleMesh& mesh, const Pose& pose, double sp
         .normalized();
   };
   const double sharp_cos = std::cos(kSharpDegrees * M_PI / 180.0);
+  std::vector<std::array<int, 2>> sharp;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
     while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
-    const bool sharp = j - i != 2 || normal(edges[i][2]).dot(normal(edges[i + 1][2])) < sharp_cos;
-    if (sharp) {
-      const Vec3 a = pose.transform_point(mesh.vertices[static_cast<std::size_t>(edges[i][0])]);
-      const Vec3 b = pose.transform_point(mesh.vertices[static_cast<std::size_t>(edges[i][1])]);
-      const int pieces = static_cast<int>(std::ceil((b - a).norm() / spacing));
-      for (int k = 1; k < pieces; ++k) out.push_back(a + (b - a) * (double(k) / pieces));
-    }
+    if (j - i != 2 || normal(edges[i][2]).dot(normal(edges[i + 1][2])) < sharp_cos)
+      sharp.push_back({edges[i][0], edges[i][1]});
     i = j;
   }
+  return sharp;
+}
+
+// The points dividing the edge [a, b] into pieces no longer than `spacing`
+// (m), from a to b, both included.
+std::vector<Vec3> edge_division(const Vec3& a, const Vec3& b, double spacing) {
+  const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+  std::vector<Vec3> points;
+  for (int k = 0; k <= pieces; ++k) points.push_back(a + (b - a) * (double(k) / pieces));
+  return points;
+}
+
+// Points along the mesh's sharp edges, about `spacing` apart, endpoints
+// excluded: with the vertices they keep a scene's ridges out of the tool
+// between its own samples.
+void add_sharp_edge_points(const TriangleMesh& mesh, const Pose& pose, double spacing,
+                           std::vector<Vec3>& out) {
+  for (const auto& [a, b] : sharp_edges(mesh)) {
+    const std::vector<Vec3> points =
+        edge_division(pose.transform_point(mesh.vertices[static_cast<std::size_t>(a)]),
+                      pose.transform_point(mesh.vertices[static_cast<std::size_t>(b)]), spacing);
+    out.insert(out.end(), points.begin() + 1, points.end() - 1);
+  }
+}
+
+// Closest points of the segment [a, b] (on_p) and the triangle (on_q), m,
+// one frame: the nearest of its endpoints against the triangle, the
+// segment against the triangle's edges, and the point where it crosses the
+// triangle's plane (distance 0 where that point is inside).
+SegmentClosestPoints closest_points_of_segment_and_triangle(const Vec3& a, const Vec3& b,
+                                                            const std::array<Vec3, 3>& t) {
+  const auto on_triangle = [&](const Vec3& p) {
+    return closest_point_on_triangle(p, t[0], t[1], t[2]);
+  };
+  SegmentClosestPoints best{a, on_triangle(a)};
+  const auto consider = [&](const Vec3& p, const Vec3& q) {
+    if ((p - q).squaredNorm() < (best.on_p - best.on_q).squaredNorm()) best = {p, q};
+  };
+  consider(b, on_triangle(b));
+  for (int k = 0; k < 3; ++k) {
+    const SegmentClosestPoints edge = closest_points_of_segments(a, b, t[k], t[(k + 1) % 3]);
+    consider(edge.on_p, edge.on_q);
+  }
+  const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double da = n.dot(a - t[0]), db = n.dot(b - t[0]);
+  if ((da < 0) != (db < 0)) {
+    const Vec3 crossing = a + (b - a) * (da / (da - db));
+    consider(crossing, on_triangle(crossing));
+  }
+  return best;
 }
 
 // Sets distance[indices[k]] to the exact distance of points[k] from the
@@ -150,6 +194,15 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
   for (const Vec3& v : tool_mesh.vertices) tool_radius_m_ = std::max(tool_radius_m_, v.norm());
   sample_distance_.assign(tool_samples_.size(), -1.0);
   sample_motion_at_.assign(tool_samples_.size(), 0.0);
+  for (const auto& [a, b] : sharp_edges(tool_mesh)) {
+    const std::vector<Vec3> points =
+        edge_division(tool_mesh.vertices[static_cast<std::size_t>(a)],
+                      tool_mesh.vertices[static_cast<std::size_t>(b)], spacing_m_);
+    for (std::size_t k = 0; k + 1 < points.size(); ++k)
+      tool_edge_pieces_.push_back({points[k], points[k + 1]});
+  }
+  edge_distance_.assign(tool_edge_pieces_.size(), -1.0);
+  edge_motion_at_.assign(tool_edge_pieces_.size(), 0.0);
 
   for (const SceneObject& object : scene) {
     for (const Vec3& v : object.mesh.vertices)
@@ -175,23 +228,65 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
 
 RigidProxyReference::~RigidProxyReference() = default;
 
+// One linearised distance: `out` the unit direction from the scene's point
+// to the tool's, `point` the contact's point (on the scene side).
+void RigidProxyReference::add_row(const Vec3& out, const Vec3& point, double distance, double mu) {
+  Row row;
+  row.point = point;
+  row.a.head<3>() = out;
+  row.a.tail<3>() = (point - proxy_->p).cross(out);
+  row.b = settings_.clearance_m - distance;
+  row.distance = distance;
+  row.friction = mu;
+  rows_.push_back(row);
+}
+
+double RigidProxyReference::friction_of(int32_t object) const {
+  return object >= 0 ? object_friction_[static_cast<std::size_t>(object)] : 0.0;
+}
+
+// The tool's sharp edges, piece by piece, against every scene triangle
+// within the band, by exact segment–triangle distances: a tool ridge
+// crossing a scene ridge between their samples keeps ε too (the samples
+// alone let it sink up to half their spacing). Lower bounds are kept per
+// piece as for the samples.
+void RigidProxyReference::collect_edge_rows(double band) {
+  const Pose& pose = *proxy_;
+  std::vector<std::size_t> far_pieces;
+  std::vector<Vec3> far_middles;
+  for (std::size_t i = 0; i < tool_edge_pieces_.size(); ++i) {
+    if (edge_distance_[i] - (motion_m_ - edge_motion_at_[i]) >= band) continue;
+    const Vec3 a = pose.transform_point(tool_edge_pieces_[i][0]);
+    const Vec3 b = pose.transform_point(tool_edge_pieces_[i][1]);
+    const Vec3 middle = 0.5 * (a + b);
+    scene_->triangles_within(middle, band + 0.5 * (b - a).norm(), near_);
+    ++stats_.point_queries;
+    double least = band;
+    for (const NearTriangle& t : near_) {
+      const SegmentClosestPoints closest = closest_points_of_segment_and_triangle(a, b, t.corners);
+      const double distance = closest.distance();
+      if (distance >= band) continue;
+      least = std::min(least, distance);
+      if (distance > 0)
+        add_row((closest.on_p - closest.on_q) / distance, closest.on_q, distance,
+                friction_of(t.object));
+    }
+    edge_distance_[i] = least;
+    edge_motion_at_[i] = motion_m_;
+    if (near_.empty()) far_pieces.push_back(i), far_middles.push_back(middle);
+  }
+  // A piece is no nearer than its middle less half its length.
+  refresh_distances(*scene_, far_middles, far_pieces, edge_distance_);
+  for (std::size_t i : far_pieces)
+    edge_distance_[i] -= 0.5 * (tool_edge_pieces_[i][1] - tool_edge_pieces_[i][0]).norm();
+}
+
 // Every linearised distance the next step can change by more than its
-// clearance: samples and scene vertices whose distance's lower bound is
+// clearance: samples, tool edge pieces and scene vertices whose distance's lower bound is
 // below `band`, against every triangle within the band.
 void RigidProxyReference::collect_rows(double band) {
   rows_.clear();
   const Pose& pose = *proxy_;
-  const double eps = settings_.clearance_m;
-  const auto add_row = [&](const Vec3& out, const Vec3& point, double distance, double mu) {
-    Row row;
-    row.point = point;
-    row.a.head<3>() = out;
-    row.a.tail<3>() = (point - pose.p).cross(out);
-    row.b = eps - distance;
-    row.distance = distance;
-    row.friction = mu;
-    rows_.push_back(row);
-  };
   // Points with nothing within the band get their exact distance as their
   // bound (one batch per side), so they are not asked again for a while.
   std::vector<std::size_t> far_samples, far_vertices;
@@ -205,14 +300,14 @@ void RigidProxyReference::collect_rows(double band) {
     for (const NearTriangle& t : near_) {
       least = std::min(least, t.distance);
       if (t.distance > 0)
-        add_row((p - t.closest) / t.distance, t.closest, t.distance,
-                t.object >= 0 ? object_friction_[static_cast<std::size_t>(t.object)] : 0.0);
+        add_row((p - t.closest) / t.distance, t.closest, t.distance, friction_of(t.object));
     }
     sample_distance_[i] = least;
     sample_motion_at_[i] = motion_m_;
     if (near_.empty()) far_samples.push_back(i), far_points.push_back(p);
   }
   refresh_distances(*scene_, far_points, far_samples, sample_distance_);
+  collect_edge_rows(band);
   // Scene vertices in the cells the tool's sphere (grown by the band) touches.
   const double reach = tool_radius_m_ + band;
   const Vec3 low = ((pose.p.array() - reach) / cell_m_).floor();

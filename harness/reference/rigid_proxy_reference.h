@@ -9,8 +9,10 @@
 //
 // Geometry comes from the Embree oracle (oracle.h), never from the
 // algorithms' collision code: the tool's surface samples (the points by
-// which the oracles measure penetration) keep a clearance ε from every
-// scene triangle, and every scene vertex keeps ε from every tool triangle.
+// which the oracles measure penetration) and its sharp edges (in pieces,
+// by exact segment–triangle distance) keep a clearance ε from every scene
+// triangle, and every scene vertex and point along a scene's sharp edge
+// keeps ε from every tool triangle.
 // Each iteration solves, exactly (least-distance programming by
 // Lawson–Hanson NNLS), the quadratic program of the energy over the
 // linearised distances to every triangle within a band; a triangle's
@@ -36,6 +38,7 @@
 // Units: m, rad, N, N·m; world frame unless a comment says otherwise.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -112,7 +115,10 @@ class RigidProxyReference {
 
  private:
   struct Row;  // one linearised distance
+  void add_row(const Vec3& out, const Vec3& point, double distance, double mu);
+  double friction_of(int32_t object) const;  ///< μ of a scene object (0 for none)
   void collect_rows(double band);
+  void collect_edge_rows(double band);
   bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const;
   /// The contact rows within 10 ε and their normal forces λ ≥ 0 (N) that
   /// best balance the coupling's pull; residual as
@@ -131,6 +137,8 @@ class RigidProxyReference {
   std::unique_ptr<Oracle> scene_;   ///< world frame
   std::unique_ptr<Oracle> tool_;    ///< tool frame
   std::vector<Vec3> tool_samples_;  ///< tool frame
+  /// The tool's sharp edges in pieces no longer than the sample spacing (tool frame).
+  std::vector<std::array<Vec3, 2>> tool_edge_pieces_;
   double spacing_m_ = 0;
   double tool_radius_m_ = 0;  ///< largest |sample| and |vertex| about the tool origin
   std::vector<Vec3> scene_vertices_;
@@ -143,6 +151,7 @@ class RigidProxyReference {
   // motion bound accumulated since (motion_m_ − motion_at_query).
   std::vector<double> sample_distance_, sample_motion_at_;
   std::vector<double> vertex_distance_, vertex_motion_at_;
+  std::vector<double> edge_distance_, edge_motion_at_;  ///< per tool edge piece
   double motion_m_ = 0;         ///< Σ over applied steps of |δx| + |φ| r (m)
   double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 

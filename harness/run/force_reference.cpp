@@ -18,7 +18,7 @@ namespace {
 
 // Bump when the reference's results change for the same inputs.
 // 3: the coupling's damper in the display; 4: the friction's moment.
-constexpr int kReferenceVersion = 4;
+constexpr int kReferenceVersion = 5;
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;

@@ -1,7 +1,8 @@
 // The mesh force reference against what is known without it: the closed
 // forms of the analytic reference on every analytic scenario given as
 // meshes (the trust chain), a thin wall it must not pass, a hook turned
-// about its tip that must not sink (the Embree oracle at every tick), a
+// about its tip that must not sink (the Embree oracle at every tick), two
+// ridges crossing between their samples, a
 // start inside, and the convergence residual it reports.
 #include "harness/reference/rigid_proxy_reference.h"
 
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "hapticbench/closest_points.h"
 #include "harness/reference/surface_samples.h"
 #include "harness/scenario/scenario.h"
 #include "tests/support/proxy_fixtures.h"
@@ -227,6 +229,50 @@ TEST_CASE("the mesh reference keeps a hook turned about its tip out of the slab"
     CHECK(deepest == 0.0);
     CHECK(peak_force > 3.0);  // the tip was held 2 mm above where the device took it
   }
+}
+
+TEST_CASE("the mesh reference keeps two 90-degree wedges crossing at right angles apart") {
+  // A 10 cm cube turned 45 degrees about x (its top ridge along x) and a
+  // 4 cm cube tool turned 45 degrees about y in the tool frame (its lowest
+  // ridge along y). Pressed 2 mm past contact and slid diagonally, the
+  // ridges cross at a point that runs along both, mostly between the
+  // samples of either (spacing ~1.7 mm: up to ~0.9 mm hidden between them).
+  const double root_half = std::sqrt(0.5);
+  const Quat about_x(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitX()));
+  std::vector<SceneObject> scene = {
+      test::box_object(Vec3::Constant(0.1), Pose{Vec3::Zero(), about_x})};
+  scene[0].mesh = shape_mesh(*scene[0].shape);
+  TriangleMesh tool_mesh = test::meshed_box_tool(Vec3::Constant(0.04)).mesh;
+  const Quat about_y(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitY()));
+  for (Vec3& v : tool_mesh.vertices) v = about_y * v;
+  const double scene_ridge_z = 0.05 / root_half, tool_ridge_z = -0.02 / root_half;
+  RigidProxySettings settings;
+  settings.friction = false;
+  RigidProxyReference reference(scene, tool_mesh, test::example_gains(), settings);
+  REQUIRE(reference.sample_spacing_m() > 1e-3);
+
+  const Vec3 scene_ridge[2] = {Vec3(-0.05, 0, scene_ridge_z), Vec3(0.05, 0, scene_ridge_z)};
+  const Vec3 tool_ridge[2] = {Vec3(0, -0.02, tool_ridge_z), Vec3(0, 0.02, tool_ridge_z)};
+  double closest = 1, least_force = 1e9;
+  for (int tick = -50; tick <= 400; ++tick) {
+    // From 5 mm above down to 2 mm past contact, then both ridges' crossing
+    // point moves 3 cm.
+    const double s = -0.015 + 0.03 * std::max(tick, 0) / 400.0;
+    const double depth = tick < 0 ? -0.005 + 0.007 * (tick + 50) / 50.0 : 0.002;
+    const Pose device{Vec3(s, -0.7 * s, scene_ridge_z - tool_ridge_z - depth), Quat::Identity()};
+    const std::optional<IdealRendering> ideal = reference.update(device);
+    REQUIRE(ideal);
+    if (tick < 0) continue;
+    const SegmentClosestPoints ridges = closest_points_of_segments(
+        ideal->proxy.transform_point(tool_ridge[0]), ideal->proxy.transform_point(tool_ridge[1]),
+        scene_ridge[0], scene_ridge[1]);
+    // Signed: the tool's ridge above the scene's.
+    closest = std::min(closest, (ridges.on_p - ridges.on_q).z());
+    least_force = std::min(least_force, ideal->display.force.z());
+  }
+  INFO("closest ridge approach " << closest << " m, least upward force " << least_force << " N");
+  CHECK(least_force > 3.0);  // pressed all the way
+  CHECK(closest >= reference.clearance_m() - 1e-9);
 }
 
 TEST_CASE("the mesh reference does not pass a 2 mm wall at 4 m/s") {
