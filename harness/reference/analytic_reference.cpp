@@ -10,6 +10,8 @@
 #include <limits>
 #include <numbers>
 
+#include "algorithms/contact/frictional_contact_solver.h"  // perpendicular_unit
+
 namespace hb {
 namespace {
 
@@ -421,12 +423,31 @@ IdealRendering FrictionalContactReference::update(const Pose& device) {
     offset = kept - n.dot(kept) * n;
   }
   const double limit_m = scene_.friction * std::max(normal_force, 0.0) / k_t;
+  const bool sphere = scene_.tool_shape.type == ShapeType::kSphere;
+  if (sphere && last_proxy_p_ && last_normal_.dot(n) > 1 - 1e-12) {
+    // A sticking sphere may still roll and spin about its contact point
+    // (no point of it slides): the pose that minimises the coupling energy
+    // among those rolled from the last one.
+    const Pose rolled = rolled_sphere(
+        *last_proxy_p_ - n.dot(*last_proxy_p_ - rendering.proxy.p) * n, last_proxy_q_, n, device);
+    const Vec3 pull = k_t * (rolled.p - device.p);
+    if ((pull - n.dot(pull) * n).norm() <= scene_.friction * std::max(normal_force, 0.0)) {
+      sticking_ = true;
+      rendering.proxy = rolled;
+      rendering.display.force = pull;
+      rendering.display.torque =
+          -scene_.coupling.k_r * rotation_vector(device.q * rolled.q.conjugate());
+      last_proxy_p_ = rolled.p;
+      last_proxy_q_ = rolled.q;
+      return rendering;
+    }
+  }
   const double length = offset.norm();
-  sticking_ = length <= limit_m;
-  if (!sticking_) offset *= limit_m / length;
+  sticking_ = length <= limit_m;  // a sphere gets here sticking only at its first touch
+  if (length > limit_m) offset *= limit_m / length;
   rendering.proxy.p += offset;
   rendering.display.force += k_t * offset;
-  if (scene_.tool_shape.type == ShapeType::kSphere) {
+  if (sphere) {
     // The friction acts at the contact point, r below the centre along −n:
     // its moment about the tool origin (the centre), which the proxy's
     // rotational coupling balances by turning: θ(q_h q_p⁻¹) = −τ / k_R.
@@ -439,8 +460,47 @@ IdealRendering FrictionalContactReference::update(const Pose& device) {
               .normalized();
   }
   last_proxy_p_ = rendering.proxy.p;
+  last_proxy_q_ = rendering.proxy.q;
   last_normal_ = n;
   return rendering;
+}
+
+// The sphere rolled from (p, q) on the face with unit normal n: turned by
+// φ = (n × Δ) / r + s n while its centre moves by Δ ⟂ n, so that the point
+// touching the face does not slide (rolling and spinning only). Minimises
+// ½ k_T |p' − p_h|² + ½ k_R |θ(q_h q'⁻¹)|² over (Δ, s) by Gauss–Newton
+// steps (the energy is quadratic to first order in the rotation; three
+// unknowns, converged to rounding in a few steps).
+Pose FrictionalContactReference::rolled_sphere(const Vec3& p, const Quat& q, const Vec3& n,
+                                               const Pose& device) const {
+  const double r = scene_.tool_shape.radius;
+  const Vec3 u = perpendicular_unit(n), v = n.cross(u);
+  const double sk_t = std::sqrt(scene_.coupling.k_t), sk_r = std::sqrt(scene_.coupling.k_r);
+  const auto pose_at = [&](const Vec3& x) {
+    const Vec3 shift = x[0] * u + x[1] * v;
+    return Pose{p + shift,
+                (quat_from_rotation_vector(n.cross(shift) / r + x[2] * n) * q).normalized()};
+  };
+  const auto residual = [&](const Vec3& x) {
+    const Pose at = pose_at(x);
+    Vec6 e;
+    e << sk_t * (at.p - device.p), sk_r * rotation_vector(device.q * at.q.conjugate());
+    return e;
+  };
+  Vec3 x = Vec3::Zero();
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    const Vec6 e = residual(x);
+    Eigen::Matrix<double, 6, 3> jacobian;
+    for (int k = 0; k < 3; ++k) {
+      Vec3 h = Vec3::Zero();
+      h[k] = 1e-7 * (k < 2 ? r : 1.0);
+      jacobian.col(k) = (residual(x + h) - residual(x - h)) / (2 * h[k]);
+    }
+    const Vec3 step = -(jacobian.transpose() * jacobian).ldlt().solve(jacobian.transpose() * e);
+    x += step;
+    if (step.head<2>().norm() < 1e-13 && std::abs(step[2]) < 1e-12) break;
+  }
+  return pose_at(x);
 }
 
 double exact_penetration_depth(const AnalyticScene& scene, const Pose& tool_pose) {

@@ -99,33 +99,41 @@ IdealRendering ideal_rigid_contact(const AnalyticScene& scene, const Pose& devic
 
 /// The ideal rendering with Coulomb friction μ = scene.friction at the box,
 /// followed tick by tick, since with friction the ideal proxy depends on the
-/// path. Quasi-static and translational: while the frictionless ideal proxy
+/// path. Quasi-static: while the frictionless ideal proxy
 /// (ideal_rigid_contact) rests on one face of the box, with outward normal n
 /// and normal force F_n (its display force along n), the frictional proxy
-/// sits at p = p₀ + d with d ⟂ n. It keeps its place on the face while the
-/// tangential coupling force k_T |d| ≤ μ F_n (stick); otherwise it slides,
-/// staying behind the device in the same direction with k_T |d| = μ F_n
-/// (slip). The display adds k_T d to the frictionless force. Out of contact,
-/// when the face changes, and where the sphere's ideal proxy lies on a
-/// rounded edge or corner rather than on one face, d is dropped. A sphere
-/// tool's display adds the friction's moment about its centre, (−r n) ×
-/// k_T d, and its proxy turns so that the rotational coupling balances it;
-/// for a box tool that moment (which depends on where on its contact
-/// region the friction acts) is not modelled, nor is a proxy kept by
-/// friction beyond the face's edge. With μ = 0 it returns
-/// ideal_rigid_contact unchanged.
+/// sits at p = p₀ + d with d ⟂ n. A box tool keeps its place on the face
+/// while the tangential coupling force k_T |d| ≤ μ F_n (stick; the face
+/// carries the tipping moment, so it does not turn). A sphere tool sticking
+/// may still roll and pivot about its contact point (no point of it
+/// slides): its pose is the one of least coupling energy among those rolled
+/// from the last (rolled_sphere), held while its tangential force is at
+/// most μ F_n; the rotational coupling is then in series with the
+/// translational one, (1/k_T + r²/k_R)⁻¹ along the face. Otherwise the
+/// proxy slides, staying behind the device in the same direction with
+/// k_T |d| = μ F_n (slip); the display adds k_T d to the frictionless force,
+/// and a sphere's the friction's moment about its centre, (−r n) × k_T d,
+/// its proxy turned so that the rotational coupling balances it. Out of
+/// contact, when the face changes, and where the sphere's ideal proxy lies
+/// on a rounded edge or corner rather than on one face, d is dropped. Not
+/// modelled: a box tool's friction against a twist (it depends on how the
+/// load spreads over its face), a proxy kept by friction beyond the face's
+/// edge. With μ = 0 it returns ideal_rigid_contact unchanged.
 class FrictionalContactReference {
  public:
   explicit FrictionalContactReference(const AnalyticScene& scene) : scene_(scene) {}
   /// The ideal rendering for the next device pose.
   IdealRendering update(const Pose& device);
-  /// The last update was in contact on one face and the proxy kept its place.
+  /// The last update was in contact on one face and no point of the tool slid (a sphere may roll).
   bool sticking() const { return sticking_; }
 
  private:
+  Pose rolled_sphere(const Vec3& p, const Quat& q, const Vec3& n, const Pose& device) const;
+
   const AnalyticScene& scene_;
   std::optional<Vec3> last_proxy_p_;  ///< m, world: the proxy's position at the last face contact
-  Vec3 last_normal_ = Vec3::Zero();   ///< unit, world: that contact's face normal
+  Quat last_proxy_q_ = Quat::Identity();  ///< the proxy's orientation then
+  Vec3 last_normal_ = Vec3::Zero();       ///< unit, world: that contact's face normal
   bool sticking_ = false;
 };
 

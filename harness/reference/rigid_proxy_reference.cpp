@@ -7,6 +7,7 @@
 #include <span>
 
 #include "hapticbench/closest_points.h"
+#include "harness/reference/contact_support.h"
 #include "harness/reference/surface_samples.h"
 
 namespace hb {
@@ -146,6 +147,43 @@ SegmentClosestPoints closest_points_of_segment_and_triangle(const Vec3& a, const
   return best;
 }
 
+// Which of a point's near triangles need no row of their own: triangle k,
+// whose point nearest the query (`to[k]`, from `from[k]` on the query's
+// side) lies on its boundary, is implied by a triangle j whose nearest
+// point is interior (the row is j's plane) when triangle k lies wholly on
+// or behind that plane (a coplanar neighbour, a convex surface): keeping
+// the query ε in front of the plane keeps it ε from triangle k. Dropped,
+// the boundary row's tilted normal cannot make a false corner where two
+// coplanar triangles meet (with friction, a corner that jams a sliding
+// contact; without, one that leans on it). All arguments in one frame.
+std::vector<char> implied_triangles(std::span<const Vec3> from, std::span<const Vec3> to,
+                                    std::span<const std::array<Vec3, 3>> corners) {
+  constexpr double kBehindM = 1e-10;  // m: "on the plane" for rounding
+  const std::size_t n = corners.size();
+  std::vector<char> implied(n, 0);
+  if (n < 2) return implied;
+  std::vector<Vec3> plane_normal(n, Vec3::Zero());  // unit, toward the query; 0 if not interior
+  for (std::size_t j = 0; j < n; ++j) {
+    const Vec3 out = from[j] - to[j];
+    const Vec3 normal = (corners[j][1] - corners[j][0]).cross(corners[j][2] - corners[j][0]);
+    if (!(out.norm() > 0) || !(normal.norm() > 0)) continue;
+    const double along = normal.normalized().dot(out.normalized());
+    if (std::abs(along) >= 1 - 1e-9)
+      plane_normal[j] = (along > 0 ? 1.0 : -1.0) * normal.normalized();
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!plane_normal[k].isZero()) continue;  // interior rows are always kept
+    for (std::size_t j = 0; j < n && !implied[k]; ++j) {
+      if (j == k || plane_normal[j].isZero()) continue;
+      bool behind = true;
+      for (const Vec3& c : corners[k])
+        behind = behind && plane_normal[j].dot(c - to[j]) <= kBehindM;
+      implied[k] = behind;
+    }
+  }
+  return implied;
+}
+
 // Sets distance[indices[k]] to the exact distance of points[k] from the
 // oracle's surface.
 void refresh_distances(const Oracle& oracle, std::span<const Vec3> points,
@@ -241,6 +279,23 @@ void RigidProxyReference::add_row(const Vec3& out, const Vec3& point, double dis
   rows_.push_back(row);
 }
 
+std::vector<char> RigidProxyReference::implied_near_triangles(const Vec3& query) const {
+  std::vector<Vec3> from(near_.size(), query), to;
+  std::vector<std::array<Vec3, 3>> corners;
+  for (const NearTriangle& t : near_) to.push_back(t.closest), corners.push_back(t.corners);
+  return implied_triangles(from, to, corners);
+}
+
+// A frictional update converges at this multiple of the step tolerance.
+constexpr double kFrictionalStepToleranceFactor = 10;
+
+// Rounds of the frictional solve that may add rows its answer violates.
+constexpr int kFrictionRounds = 8;
+
+// A contact whose tool point slid less than this along its face over an
+// update stuck (m: the solves' tolerance, far below a slide's tick).
+constexpr double kStickSlipM = 1e-7;
+
 double RigidProxyReference::friction_of(int32_t object) const {
   return object >= 0 ? object_friction_[static_cast<std::size_t>(object)] : 0.0;
 }
@@ -262,14 +317,22 @@ void RigidProxyReference::collect_edge_rows(double band) {
     scene_->triangles_within(middle, band + 0.5 * (b - a).norm(), near_);
     ++stats_.point_queries;
     double least = band;
+    std::vector<Vec3> on_piece, on_triangle;
+    std::vector<std::array<Vec3, 3>> corners;
     for (const NearTriangle& t : near_) {
       const SegmentClosestPoints closest = closest_points_of_segment_and_triangle(a, b, t.corners);
-      const double distance = closest.distance();
+      on_piece.push_back(closest.on_p);
+      on_triangle.push_back(closest.on_q);
+      corners.push_back(t.corners);
+    }
+    const std::vector<char> implied = implied_triangles(on_piece, on_triangle, corners);
+    for (std::size_t k = 0; k < near_.size(); ++k) {
+      const double distance = (on_piece[k] - on_triangle[k]).norm();
       if (distance >= band) continue;
       least = std::min(least, distance);
-      if (distance > 0)
-        add_row((closest.on_p - closest.on_q) / distance, closest.on_q, distance,
-                friction_of(t.object));
+      if (distance > 0 && !implied[k])
+        add_row((on_piece[k] - on_triangle[k]) / distance, on_triangle[k], distance,
+                friction_of(near_[k].object));
     }
     edge_distance_[i] = least;
     edge_motion_at_[i] = motion_m_;
@@ -297,9 +360,11 @@ void RigidProxyReference::collect_rows(double band) {
     scene_->triangles_within(p, band, near_);
     ++stats_.point_queries;
     double least = band;
-    for (const NearTriangle& t : near_) {
+    const std::vector<char> implied = implied_near_triangles(p);
+    for (std::size_t k = 0; k < near_.size(); ++k) {
+      const NearTriangle& t = near_[k];
       least = std::min(least, t.distance);
-      if (t.distance > 0)
+      if (t.distance > 0 && !implied[k])
         add_row((p - t.closest) / t.distance, t.closest, t.distance, friction_of(t.object));
     }
     sample_distance_[i] = least;
@@ -326,10 +391,12 @@ void RigidProxyReference::collect_rows(double band) {
           tool_->triangles_within(pose.inverse_transform_point(v), band, near_);
           ++stats_.point_queries;
           double least = band;
-          for (const NearTriangle& t : near_) {
+          const std::vector<char> implied = implied_near_triangles(pose.inverse_transform_point(v));
+          for (std::size_t k = 0; k < near_.size(); ++k) {
+            const NearTriangle& t = near_[k];
             least = std::min(least, t.distance);
             const Vec3 closest = pose.transform_point(t.closest);
-            if (t.distance > 0)
+            if (t.distance > 0 && !implied[k])
               add_row((closest - v) / t.distance, closest, t.distance, scene_vertex_friction_[j]);
           }
           vertex_distance_[j] = least;
@@ -345,33 +412,68 @@ void RigidProxyReference::collect_rows(double band) {
 
 // The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row:
 // with z = S(δ − g), S = K^½, a least-distance program min |z| subject to
-// (a S⁻¹) z ≥ b − a·g, solved by NNLS (Lawson and Hanson, ch. 23).
-bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const {
-  Vec6 g;
-  g << gx, gphi;
+// (a S⁻¹) z ≥ b − a·g, solved by NNLS (Lawson and Hanson, ch. 23). With
+// `forces`, the rows' multipliers y ≥ 0 (N, N·m per unit of the row), for
+// which K(δ − g) = Σ y_j a_j. False when no step satisfies every row.
+bool RigidProxyReference::least_distance_step(std::span<const Vec6> a, std::span<const double> b,
+                                              const Vec6& g, Vec6& step, VecX* forces) const {
   Vec6 s_inverse;
   s_inverse << Vec3::Constant(1 / std::sqrt(gains_.k_t)), Vec3::Constant(1 / std::sqrt(gains_.k_r));
-  const auto m = static_cast<Eigen::Index>(rows_.size());
+  const auto m = static_cast<Eigen::Index>(a.size());
   bool binding = false;
-  for (const Row& row : rows_) binding = binding || row.a.dot(g) < row.b;
+  for (Eigen::Index j = 0; j < m; ++j) binding = binding || a[j].dot(g) < b[j];
   if (!binding) {
     step = g;
+    if (forces) *forces = VecX::Zero(m);
     return true;
   }
   MatX e(7, m);
   VecX f = VecX::Zero(7);
   f[6] = 1;
   for (Eigen::Index j = 0; j < m; ++j) {
-    const Row& row = rows_[static_cast<std::size_t>(j)];
-    e.col(j).head<6>() = row.a.cwiseProduct(s_inverse);
-    e(6, j) = row.b - row.a.dot(g);
+    e.col(j).head<6>() = a[j].cwiseProduct(s_inverse);
+    e(6, j) = b[j] - a[j].dot(g);
   }
   const VecX u = non_negative_least_squares(e, f);
   const VecX r = e * u - f;
   if (!(std::abs(r[6]) > 1e-12)) return false;  // no step satisfies every row
   const Vec6 z = -r.head<6>() / r[6];
   step = g + z.cwiseProduct(s_inverse);
+  if (forces) *forces = -u / r[6];
   return true;
+}
+
+bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) {
+  Vec6 g;
+  g << gx, gphi;
+  row_a_.clear();
+  row_b_.clear();
+  for (const Row& row : rows_) row_a_.push_back(row.a), row_b_.push_back(row.b);
+  return least_distance_step(row_a_, row_b_, g, step, nullptr);
+}
+
+// The stick step: the rows `locked` (of friction_rows_) keep their tool
+// points where they are along their faces (T δ = 0 for both tangents:
+// rolling and pivoting about them stay free), every row of friction_rows_
+// keeps its normal bound; exact, by the least-distance program, so that a
+// contact the sweeps found sticking does not drift by their tolerance.
+bool RigidProxyReference::stick_step(const Vec6& g, std::span<const std::size_t> locked,
+                                     Vec6& step) {
+  row_a_.clear();
+  row_b_.clear();
+  for (const FrictionalContactRow& row : friction_rows_)
+    row_a_.push_back((Vec6() << row.normal, row.lever.cross(row.normal)).finished()),
+        row_b_.push_back(row.bound);
+  for (std::size_t k : locked) {
+    const FrictionalContactRow& row = friction_rows_[k];
+    const Vec3 t1 = perpendicular_unit(row.normal), t2 = row.normal.cross(t1);
+    for (const Vec3& t : {t1, t2}) {
+      const Vec6 a = (Vec6() << t, row.lever.cross(t)).finished();
+      row_a_.push_back(a), row_b_.push_back(0);
+      row_a_.push_back(-a), row_b_.push_back(0);
+    }
+  }
+  return least_distance_step(row_a_, row_b_, g, step, nullptr);
 }
 
 RigidProxyReference::Balance RigidProxyReference::balance(const Vec3& gx, const Vec3& gphi) const {
@@ -402,47 +504,103 @@ RigidProxyReference::Balance RigidProxyReference::balance(const Vec3& gx, const 
   return out;
 }
 
-void RigidProxyReference::apply_friction(const Balance& contacts, const Pose& device,
-                                         IdealRendering& rendering) {
-  double limit_n = 0;  // Σ μ_i λ_i
-  for (std::size_t j = 0; j < contacts.rows.size(); ++j)
-    limit_n += contacts.rows[j]->friction * contacts.normal_force[j];
-  const Vec3 force = rendering.display.force;
-  if (!rendering.in_contact || !(limit_n > 0) || !(force.norm() > 0)) {
-    friction_proxy_p_.reset();
-    return;
+// The frictional step: the quasi-static incremental problem with one
+// Coulomb cone per row (Signorini, |f_t| ≤ μ f_n, maximal dissipation),
+// solved by the constrained-contact Gauss–Seidel with its Alart–Curnier
+// polish (frictional_contact_solver.h) with R = K⁻¹ and the pull g as the
+// free motion; then finished exactly: the step nearest to its answer (in
+// the energy's metric) that keeps every row, by solve_step, so no row is
+// left violated by the sweeps' tolerance and no normal lift is added.
+bool RigidProxyReference::solve_frictional_step(const Vec3& gx, const Vec3& gphi, Vec6& step) {
+  Vec6 g;
+  g << gx, gphi;
+  bool binding = false;
+  for (const Row& row : rows_) binding = binding || row.a.dot(g) < row.b;
+  if (!binding) {  // nothing pushes: no contact force, no friction
+    step = g;
+    friction_ = {};
+    return true;
   }
-  stats_.friction_limit_n = limit_n;
-  const Vec3 n = force.normalized();
-  Vec3 offset = Vec3::Zero();  // m, ⟂ n: the frictional proxy relative to the frictionless one
-  if (friction_proxy_p_) {
-    const Vec3 kept = *friction_proxy_p_ - rendering.proxy.p;
-    offset = kept - n.dot(kept) * n;
+  // The rows the pull violates, and the contacts (within 10 ε); more while
+  // the answer violates others. Of those, the rows that carry what all do
+  // (contact_support.h): a face's hundreds of sample rows, or a sphere's
+  // cap of rows that cannot bind, would leave the sweeps creeping.
+  std::vector<char> taken(rows_.size(), 0);
+  for (std::size_t i = 0; i < rows_.size(); ++i)
+    taken[i] = rows_[i].a.dot(g) < rows_[i].b || rows_[i].distance <= 10 * settings_.clearance_m;
+  Mat6 response = Mat6::Zero();
+  response.diagonal() << Vec3::Constant(1 / gains_.k_t), Vec3::Constant(1 / gains_.k_r);
+  std::vector<ContactRowGeometry> geometry;
+  std::vector<std::size_t> taken_rows;
+  std::vector<Vec3> forces;  // per row of friction_rows_: (λ, t1, t2), N
+  Vec6 answer = g;
+  for (int round = 0; round < kFrictionRounds; ++round) {
+    geometry.clear();
+    taken_rows.clear();
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      if (taken[i]) {
+        const Row& row = rows_[i];
+        geometry.push_back({row.point, row.a.head<3>(), row.b, row.friction});
+        taken_rows.push_back(i);
+      }
+    friction_rows_.clear();
+    for (std::size_t k : supporting_rows(geometry)) {
+      const Row& row = rows_[taken_rows[k]];
+      friction_rows_.push_back({row.a.head<3>(), row.point - proxy_->p, row.b, row.friction});
+    }
+    // Warm: the last solve's forces where it had the same rows (the next
+    // iteration of an update, or the next update at rest), so that the
+    // sweeps go on converging from where they stopped.
+    bool same = warm_rows_.size() == friction_rows_.size();
+    for (std::size_t k = 0; same && k < friction_rows_.size(); ++k)
+      same = (warm_rows_[k].first - (friction_rows_[k].lever + proxy_->p)).norm() < 1e-9 &&
+             (warm_rows_[k].second - friction_rows_[k].normal).norm() < 1e-9;
+    const FrictionalContactSolution* solution = &friction_solver_.solve(
+        response, g, friction_rows_,
+        same ? std::span<const Vec3>(warm_forces_) : std::span<const Vec3>());
+    warm_rows_.clear();
+    for (const FrictionalContactRow& row : friction_rows_)
+      warm_rows_.push_back({row.lever + proxy_->p, row.normal});
+    warm_forces_ = solution->impulses;
+    answer = solution->velocity;
+    forces = solution->impulses;
+    // Every loaded contact stuck (its tool point slid less than
+    // kStickSlipM): the exact stick step instead of the sweeps' answer.
+    std::vector<std::size_t> locked;
+    bool stuck = true;
+    for (std::size_t k = 0; k < friction_rows_.size() && stuck; ++k) {
+      const FrictionalContactRow& row = friction_rows_[k];
+      if (!(forces[k].x() > 0) || !(row.friction > 0)) continue;
+      const Vec3 slip = answer.head<3>() + answer.tail<3>().cross(row.lever);
+      stuck = (slip - row.normal.dot(slip) * row.normal).norm() <= kStickSlipM;
+      locked.push_back(k);
+    }
+    Vec6 held;
+    if (stuck && !locked.empty() && stick_step(g, locked, held)) answer = held;
+    bool more = false;
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      if (!taken[i] && rows_[i].a.dot(answer) < rows_[i].b) taken[i] = more = true;
+    if (!more) break;
   }
-  const double limit_m = limit_n / gains_.k_t;
-  const double length = offset.norm();
-  stats_.sticking = length <= limit_m;
-  if (!stats_.sticking) offset *= limit_m / length;
-  // The friction's moment about the tool origin: the friction force acts
-  // at the contacts, taken at their load-weighted centroid (exact for one
-  // contact point, a sphere's; on a face the split of the load between
-  // redundant rows is arbitrary, and with it the twisting part). The proxy
-  // turns so that its rotational coupling balances it.
-  Vec3 centroid = Vec3::Zero();
-  double load = 0;
-  for (std::size_t j = 0; j < contacts.rows.size(); ++j) {
-    centroid += contacts.normal_force[j] * contacts.rows[j]->point;
-    load += contacts.normal_force[j];
+  friction_ = {};
+  Vec3 normal_resultant = Vec3::Zero();
+  for (std::size_t k = 0; k < friction_rows_.size(); ++k) {
+    const FrictionalContactRow& row = friction_rows_[k];
+    const Vec3& impulse = forces[k];
+    if (!(impulse.x() > 0)) continue;
+    friction_.limit_n += row.friction * impulse.x();
+    normal_resultant += impulse.x() * row.normal;
+    if (row.friction > 0) friction_.loaded.push_back({row.lever + proxy_->p, row.normal});
   }
-  const Vec3 lever = load > 0 ? Vec3(centroid / load - rendering.proxy.p) : Vec3::Zero();
-  const Vec3 moment = lever.cross(gains_.k_t * offset);
-  rendering.proxy.p += offset;
-  rendering.display.force = gains_.k_t * (rendering.proxy.p - device.p);
-  rendering.display.torque += moment;
-  if (gains_.k_r > 0)
-    rendering.proxy.q =
-        (quat_from_rotation_vector(moment / gains_.k_r) * rendering.proxy.q).normalized();
-  friction_proxy_p_ = rendering.proxy.p;
+  if (normal_resultant.norm() > 0) friction_.normal = normal_resultant.normalized();
+  // The share of the pull the contact forces leave unbalanced: with
+  // δ = g + K⁻¹ w, |S⁻¹ w + S g| / |S g| = |S δ| / |S g|.
+  const Vec6 s =
+      (Vec6() << Vec3::Constant(std::sqrt(gains_.k_t)), Vec3::Constant(std::sqrt(gains_.k_r)))
+          .finished();
+  friction_.residual = answer.cwiseProduct(s).norm() / g.cwiseProduct(s).norm();
+  friction_.active = true;
+  return solve_step(answer.head<3>(), answer.tail<3>(), step);
 }
 
 bool RigidProxyReference::start_at(const Pose& device) {
@@ -485,15 +643,19 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
   stats_ = RigidProxyUpdateStats{};
   if (!proxy_ && !start_at(device)) return std::nullopt;
   Pose& pose = *proxy_;
+  const Pose start = pose;
   const double eps = settings_.clearance_m;
   const double rotation_limit = std::sqrt(eps / std::max(tool_radius_m_, 1e-9));
   Vec3 gx, gphi;
+  Vec6 last_step = Vec6::Zero();  // (m, rad) the last iteration's step before scaling
+  double damping = 1;             // halved at each frictional reversal
   for (;;) {
     gx = device.p - pose.p;
     gphi = rotation_vector(device.q * pose.q.conjugate());
     const double full = gx.norm() + gphi.norm() * tool_radius_m_;
     if (full <= settings_.step_tolerance_m) {
       rows_.clear();
+      friction_ = {};
       stats_.converged = true;
       break;
     }
@@ -506,15 +668,32 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
         std::clamp(std::min(full, band_hint_m_), 4 * eps, settings_.band_max_m) + eps;
     collect_rows(band);
     stats_.constraints = static_cast<int>(rows_.size());
+    friction_ = {};
+    const bool frictional =
+        settings_.friction &&
+        std::any_of(rows_.begin(), rows_.end(), [](const Row& row) { return row.friction > 0; });
     Vec6 step;
-    if (!solve_step(gx, gphi, step)) {
+    if (!(frictional ? solve_frictional_step(gx, gphi, step) : solve_step(gx, gphi, step))) {
       stats_.infeasible = true;
       break;
     }
     const Vec3 dx = step.head<3>();
     const Vec3 phi = step.tail<3>();
     const double moves = dx.norm() + phi.norm() * tool_radius_m_;
-    if (moves <= settings_.step_tolerance_m) {
+    // A frictional step that turns back on the last one (the contacts'
+    // linearisations alternating between two sets, each sending the proxy
+    // back toward the other) is halved, and so on at each reversal: the
+    // alternation converges to the pose between them.
+    if (frictional && last_step.dot(step) < -0.5 * last_step.norm() * step.norm()) damping *= 0.5;
+    last_step = step;
+    // The frictional sweeps' answer is good to a few nanometres where a
+    // contact's normal and tangential forces are strongly coupled through
+    // the tool's rotation (their error then drifts the proxy by that much
+    // each iteration): a frictional update ends at ten times the tolerance.
+    const double tolerance = frictional
+                                 ? kFrictionalStepToleranceFactor * settings_.step_tolerance_m
+                                 : settings_.step_tolerance_m;
+    if (damping * moves <= tolerance) {
       stats_.converged = true;
       break;
     }
@@ -522,22 +701,33 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     band_hint_m_ = scale < 1 ? 4 * band : 2 * moves;
     if (!rows_.empty() && phi.norm() > rotation_limit)
       scale = std::min(scale, rotation_limit / phi.norm());
+    scale *= damping;
     pose.p += scale * dx;
     pose.q = (quat_from_rotation_vector(scale * phi) * pose.q).normalized();
     motion_m_ += scale * moves;
   }
-  const Balance contacts = balance(gx, gphi);
-  stats_.kkt_residual = rows_.empty() ? 0.0 : contacts.residual;
-
   IdealRendering rendering;
   rendering.proxy = pose;
   rendering.display.force = gains_.k_t * (pose.p - device.p);
   rendering.display.torque = -gains_.k_r * rotation_vector(device.q * pose.q.conjugate());
   for (const Row& row : rows_)
     rendering.in_contact = rendering.in_contact || row.distance <= 10 * eps;
-  if (rendering.in_contact && rendering.display.force.norm() > 0)
-    rendering.contact_normal = rendering.display.force.normalized();
-  apply_friction(contacts, device, rendering);
+  if (friction_.active) {
+    stats_.kkt_residual = friction_.residual;
+    stats_.friction_limit_n = friction_.limit_n;
+    // Sticking: no loaded frictional contact's tool point slid along its
+    // face over the update (rolling and pivoting do not slide).
+    stats_.sticking = friction_.limit_n > 0;
+    for (const auto& [point, normal] : friction_.loaded) {
+      const Vec3 slip = point - start.transform_point(pose.inverse_transform_point(point));
+      if ((slip - normal.dot(slip) * normal).norm() > kStickSlipM) stats_.sticking = false;
+    }
+    if (rendering.in_contact) rendering.contact_normal = friction_.normal;
+  } else {
+    stats_.kkt_residual = rows_.empty() ? 0.0 : balance(gx, gphi).residual;
+    if (rendering.in_contact && rendering.display.force.norm() > 0)
+      rendering.contact_normal = rendering.display.force.normalized();
+  }
   return rendering;
 }
 

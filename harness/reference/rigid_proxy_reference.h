@@ -24,17 +24,19 @@
 // KKT residual at the end is the share of the coupling's pull (in the
 // energy's metric) that the contact normals cannot balance.
 //
-// Coulomb friction (μ > 0 on a scene object) is the analytic reference's
-// quasi-static translational model (FrictionalContactReference), carried to
-// any contact: with F the frictionless proxy's display force and n = F/|F|,
-// the frictional proxy sits at p₀ + d with d ⟂ n; it keeps its place while
-// k_t |d| ≤ Σ μ_i λ_i (the contacts' normal forces λ_i, from the balance
-// that gives the KKT residual, each with its object's μ; μ F_n on one
-// face), and otherwise slides behind the device with k_t |d| equal to it.
-// The display adds k_t d. Out of contact d is dropped. Not modelled, as in
-// the analytic reference: the friction's torque (orientation and torque
-// are the frictionless proxy's) and a proxy kept beyond a face's edge; on a
-// curved surface the offset proxy is off the surface by about |d|²/(2R).
+// Coulomb friction (μ > 0 on a scene object) is quasi-static and
+// path dependent: the proxy's pose, frictional, is carried from update to
+// update, and each iteration whose rows carry friction solves the
+// incremental problem from where the proxy stands, one Coulomb cone per
+// row (Signorini; |f_t| ≤ μ f_n; sliding contacts oppose their slip with
+// μ f_n, maximal dissipation), by the constrained-contact solver
+// (frictional_contact_solver.h) with the coupling's compliance K⁻¹ as its
+// response; its answer is finished by the exact program above (the
+// nearest step that keeps every row), so the sweeps' tolerance never lets
+// a row be violated. The friction's force and moment both act on the
+// proxy: the display carries them through the coupling (a sphere dragged
+// on a face turns by r μ F_n / k_r, a box twisted on its face resists with
+// the pivot torque of its contact rows).
 // Units: m, rad, N, N·m; world frame unless a comment says otherwise.
 #pragma once
 
@@ -42,8 +44,10 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
+#include "algorithms/contact/frictional_contact_solver.h"
 #include "hapticbench/pose.h"
 #include "hapticbench/scene.h"
 #include "harness/reference/analytic_reference.h"
@@ -85,11 +89,13 @@ struct RigidProxyUpdateStats {
   double kkt_residual = 0;
   int constraints = 0;  ///< rows of the last iteration's program
   int64_t point_queries = 0;
-  /// N: Σ μ_i λ_i, the tangential force the contacts' friction can hold
-  /// (0 frictionless or out of contact).
+  /// N: Σ μ_i λ_i over the contact rows of the last iteration, the
+  /// tangential force their friction can hold (0 frictionless or out of
+  /// contact).
   double friction_limit_n = 0;
-  /// The frictional proxy kept its place (friction_limit_n > 0 and the
-  /// tangential pull within it).
+  /// No loaded frictional contact's tool point slid along its face over the
+  /// update (friction_limit_n > 0; rolling and pivoting about a contact do
+  /// not slide).
   bool sticking = false;
 };
 
@@ -117,9 +123,14 @@ class RigidProxyReference {
   struct Row;  // one linearised distance
   void add_row(const Vec3& out, const Vec3& point, double distance, double mu);
   double friction_of(int32_t object) const;  ///< μ of a scene object (0 for none)
+  /// implied_triangles (see the .cpp) for near_ as found for `query`.
+  std::vector<char> implied_near_triangles(const Vec3& query) const;
   void collect_rows(double band);
   void collect_edge_rows(double band);
-  bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const;
+  bool least_distance_step(std::span<const Vec6> a, std::span<const double> b, const Vec6& g,
+                           Vec6& step, Eigen::VectorXd* forces) const;
+  bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step);
+  bool stick_step(const Vec6& g, std::span<const std::size_t> locked, Vec6& step);
   /// The contact rows within 10 ε and their normal forces λ ≥ 0 (N) that
   /// best balance the coupling's pull; residual as
   /// RigidProxyUpdateStats::kkt_residual.
@@ -129,7 +140,8 @@ class RigidProxyReference {
     double residual = 0;
   };
   Balance balance(const Vec3& gx, const Vec3& gphi) const;
-  void apply_friction(const Balance& contacts, const Pose& device, IdealRendering& rendering);
+  /// solve_step with one Coulomb cone per row (see above); fills friction_.
+  bool solve_frictional_step(const Vec3& gx, const Vec3& gphi, Vec6& step);
   bool start_at(const Pose& device);
 
   RigidProxySettings settings_;
@@ -155,13 +167,30 @@ class RigidProxyReference {
   double motion_m_ = 0;         ///< Σ over applied steps of |δx| + |φ| r (m)
   double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 
-  std::optional<Pose> proxy_;  ///< the frictionless proxy
+  std::optional<Pose> proxy_;  ///< the proxy (frictional where the scene has friction)
   /// The tool sample that kept the last start from succeeding: asked first
   /// next time, so that a tool held inside the scene fails at once.
   std::size_t blocking_sample_ = 0;
-  /// m, world: the frictional proxy's position at the last update in
-  /// contact with friction (none out of contact).
-  std::optional<Vec3> friction_proxy_p_;
+  /// What the last frictional iteration's contact forces were.
+  struct FrictionOutcome {
+    bool active = false;  ///< the last iteration solved with friction and something pushed
+    double limit_n = 0;   ///< Σ μ_k f_n,k (N)
+    /// The loaded frictional contacts: point (m, world, scene side) and normal.
+    std::vector<std::pair<Vec3, Vec3>> loaded;
+    Vec3 normal = Vec3::Zero();  ///< direction of Σ f_n,k n_k (unit, or 0)
+    double residual = 0;         ///< as RigidProxyUpdateStats::kkt_residual
+  };
+  FrictionOutcome friction_;
+  /// Its tolerance well under the update's 1 nm step tolerance, so that
+  /// the sweeps' error cannot keep an update creeping.
+  FrictionalContactSolver friction_solver_{FrictionalContactOptions{500, 1e-13}};
+  std::vector<FrictionalContactRow> friction_rows_;  ///< scratch
+  std::vector<Vec6> row_a_;                          ///< scratch: rows of a least-distance step
+  std::vector<double> row_b_;                        ///< scratch: their bounds
+  /// The last frictional solve's rows (point, m, world; unit normal) and
+  /// forces (N, in the solver's tangent basis), to warm the next.
+  std::vector<std::pair<Vec3, Vec3>> warm_rows_;
+  std::vector<Vec3> warm_forces_;
   std::vector<Row> rows_;
   std::vector<NearTriangle> near_;  ///< scratch
   RigidProxyUpdateStats stats_;

@@ -18,7 +18,8 @@ namespace {
 
 // Bump when the reference's results change for the same inputs.
 // 3: the coupling's damper in the display; 4: the friction's moment.
-constexpr int kReferenceVersion = 5;
+// 5: the tool's sharp edges; 6: friction as one Coulomb cone per contact.
+constexpr int kReferenceVersion = 6;
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;

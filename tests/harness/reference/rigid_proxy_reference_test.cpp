@@ -80,6 +80,20 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
       CHECK(reference.last_stats().kkt_residual < 1e-4);
       meshes.push_back(*mesh);
       closed_forms.push_back(closed_form.update(device));
+      if (getenv("HB_DEBUG") && scenario.name == getenv("HB_DEBUG") &&
+          (tick % 50 == 0 || (tick > 1550 && tick < 1650)))
+        printf(
+            "it %d conv %d kkt %.2g %ld dev %.4f %.4f | mesh F %.3f %.3f %.3f T %.4f %.4f %.4f "
+            "stick %d lim %.3f | cf F %.3f %.3f %.3f T %.4f %.4f %.4f stick %d\n",
+            reference.last_stats().iterations, (int)reference.last_stats().converged,
+            reference.last_stats().kkt_residual, (long)tick, device.p.x(), device.p.z(),
+            mesh->display.force.x(), mesh->display.force.y(), mesh->display.force.z(),
+            mesh->display.torque.x(), mesh->display.torque.y(), mesh->display.torque.z(),
+            (int)reference.last_stats().sticking, reference.last_stats().friction_limit_n,
+            closed_forms.back().display.force.x(), closed_forms.back().display.force.y(),
+            closed_forms.back().display.force.z(), closed_forms.back().display.torque.x(),
+            closed_forms.back().display.torque.y(), closed_forms.back().display.torque.z(),
+            (int)closed_form.sticking());
       sticking += closed_form.sticking();
       const Vec3 force = closed_forms.back().display.force;
       peak_friction = std::max(peak_friction, (force - force.z() * Vec3::UnitZ()).norm());
@@ -122,10 +136,13 @@ TEST_CASE("the mesh reference agrees with the closed forms on every analytic sce
 }
 
 // A sphere pressed into a right-angled V groove along x and dragged along
-// it: each face pushes with λ = F/√2 for a vertical push F, so the friction
-// that holds it is μ Σλ = √2 μ F, more than on one face (the wedge); the
-// proxy sticks while the device's pull is within it and slides with
-// exactly that much behind it.
+// it: sliding, each face pushes with λ = F/√2 for a vertical push F, so the
+// friction is μ Σλ = √2 μ F, more than on one face (the wedge). Sticking,
+// the sphere rolls about the line through its two contacts, r/√2 below its
+// centre: the rotational coupling in series with the translational one.
+// (How a sticking sphere's load splits between normal and friction forces
+// on the two faces is statically indeterminate, so the limit is checked
+// sliding only.)
 TEST_CASE("the mesh reference holds a sphere in a groove with the wedge's friction") {
   const double mu = 0.3, r = 0.01;
   std::vector<SceneObject> scene;
@@ -160,11 +177,11 @@ TEST_CASE("the mesh reference holds a sphere in a groove with the wedge's fricti
   INFO("held: force " << held->display.force.transpose() << ", limit "
                       << reference.last_stats().friction_limit_n);
   CHECK(reference.last_stats().sticking);
-  CHECK(held->display.force.x() == Approx(-gains.k_t * 0.001).epsilon(0.02));
+  const double lever = r / std::sqrt(2.0);
+  const double k_stick = 1 / (1 / gains.k_t + lever * lever / gains.k_r);
+  CHECK(held->display.force.x() == Approx(-k_stick * 0.001).epsilon(0.01));
   const double push = held->display.force.z();
   CHECK(push == Approx(gains.k_t * press).epsilon(0.02));
-  CHECK(reference.last_stats().friction_limit_n ==
-        Approx(std::sqrt(2.0) * mu * push).epsilon(0.02));
   std::optional<IdealRendering> sliding;
   for (int k = 1; k <= 40; ++k) {
     sliding = reference.update(Pose{Vec3(0.001 + 0.0005 * k, 0, rest_z - press), Quat::Identity()});
@@ -173,8 +190,131 @@ TEST_CASE("the mesh reference holds a sphere in a groove with the wedge's fricti
   CHECK_FALSE(reference.last_stats().sticking);
   CHECK(-sliding->display.force.x() ==
         Approx(std::sqrt(2.0) * mu * sliding->display.force.z()).epsilon(0.02));
+  CHECK(reference.last_stats().friction_limit_n ==
+        Approx(std::sqrt(2.0) * mu * sliding->display.force.z()).epsilon(0.02));
   CHECK(-sliding->display.force.x() > gains.k_t * reach * 0.95);
   CHECK(std::abs(sliding->display.force.y()) < 0.01 * push);
+}
+
+// A slab whose top face passes through the origin with outward normal
+// rotation * ẑ, of friction μ (meshed).
+std::vector<SceneObject> tilted_slab(const Quat& rotation, double mu) {
+  std::vector<SceneObject> scene = {
+      test::box_object(Vec3(0.3, 0.3, 0.02), Pose{rotation * Vec3(0, 0, -0.01), rotation})};
+  scene[0].mesh = shape_mesh(*scene[0].shape);
+  scene[0].friction = mu;
+  return scene;
+}
+
+TEST_CASE("the mesh reference's box dragged on a slab: k_t x while sticking, mu F_n sliding") {
+  // A 4 cm cube pressed 3 mm (F_n = 6 N) at μ = 0.5: sticks for 1.5 mm
+  // (no rolling: a face cannot), then slides with F_t = μ F_n = 3 N. The
+  // friction's tipping moment F_t h moves the load within the face (1 cm
+  // of its 2 cm half-width), so the proxy does not turn: no torque.
+  const double mu = 0.5;
+  RigidProxySettings settings;
+  RigidProxyReference reference(tilted_slab(Quat::Identity(), mu),
+                                test::meshed_box_tool(Vec3::Constant(0.04)).mesh,
+                                test::example_gains(), settings);
+  const double k_t = test::example_gains().k_t, z = 0.02 - 0.003;
+  for (int k = 0; k <= 10; ++k)
+    REQUIRE(reference.update({Vec3(0, 0, 0.025 - 0.0008 * k), Quat::Identity()}));
+  const auto at = [&](double x) {
+    const std::optional<IdealRendering> ideal = reference.update({Vec3(x, 0, z), Quat::Identity()});
+    REQUIRE(ideal);
+    CHECK(reference.last_stats().converged);
+    CHECK(ideal->display.force.z() == Approx(k_t * 0.003).epsilon(0.01));
+    CHECK(ideal->display.torque.norm() < 1e-5);  // of the 0.06 N·m tipping moment
+    return ideal->display.force.x();
+  };
+  for (int k = 1; k <= 10; ++k) at(0.0001 * k);
+  CHECK(at(0.001) == Approx(-k_t * 0.001).epsilon(0.01));
+  CHECK(reference.last_stats().sticking);
+  for (int k = 1; k <= 20; ++k) at(0.001 + 0.0005 * k);
+  CHECK(at(0.0115) == Approx(-mu * k_t * 0.003).epsilon(0.01));
+  CHECK_FALSE(reference.last_stats().sticking);
+  CHECK(reference.last_stats().friction_limit_n == Approx(mu * k_t * 0.003).epsilon(0.01));
+}
+
+TEST_CASE("the mesh reference's box on a slope sticks below tan(theta) = mu and slides above") {
+  // A 4 cm cube lying flat on a slope of angle θ, pressed 3 mm straight
+  // down: the push has F_t / F_n = tan θ. At μ = 0.5 it holds on 20°
+  // (tan θ = 0.36: the proxy stays where it touched) and slides on 35°
+  // (0.70: down the slope, until F_t = μ F_n).
+  const double mu = 0.5;
+  for (const double degrees : {20.0, 35.0}) {
+    const double theta = degrees * M_PI / 180;
+    const Quat slope(Eigen::AngleAxisd(theta, Vec3::UnitY()));
+    const Vec3 normal = slope * Vec3::UnitZ();
+    TriangleMesh tool = test::meshed_box_tool(Vec3::Constant(0.04)).mesh;
+    for (Vec3& v : tool.vertices) v = slope * v;  // its bottom face along the slope
+    RigidProxyReference reference(tilted_slab(slope, mu), tool, test::example_gains());
+    const Vec3 touch = 0.02 * normal;
+    for (int k = 0; k <= 10; ++k)
+      REQUIRE(reference.update({touch + 0.0005 * (10 - k) * normal, Quat::Identity()}));
+    std::optional<IdealRendering> ideal;
+    for (int k = 1; k <= 30; ++k) {
+      ideal = reference.update({touch - 0.0001 * k * Vec3::UnitZ(), Quat::Identity()});
+      REQUIRE(ideal);
+    }
+    const Vec3 force = ideal->display.force;
+    const double normal_force = force.dot(normal);
+    const double tangential = (force - normal_force * normal).norm();
+    const double moved = (ideal->proxy.p - touch).norm();
+    INFO(degrees << " degrees: F_t / F_n " << tangential / normal_force << ", proxy moved " << moved
+                 << " m");
+    CHECK(normal_force > 3.0);
+    if (std::tan(theta) < mu) {
+      CHECK(reference.last_stats().sticking);
+      CHECK(tangential / normal_force == Approx(std::tan(theta)).epsilon(0.01));
+      CHECK(moved < 2e-6);  // the clearance, not a slide
+    } else {
+      CHECK_FALSE(reference.last_stats().sticking);
+      CHECK(tangential / normal_force == Approx(mu).epsilon(0.01));
+      CHECK((ideal->proxy.p - touch).dot(slope * Vec3::UnitX()) > 2e-4);  // down the slope
+    }
+  }
+}
+
+TEST_CASE("the mesh reference's tripod twisted on a slab resists with the pivot torque") {
+  // Three 3 mm spherical feet 2 cm from the tool's axis, pressed with
+  // F_n = 6 N (each foot F_n / 3: three points carry a centred load in one
+  // way only) and twisted about the axis at μ = 0.5: the friction holds
+  // until k_r ψ = μ F_n ρ = 0.06 N·m (ψ = 12 mrad), then the feet slide
+  // and the torque stays there.
+  const double mu = 0.5, rho = 0.02, foot = 0.003;
+  Shape sphere;
+  sphere.type = ShapeType::kSphere;
+  sphere.radius = foot;
+  const TriangleMesh ball = shape_mesh(sphere);
+  TriangleMesh tripod;
+  for (int leg = 0; leg < 3; ++leg) {
+    const double angle = 2 * M_PI * leg / 3;
+    const Vec3 centre(rho * std::cos(angle), rho * std::sin(angle), -0.01);
+    const int base = static_cast<int>(tripod.vertices.size());
+    for (const Vec3& v : ball.vertices) tripod.vertices.push_back(v + centre);
+    for (const auto& [a, b, c] : ball.triangles)
+      tripod.triangles.push_back({a + base, b + base, c + base});
+  }
+  const CouplingGains gains = test::example_gains();
+  RigidProxyReference reference(tilted_slab(Quat::Identity(), mu), tripod, gains);
+  const double rest = 0.01 + foot, z = rest - 0.003;
+  for (int k = 0; k <= 10; ++k)
+    REQUIRE(reference.update({Vec3(0, 0, rest + 0.0005 * (10 - k)), Quat::Identity()}));
+  const auto twisted = [&](double psi) {
+    const std::optional<IdealRendering> ideal =
+        reference.update({Vec3(0, 0, z), Quat(Eigen::AngleAxisd(psi, Vec3::UnitZ()))});
+    REQUIRE(ideal);
+    CHECK(ideal->display.force.z() == Approx(gains.k_t * 0.003).epsilon(0.02));
+    return ideal->display.torque.z();
+  };
+  for (int k = 1; k <= 6; ++k) twisted(0.001 * k);
+  CHECK(twisted(0.006) == Approx(-gains.k_r * 0.006).epsilon(0.01));
+  CHECK(reference.last_stats().sticking);
+  for (int k = 1; k <= 40; ++k) twisted(0.006 + 0.001 * k);
+  const double pivot = mu * gains.k_t * 0.003 * rho;  // 0.06 N·m
+  CHECK(twisted(0.047) == Approx(-pivot).epsilon(0.02));
+  CHECK_FALSE(reference.last_stats().sticking);
 }
 
 TEST_CASE("the mesh reference's friction can be left out") {
