@@ -183,7 +183,7 @@ class RigidProxyReference {
   FrictionOutcome friction_;
   /// Its tolerance well under the update's 1 nm step tolerance, so that
   /// the sweeps' error cannot keep an update creeping.
-  FrictionalContactSolver friction_solver_{FrictionalContactOptions{500, 1e-13}};
+  FrictionalContactSolver friction_solver_{FrictionalContactOptions{200, 1e-12}};
   std::vector<FrictionalContactRow> friction_rows_;  ///< scratch
   std::vector<Vec6> row_a_;                          ///< scratch: rows of a least-distance step
   std::vector<double> row_b_;                        ///< scratch: their bounds
