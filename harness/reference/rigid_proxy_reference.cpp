@@ -640,6 +640,15 @@ bool RigidProxyReference::start_at(const Pose& device) {
 }
 
 std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
+  // The device where it was at a converged update (a hold): the proxy is
+  // where that update left it, in equilibrium, and nothing slides.
+  if (last_ && last_->device.p == device.p && last_->device.q.coeffs() == device.q.coeffs()) {
+    stats_.iterations = 0;
+    stats_.point_queries = 0;
+    stats_.sticking = stats_.friction_limit_n > 0;
+    return last_->rendering;
+  }
+  last_.reset();
   stats_ = RigidProxyUpdateStats{};
   if (!proxy_ && !start_at(device)) return std::nullopt;
   Pose& pose = *proxy_;
@@ -728,6 +737,7 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     if (rendering.in_contact && rendering.display.force.norm() > 0)
       rendering.contact_normal = rendering.display.force.normalized();
   }
+  if (stats_.converged) last_ = Held{device, rendering};
   return rendering;
 }
 

@@ -194,6 +194,13 @@ class RigidProxyReference {
   std::vector<Row> rows_;
   std::vector<NearTriangle> near_;  ///< scratch
   RigidProxyUpdateStats stats_;
+  /// The last converged update's device pose and rendering, answered again
+  /// while the device holds still.
+  struct Held {
+    Pose device;
+    IdealRendering rendering;
+  };
+  std::optional<Held> last_;
 };
 
 }  // namespace hb
