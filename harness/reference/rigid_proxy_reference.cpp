@@ -522,48 +522,17 @@ bool RigidProxyReference::solve_frictional_step(const Vec3& gx, const Vec3& gphi
     return true;
   }
   // The rows the pull violates, and the contacts (within 10 ε); more while
-  // the answer violates others. Of those, the rows that carry what all do
-  // (contact_support.h): a face's hundreds of sample rows, or a sphere's
-  // cap of rows that cannot bind, would leave the sweeps creeping.
+  // the answer violates others.
   std::vector<char> taken(rows_.size(), 0);
   for (std::size_t i = 0; i < rows_.size(); ++i)
     taken[i] = rows_[i].a.dot(g) < rows_[i].b || rows_[i].distance <= 10 * settings_.clearance_m;
-  Mat6 response = Mat6::Zero();
-  response.diagonal() << Vec3::Constant(1 / gains_.k_t), Vec3::Constant(1 / gains_.k_r);
-  std::vector<ContactRowGeometry> geometry;
-  std::vector<std::size_t> taken_rows;
   std::vector<Vec3> forces;  // per row of friction_rows_: (λ, t1, t2), N
   Vec6 answer = g;
   for (int round = 0; round < kFrictionRounds; ++round) {
-    geometry.clear();
-    taken_rows.clear();
-    for (std::size_t i = 0; i < rows_.size(); ++i)
-      if (taken[i]) {
-        const Row& row = rows_[i];
-        geometry.push_back({row.point, row.a.head<3>(), row.b, row.friction});
-        taken_rows.push_back(i);
-      }
-    friction_rows_.clear();
-    for (std::size_t k : supporting_rows(geometry)) {
-      const Row& row = rows_[taken_rows[k]];
-      friction_rows_.push_back({row.a.head<3>(), row.point - proxy_->p, row.b, row.friction});
-    }
-    // Warm: the last solve's forces where it had the same rows (the next
-    // iteration of an update, or the next update at rest), so that the
-    // sweeps go on converging from where they stopped.
-    bool same = warm_rows_.size() == friction_rows_.size();
-    for (std::size_t k = 0; same && k < friction_rows_.size(); ++k)
-      same = (warm_rows_[k].first - (friction_rows_[k].lever + proxy_->p)).norm() < 1e-9 &&
-             (warm_rows_[k].second - friction_rows_[k].normal).norm() < 1e-9;
-    const FrictionalContactSolution* solution = &friction_solver_.solve(
-        response, g, friction_rows_,
-        same ? std::span<const Vec3>(warm_forces_) : std::span<const Vec3>());
-    warm_rows_.clear();
-    for (const FrictionalContactRow& row : friction_rows_)
-      warm_rows_.push_back({row.lever + proxy_->p, row.normal});
-    warm_forces_ = solution->impulses;
-    answer = solution->velocity;
-    forces = solution->impulses;
+    select_friction_rows(taken);
+    const FrictionalContactSolution& solution = sweep_friction(g);
+    answer = solution.velocity;
+    forces = solution.impulses;
     // Every loaded contact stuck (its tool point slid less than
     // kStickSlipM): the exact stick step instead of the sweeps' answer.
     std::vector<std::size_t> locked;
@@ -582,14 +551,61 @@ bool RigidProxyReference::solve_frictional_step(const Vec3& gx, const Vec3& gphi
       if (!taken[i] && rows_[i].a.dot(answer) < rows_[i].b) taken[i] = more = true;
     if (!more) break;
   }
+  record_friction(forces, answer, g);
+  return solve_step(answer.head<3>(), answer.tail<3>(), step);
+}
+
+// Of the taken rows, the ones that carry what all do (contact_support.h),
+// as friction_rows_: a face's hundreds of sample rows, or a sphere's cap of
+// rows that cannot bind, would leave the sweeps creeping.
+void RigidProxyReference::select_friction_rows(const std::vector<char>& taken) {
+  std::vector<ContactRowGeometry> geometry;
+  std::vector<std::size_t> taken_rows;
+  for (std::size_t i = 0; i < rows_.size(); ++i)
+    if (taken[i]) {
+      const Row& row = rows_[i];
+      geometry.push_back({row.point, row.a.head<3>(), row.b, row.friction});
+      taken_rows.push_back(i);
+    }
+  friction_rows_.clear();
+  for (std::size_t k : supporting_rows(geometry)) {
+    const Row& row = rows_[taken_rows[k]];
+    friction_rows_.push_back({row.a.head<3>(), row.point - proxy_->p, row.b, row.friction});
+  }
+}
+
+// The sweeps over friction_rows_ with the coupling's compliance as the
+// response and the pull g as the free motion, warm from the last solve's
+// forces where it had the same rows (the next iteration of an update, or
+// the next update at rest), so that they go on from where they stopped.
+const FrictionalContactSolution& RigidProxyReference::sweep_friction(const Vec6& g) {
+  Mat6 response = Mat6::Zero();
+  response.diagonal() << Vec3::Constant(1 / gains_.k_t), Vec3::Constant(1 / gains_.k_r);
+  bool same = warm_rows_.size() == friction_rows_.size();
+  for (std::size_t k = 0; same && k < friction_rows_.size(); ++k)
+    same = (warm_rows_[k].first - (friction_rows_[k].lever + proxy_->p)).norm() < 1e-9 &&
+           (warm_rows_[k].second - friction_rows_[k].normal).norm() < 1e-9;
+  const FrictionalContactSolution& solution =
+      friction_solver_.solve(response, g, friction_rows_,
+                             same ? std::span<const Vec3>(warm_forces_) : std::span<const Vec3>());
+  warm_rows_.clear();
+  for (const FrictionalContactRow& row : friction_rows_)
+    warm_rows_.push_back({row.lever + proxy_->p, row.normal});
+  warm_forces_ = solution.impulses;
+  return solution;
+}
+
+// friction_ from the rows' forces and the step answered for the pull g.
+void RigidProxyReference::record_friction(std::span<const Vec3> forces, const Vec6& answer,
+                                          const Vec6& g) {
   friction_ = {};
   Vec3 normal_resultant = Vec3::Zero();
   for (std::size_t k = 0; k < friction_rows_.size(); ++k) {
     const FrictionalContactRow& row = friction_rows_[k];
-    const Vec3& impulse = forces[k];
-    if (!(impulse.x() > 0)) continue;
-    friction_.limit_n += row.friction * impulse.x();
-    normal_resultant += impulse.x() * row.normal;
+    const Vec3& force = forces[k];
+    if (!(force.x() > 0)) continue;
+    friction_.limit_n += row.friction * force.x();
+    normal_resultant += force.x() * row.normal;
     if (row.friction > 0) friction_.loaded.push_back({row.lever + proxy_->p, row.normal});
   }
   if (normal_resultant.norm() > 0) friction_.normal = normal_resultant.normalized();
@@ -600,7 +616,6 @@ bool RigidProxyReference::solve_frictional_step(const Vec3& gx, const Vec3& gphi
           .finished();
   friction_.residual = answer.cwiseProduct(s).norm() / g.cwiseProduct(s).norm();
   friction_.active = true;
-  return solve_step(answer.head<3>(), answer.tail<3>(), step);
 }
 
 bool RigidProxyReference::start_at(const Pose& device) {

@@ -142,6 +142,9 @@ class RigidProxyReference {
   Balance balance(const Vec3& gx, const Vec3& gphi) const;
   /// solve_step with one Coulomb cone per row (see above); fills friction_.
   bool solve_frictional_step(const Vec3& gx, const Vec3& gphi, Vec6& step);
+  void select_friction_rows(const std::vector<char>& taken);
+  const FrictionalContactSolution& sweep_friction(const Vec6& g);
+  void record_friction(std::span<const Vec3> forces, const Vec6& answer, const Vec6& g);
   bool start_at(const Pose& device);
 
   RigidProxySettings settings_;
