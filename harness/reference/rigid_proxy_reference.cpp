@@ -309,6 +309,8 @@ void RigidProxyReference::collect_edge_rows(double band) {
   const Pose& pose = *proxy_;
   std::vector<std::size_t> far_pieces;
   std::vector<Vec3> far_middles;
+  std::vector<Vec3> on_piece, on_triangle;  // per near triangle: the closest points
+  std::vector<std::array<Vec3, 3>> corners;
   for (std::size_t i = 0; i < tool_edge_pieces_.size(); ++i) {
     if (edge_distance_[i] - (motion_m_ - edge_motion_at_[i]) >= band) continue;
     const Vec3 a = pose.transform_point(tool_edge_pieces_[i][0]);
@@ -317,8 +319,7 @@ void RigidProxyReference::collect_edge_rows(double band) {
     scene_->triangles_within(middle, band + 0.5 * (b - a).norm(), near_);
     ++stats_.point_queries;
     double least = band;
-    std::vector<Vec3> on_piece, on_triangle;
-    std::vector<std::array<Vec3, 3>> corners;
+    on_piece.clear(), on_triangle.clear(), corners.clear();
     for (const NearTriangle& t : near_) {
       const SegmentClosestPoints closest = closest_points_of_segment_and_triangle(a, b, t.corners);
       on_piece.push_back(closest.on_p);
@@ -410,46 +411,41 @@ void RigidProxyReference::collect_rows(double band) {
   refresh_distances(*tool_, far_points, far_vertices, vertex_distance_);
 }
 
-// The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row:
-// with z = S(δ − g), S = K^½, a least-distance program min |z| subject to
-// (a S⁻¹) z ≥ b − a·g, solved by NNLS (Lawson and Hanson, ch. 23). With
-// `forces`, the rows' multipliers y ≥ 0 (N, N·m per unit of the row), for
-// which K(δ − g) = Σ y_j a_j. False when no step satisfies every row.
-bool RigidProxyReference::least_distance_step(std::span<const Vec6> a, std::span<const double> b,
-                                              const Vec6& g, Vec6& step, VecX* forces) const {
+// The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row
+// a·δ ≥ b: with z = S(δ − g), S = K^½, a least-distance program min |z|
+// subject to (a S⁻¹) z ≥ b − a·g, solved by NNLS (Lawson and Hanson,
+// ch. 23). False when no step satisfies every row.
+bool RigidProxyReference::least_distance_step(std::span<const Row> rows, const Vec6& g,
+                                              Vec6& step) const {
   Vec6 s_inverse;
   s_inverse << Vec3::Constant(1 / std::sqrt(gains_.k_t)), Vec3::Constant(1 / std::sqrt(gains_.k_r));
-  const auto m = static_cast<Eigen::Index>(a.size());
+  const auto m = static_cast<Eigen::Index>(rows.size());
   bool binding = false;
-  for (Eigen::Index j = 0; j < m; ++j) binding = binding || a[j].dot(g) < b[j];
+  for (const Row& row : rows) binding = binding || row.a.dot(g) < row.b;
   if (!binding) {
     step = g;
-    if (forces) *forces = VecX::Zero(m);
     return true;
   }
   MatX e(7, m);
   VecX f = VecX::Zero(7);
   f[6] = 1;
   for (Eigen::Index j = 0; j < m; ++j) {
-    e.col(j).head<6>() = a[j].cwiseProduct(s_inverse);
-    e(6, j) = b[j] - a[j].dot(g);
+    const Row& row = rows[static_cast<std::size_t>(j)];
+    e.col(j).head<6>() = row.a.cwiseProduct(s_inverse);
+    e(6, j) = row.b - row.a.dot(g);
   }
   const VecX u = non_negative_least_squares(e, f);
   const VecX r = e * u - f;
   if (!(std::abs(r[6]) > 1e-12)) return false;  // no step satisfies every row
   const Vec6 z = -r.head<6>() / r[6];
   step = g + z.cwiseProduct(s_inverse);
-  if (forces) *forces = -u / r[6];
   return true;
 }
 
-bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) {
+bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const {
   Vec6 g;
   g << gx, gphi;
-  row_a_.clear();
-  row_b_.clear();
-  for (const Row& row : rows_) row_a_.push_back(row.a), row_b_.push_back(row.b);
-  return least_distance_step(row_a_, row_b_, g, step, nullptr);
+  return least_distance_step(rows_, g, step);
 }
 
 // The stick step: the rows `locked` (of friction_rows_) keep their tool
@@ -459,49 +455,40 @@ bool RigidProxyReference::solve_step(const Vec3& gx, const Vec3& gphi, Vec6& ste
 // contact the sweeps found sticking does not drift by their tolerance.
 bool RigidProxyReference::stick_step(const Vec6& g, std::span<const std::size_t> locked,
                                      Vec6& step) {
-  row_a_.clear();
-  row_b_.clear();
-  for (const FrictionalContactRow& row : friction_rows_)
-    row_a_.push_back((Vec6() << row.normal, row.lever.cross(row.normal)).finished()),
-        row_b_.push_back(row.bound);
+  stick_rows_.clear();
+  const auto add = [&](const Vec3& direction, const Vec3& lever, double bound) {
+    Row row;
+    row.a << direction, lever.cross(direction);
+    row.b = bound;
+    stick_rows_.push_back(row);
+  };
+  for (const FrictionalContactRow& row : friction_rows_) add(row.normal, row.lever, row.bound);
   for (std::size_t k : locked) {
     const FrictionalContactRow& row = friction_rows_[k];
     const Vec3 t1 = perpendicular_unit(row.normal), t2 = row.normal.cross(t1);
-    for (const Vec3& t : {t1, t2}) {
-      const Vec6 a = (Vec6() << t, row.lever.cross(t)).finished();
-      row_a_.push_back(a), row_b_.push_back(0);
-      row_a_.push_back(-a), row_b_.push_back(0);
-    }
+    for (const Vec3& t : {t1, t2}) add(t, row.lever, 0), add(-t, row.lever, 0);
   }
-  return least_distance_step(row_a_, row_b_, g, step, nullptr);
+  return least_distance_step(stick_rows_, g, step);
 }
 
-RigidProxyReference::Balance RigidProxyReference::balance(const Vec3& gx, const Vec3& gphi) const {
-  Balance out;
+double RigidProxyReference::frictionless_kkt_residual(const Vec3& gx, const Vec3& gphi) const {
+  std::vector<const Row*> contacts;  // the rows within 10 ε
   for (const Row& row : rows_)
-    if (row.distance <= 10 * settings_.clearance_m) out.rows.push_back(&row);
+    if (row.distance <= 10 * settings_.clearance_m) contacts.push_back(&row);
   Vec6 pull;  // S g: the coupling's pull in the energy metric
   pull << std::sqrt(gains_.k_t) * gx, std::sqrt(gains_.k_r) * gphi;
-  if (!(pull.norm() > 0)) {
-    out.normal_force.assign(out.rows.size(), 0.0);
-    return out;
-  }
-  if (out.rows.empty()) {
-    out.residual = 1;
-    return out;
-  }
-  MatX e(6, static_cast<Eigen::Index>(out.rows.size()));
-  for (std::size_t j = 0; j < out.rows.size(); ++j) {
-    const Vec6& a = out.rows[j]->a;
+  if (!(pull.norm() > 0)) return 0;
+  if (contacts.empty()) return 1;
+  MatX e(6, static_cast<Eigen::Index>(contacts.size()));
+  for (std::size_t j = 0; j < contacts.size(); ++j) {
+    const Vec6& a = contacts[j]->a;
     e.col(static_cast<Eigen::Index>(j)) << a.head<3>() / std::sqrt(gains_.k_t),
         a.tail<3>() / std::sqrt(gains_.k_r);
   }
   // Contact forces Aᵀλ balance the pull K g: in the metric, E λ = −S g.
   const VecX f = -pull;
   const VecX lambda = non_negative_least_squares(e, f);
-  out.residual = (e * lambda - f).norm() / pull.norm();
-  out.normal_force.assign(lambda.data(), lambda.data() + lambda.size());
-  return out;
+  return (e * lambda - f).norm() / pull.norm();
 }
 
 // The frictional step: the quasi-static incremental problem with one
@@ -748,7 +735,7 @@ std::optional<IdealRendering> RigidProxyReference::update(const Pose& device) {
     }
     if (rendering.in_contact) rendering.contact_normal = friction_.normal;
   } else {
-    stats_.kkt_residual = rows_.empty() ? 0.0 : balance(gx, gphi).residual;
+    stats_.kkt_residual = rows_.empty() ? 0.0 : frictionless_kkt_residual(gx, gphi);
     if (rendering.in_contact && rendering.display.force.norm() > 0)
       rendering.contact_normal = rendering.display.force.normalized();
   }

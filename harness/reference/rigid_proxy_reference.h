@@ -127,19 +127,12 @@ class RigidProxyReference {
   std::vector<char> implied_near_triangles(const Vec3& query) const;
   void collect_rows(double band);
   void collect_edge_rows(double band);
-  bool least_distance_step(std::span<const Vec6> a, std::span<const double> b, const Vec6& g,
-                           Vec6& step, Eigen::VectorXd* forces) const;
-  bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step);
+  bool least_distance_step(std::span<const Row> rows, const Vec6& g, Vec6& step) const;
+  bool solve_step(const Vec3& gx, const Vec3& gphi, Vec6& step) const;
   bool stick_step(const Vec6& g, std::span<const std::size_t> locked, Vec6& step);
-  /// The contact rows within 10 ε and their normal forces λ ≥ 0 (N) that
-  /// best balance the coupling's pull; residual as
-  /// RigidProxyUpdateStats::kkt_residual.
-  struct Balance {
-    std::vector<const Row*> rows;
-    std::vector<double> normal_force;
-    double residual = 0;
-  };
-  Balance balance(const Vec3& gx, const Vec3& gphi) const;
+  /// For the contact rows within 10 ε, the share of the coupling's pull
+  /// their normal forces λ ≥ 0 cannot balance: RigidProxyUpdateStats::kkt_residual.
+  double frictionless_kkt_residual(const Vec3& gx, const Vec3& gphi) const;
   /// solve_step with one Coulomb cone per row (see above); fills friction_.
   bool solve_frictional_step(const Vec3& gx, const Vec3& gphi, Vec6& step);
   void select_friction_rows(const std::vector<char>& taken);
@@ -188,8 +181,7 @@ class RigidProxyReference {
   /// the sweeps' error cannot keep an update creeping.
   FrictionalContactSolver friction_solver_{FrictionalContactOptions{200, 1e-12}};
   std::vector<FrictionalContactRow> friction_rows_;  ///< scratch
-  std::vector<Vec6> row_a_;                          ///< scratch: rows of a least-distance step
-  std::vector<double> row_b_;                        ///< scratch: their bounds
+  std::vector<Row> stick_rows_;                      ///< scratch: the stick step's rows
   /// The last frictional solve's rows (point, m, world; unit normal) and
   /// forces (N, in the solver's tangent basis), to warm the next.
   std::vector<std::pair<Vec3, Vec3>> warm_rows_;
