@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace hb {
@@ -224,6 +225,23 @@ bool FrictionalContactSolver::polish(std::span<const FrictionalContactRow> conta
   return true;
 }
 
+double FrictionalContactSolver::clear_stick_slip(
+    std::span<const FrictionalContactRow> contacts) const {
+  constexpr double kNot = std::numeric_limits<double>::infinity();
+  const FrictionalContactSolution& s = solution_;
+  double largest = -1;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const FrictionalContactRow& c = contacts[k];
+    const Vec3 rates = jacobians_[k] * s.velocity;
+    if (rates.x() - c.bound < -options_.stick_slip) return kNot;
+    const Vec3& impulse = s.impulses[k];
+    if (!(impulse.x() > 0) || !(c.friction > 0)) continue;
+    if (impulse.tail<2>().norm() > kClearStickShare * c.friction * impulse.x()) return kNot;
+    largest = std::max(largest, rates.tail<2>().norm());
+  }
+  return largest < 0 ? kNot : largest;
+}
+
 FrictionalContactSolver::FrictionalContactSolver(const FrictionalContactOptions& options)
     : options_(options) {}
 
@@ -245,6 +263,7 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   s.sweeps = 0;
   s.residual = 0;
   s.converged = true;
+  s.stuck = false;
 
   for (std::size_t k = 0; k < count; ++k) {
     const FrictionalContactRow& c = contacts[k];
@@ -273,6 +292,8 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   int next_polish = kFirstPolishSweep;
   double last_change = 0;
   int failed_polishes = 0;
+  double last_slip =
+      std::numeric_limits<double>::infinity();  // clear_stick_slip's, the sweep before
   for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
     const Vec6 velocity_before = s.velocity;
     for (std::size_t k = 0; k < count; ++k) {
@@ -323,6 +344,15 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
     s.sweeps = sweep + 1;
     s.residual = largest_change;
     if (largest_change <= options_.tolerance) return s;
+    if (options_.stick_slip > 0) {
+      const double slip = clear_stick_slip(contacts);
+      if (s.sweeps >= kFirstPolishSweep && slip <= options_.stick_slip && slip <= last_slip) {
+        s.converged = false;
+        s.stuck = true;
+        return s;
+      }
+      last_slip = slip;
+    }
     // Polish where the sweeps converge slowly: from kFirstPolishSweep on,
     // when a sweep took off less than kSlowSweep of the last one's change,
     // then at doubling intervals.

@@ -75,6 +75,15 @@ struct FrictionalContactOptions {
   /// Converged when a sweep changed no contact point's velocity by more
   /// than this (m/s, or m for a displacement problem); 0 runs every sweep.
   double tolerance = 1e-9;
+  /// Where > 0, the sweeps stop early once every contact carrying load
+  /// with friction sticks clearly — its point slides less than this (m/s,
+  /// or m) and less than at the sweep before, its tangential impulse
+  /// inside kClearStickShare of its disk — and no contact is below its
+  /// bound by more than this (the solution is then `stuck`): a caller that
+  /// solves the sticking problem exactly (a linear one) need not wait for
+  /// the sweeps, which converge slowly where loaded contacts are nearly
+  /// dependent.
+  double stick_slip = 0;
 };
 
 struct FrictionalContactSolution {
@@ -86,10 +95,15 @@ struct FrictionalContactSolution {
   int sweeps = 0;
   double residual = 0;  ///< the last sweep's largest change of a contact point's velocity
   bool converged = false;
+  bool stuck = false;  ///< stopped early: every loaded contact sticks clearly (stick_slip)
 };
 
 /// A deterministic unit vector perpendicular to the unit vector n.
 Vec3 perpendicular_unit(const Vec3& n);
+
+/// The share of its disk a clearly sticking contact's tangential impulse
+/// stays inside (FrictionalContactOptions::stick_slip).
+inline constexpr double kClearStickShare = 0.9;
 
 /// Contacts carrying load that a polish (see above) takes at most.
 inline constexpr int kPolishContacts = 6;
@@ -113,6 +127,10 @@ class FrictionalContactSolver {
   /// of the contacts carrying load; true when it replaced the iterate
   /// (solution_'s impulses and velocity).
   bool polish(std::span<const FrictionalContactRow> contacts, const Vec6& free_velocity);
+  /// Where every loaded contact with friction sticks clearly and none is
+  /// below its bound by more than FrictionalContactOptions::stick_slip, the
+  /// largest slip of a loaded contact (m/s, or m); else infinity.
+  double clear_stick_slip(std::span<const FrictionalContactRow> contacts) const;
 
   FrictionalContactOptions options_;
   std::vector<int> taken_;  ///< the contacts a polish solves

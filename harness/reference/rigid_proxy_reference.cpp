@@ -18,53 +18,90 @@ using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
 
 // Lawson–Hanson non-negative least squares: u ≥ 0 minimising |E u − f|.
-// E has few rows (7) and any number of columns; the passive set never
-// holds more columns than the rank allows.
+// E has at most kNnlsRows rows and any number of columns; the passive set never
+// holds more columns than the rank allows (kMaxPassive bounds it where
+// rounding would let a dependent column in), so its systems live on the
+// stack.
+constexpr int kNnlsRows = 7;
+constexpr int kMaxPassive = 16;
 VecX non_negative_least_squares(const MatX& e, const VecX& f) {
+  using PassiveMatrix =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kNnlsRows, kMaxPassive>;
+  using PassiveVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPassive, 1>;
   const Eigen::Index m = e.cols();
-  VecX u = VecX::Zero(m);
+  VecX u = VecX::Zero(m), z = VecX::Zero(m), w(m);
   std::vector<uint8_t> passive(static_cast<std::size_t>(m), 0);
   const double scale = std::max(1.0, e.cwiseAbs().maxCoeff()) * std::max(1.0, f.norm());
   const double tolerance = 1e-13 * scale;
-  std::vector<Eigen::Index> columns;
-  VecX z;
+  std::array<Eigen::Index, kMaxPassive> columns{};
+  int count = 0;
+  PassiveMatrix ep;
+  // Householder QR for the passive set's independent columns; a rank-
+  // revealing one (least norm) where rounding let a dependent one in.
+  Eigen::HouseholderQR<PassiveMatrix> decomposition;
+  Eigen::CompleteOrthogonalDecomposition<PassiveMatrix> rank_revealing;
   const auto solve_passive = [&] {
-    columns.clear();
+    count = 0;
     for (Eigen::Index j = 0; j < m; ++j)
-      if (passive[static_cast<std::size_t>(j)]) columns.push_back(j);
-    MatX ep(e.rows(), static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      ep.col(static_cast<Eigen::Index>(k)) = e.col(columns[k]);
-    const VecX zp = ep.completeOrthogonalDecomposition().solve(f);
-    z = VecX::Zero(m);
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      z[columns[k]] = zp[static_cast<Eigen::Index>(k)];
+      if (passive[static_cast<std::size_t>(j)]) columns[static_cast<std::size_t>(count++)] = j;
+    z.setZero();
+    if (count == 0) return;
+    ep.resize(e.rows(), count);
+    for (int k = 0; k < count; ++k) ep.col(k) = e.col(columns[static_cast<std::size_t>(k)]);
+    decomposition.compute(ep);
+    const auto diagonal = decomposition.matrixQR().diagonal().cwiseAbs();
+    PassiveVector zp;
+    if (count <= e.rows() && diagonal.minCoeff() > 1e-10 * diagonal.maxCoeff()) {
+      zp = decomposition.solve(f);
+    } else {
+      rank_revealing.compute(ep);
+      zp = rank_revealing.solve(f);
+    }
+    for (int k = 0; k < count; ++k) z[columns[static_cast<std::size_t>(k)]] = zp[k];
   };
+  int passive_count = 0;
   for (Eigen::Index outer = 0; outer < 3 * m + 10; ++outer) {
-    const VecX w = e.transpose() * (f - e * u);
+    w.noalias() = e.transpose() * (f - e * u);
     Eigen::Index best = -1;
     double best_w = tolerance;
     for (Eigen::Index j = 0; j < m; ++j)
       if (!passive[static_cast<std::size_t>(j)] && w[j] > best_w) best_w = w[j], best = j;
-    if (best < 0) break;
+    if (best < 0 || passive_count == kMaxPassive) break;
     passive[static_cast<std::size_t>(best)] = 1;
+    ++passive_count;
     for (int inner = 0; inner < 100; ++inner) {
       solve_passive();
       bool positive = true;
-      for (Eigen::Index j : columns) positive = positive && z[j] > 0;
+      for (int k = 0; k < count; ++k)
+        positive = positive && z[columns[static_cast<std::size_t>(k)]] > 0;
       if (positive) {
         u = z;
         break;
       }
       double alpha = 1.0;
-      for (Eigen::Index j : columns)
+      for (int k = 0; k < count; ++k) {
+        const Eigen::Index j = columns[static_cast<std::size_t>(k)];
         if (z[j] <= 0) alpha = std::min(alpha, u[j] / (u[j] - z[j]));
+      }
       u += alpha * (z - u);
-      for (Eigen::Index j : columns)
-        if (u[j] <= tolerance * 1e-3) u[j] = 0, passive[static_cast<std::size_t>(j)] = 0;
+      for (int k = 0; k < count; ++k) {
+        const Eigen::Index j = columns[static_cast<std::size_t>(k)];
+        if (u[j] <= tolerance * 1e-3)
+          u[j] = 0, passive[static_cast<std::size_t>(j)] = 0, --passive_count;
+      }
     }
   }
   return u;
+}
+
+// An order of triangles by their corners' coordinates.
+bool by_corners(const NearTriangle& x, const NearTriangle& y) {
+  const auto key = [](const NearTriangle& t) {
+    return std::array<double, 9>{t.corners[0].x(), t.corners[0].y(), t.corners[0].z(),
+                                 t.corners[1].x(), t.corners[1].y(), t.corners[1].z(),
+                                 t.corners[2].x(), t.corners[2].y(), t.corners[2].z()};
+  };
+  return key(x) < key(y);
 }
 
 // The mesh's sharp edges (faces meeting at more than kSharpDegrees, or an
@@ -240,6 +277,7 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
       tool_edge_pieces_.push_back({points[k], points[k + 1]});
   }
   edge_distance_.assign(tool_edge_pieces_.size(), -1.0);
+  edge_nearby_.resize(tool_edge_pieces_.size());
   edge_motion_at_.assign(tool_edge_pieces_.size(), 0.0);
 
   for (const SceneObject& object : scene) {
@@ -311,33 +349,51 @@ void RigidProxyReference::collect_edge_rows(double band) {
   std::vector<Vec3> far_middles;
   std::vector<Vec3> on_piece, on_triangle;  // per near triangle: the closest points
   std::vector<std::array<Vec3, 3>> corners;
+  std::vector<int32_t> objects;
   for (std::size_t i = 0; i < tool_edge_pieces_.size(); ++i) {
     if (edge_distance_[i] - (motion_m_ - edge_motion_at_[i]) >= band) continue;
     const Vec3 a = pose.transform_point(tool_edge_pieces_[i][0]);
     const Vec3 b = pose.transform_point(tool_edge_pieces_[i][1]);
     const Vec3 middle = 0.5 * (a + b);
-    scene_->triangles_within(middle, band + 0.5 * (b - a).norm(), near_);
-    ++stats_.point_queries;
+    const double half = 0.5 * (b - a).norm();
+    NearbyTriangles& nearby = edge_nearby_[i];
+    const double moved = std::max((a - nearby.ends[0]).norm(), (b - nearby.ends[1]).norm());
+    if (band + half + moved > nearby.reach) {  // search again, reaching a piece's length farther
+      nearby.reach = band + 2 * half;
+      nearby.ends = {a, b};
+      scene_->triangles_within(middle, nearby.reach, nearby.triangles);
+      // In one order whatever the search's (the rows' order moves the
+      // frictional answer by rounding).
+      std::sort(nearby.triangles.begin(), nearby.triangles.end(), by_corners);
+      ++stats_.point_queries;
+    }
+    // The triangles within the band: only they give rows, so only they may
+    // imply others.
     double least = band;
-    on_piece.clear(), on_triangle.clear(), corners.clear();
-    for (const NearTriangle& t : near_) {
+    on_piece.clear(), on_triangle.clear(), corners.clear(), objects.clear();
+    for (const NearTriangle& t : nearby.triangles) {
       const SegmentClosestPoints closest = closest_points_of_segment_and_triangle(a, b, t.corners);
+      const double distance = (closest.on_p - closest.on_q).norm();
+      if (distance >= band) continue;
+      least = std::min(least, distance);
       on_piece.push_back(closest.on_p);
       on_triangle.push_back(closest.on_q);
       corners.push_back(t.corners);
+      objects.push_back(t.object);
     }
     const std::vector<char> implied = implied_triangles(on_piece, on_triangle, corners);
-    for (std::size_t k = 0; k < near_.size(); ++k) {
+    for (std::size_t k = 0; k < on_piece.size(); ++k) {
       const double distance = (on_piece[k] - on_triangle[k]).norm();
-      if (distance >= band) continue;
-      least = std::min(least, distance);
       if (distance > 0 && !implied[k])
         add_row((on_piece[k] - on_triangle[k]) / distance, on_triangle[k], distance,
-                friction_of(near_[k].object));
+                friction_of(objects[k]));
     }
     edge_distance_[i] = least;
     edge_motion_at_[i] = motion_m_;
-    if (near_.empty()) far_pieces.push_back(i), far_middles.push_back(middle);
+    if (nearby.triangles.empty()) {
+      far_pieces.push_back(i), far_middles.push_back(middle);
+      nearby.reach = -1;
+    }
   }
   // A piece is no nearer than its middle less half its length.
   refresh_distances(*scene_, far_middles, far_pieces, edge_distance_);

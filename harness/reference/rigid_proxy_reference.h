@@ -160,6 +160,16 @@ class RigidProxyReference {
   std::vector<double> sample_distance_, sample_motion_at_;
   std::vector<double> vertex_distance_, vertex_motion_at_;
   std::vector<double> edge_distance_, edge_motion_at_;  ///< per tool edge piece
+  /// Per tool edge piece: the scene triangles found within `reach` of its
+  /// middle when it lay at `ends` (world): they hold every triangle within
+  /// the band of it while band + half its length + its ends' motion since
+  /// stays within `reach`, so the next iterations measure them alone.
+  struct NearbyTriangles {
+    std::array<Vec3, 2> ends = {Vec3::Zero(), Vec3::Zero()};  ///< m, world
+    double reach = -1;                                        ///< m
+    std::vector<NearTriangle> triangles;
+  };
+  std::vector<NearbyTriangles> edge_nearby_;
   double motion_m_ = 0;         ///< Σ over applied steps of |δx| + |φ| r (m)
   double band_hint_m_ = 1e300;  ///< the next iteration's band before clamping (m)
 
@@ -179,7 +189,7 @@ class RigidProxyReference {
   FrictionOutcome friction_;
   /// Its tolerance well under the update's 1 nm step tolerance, so that
   /// the sweeps' error cannot keep an update creeping.
-  FrictionalContactSolver friction_solver_{FrictionalContactOptions{200, 1e-12}};
+  FrictionalContactSolver friction_solver_{FrictionalContactOptions{200, 1e-12, 1e-7}};
   std::vector<FrictionalContactRow> friction_rows_;  ///< scratch
   std::vector<Row> stick_rows_;                      ///< scratch: the stick step's rows
   /// The last frictional solve's rows (point, m, world; unit normal) and

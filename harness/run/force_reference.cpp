@@ -18,8 +18,9 @@ namespace {
 
 // Bump when the reference's results change for the same inputs.
 // 3: the coupling's damper in the display; 4: the friction's moment.
-// 5: the tool's sharp edges; 6: friction as one Coulomb cone per contact.
-constexpr int kReferenceVersion = 6;
+// 5: the tool's sharp edges; 6: friction as one Coulomb cone per contact;
+// 7: sweeps stopped at a clear stick, near triangles in one order.
+constexpr int kReferenceVersion = 7;
 
 std::string cache_key(const Scenario& scenario, const RigidProxySettings& settings) {
   ContentHash hash;
