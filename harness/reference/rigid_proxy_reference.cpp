@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <span>
 
@@ -268,6 +269,7 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
   for (const Vec3& s : tool_samples_) tool_radius_m_ = std::max(tool_radius_m_, s.norm());
   for (const Vec3& v : tool_mesh.vertices) tool_radius_m_ = std::max(tool_radius_m_, v.norm());
   sample_distance_.assign(tool_samples_.size(), -1.0);
+  for (std::size_t i = 0; i < tool_samples_.size(); ++i) sample_queue_.push(-1.0, i);
   sample_motion_at_.assign(tool_samples_.size(), 0.0);
   for (const auto& [a, b] : sharp_edges(tool_mesh)) {
     const std::vector<Vec3> points =
@@ -277,6 +279,7 @@ RigidProxyReference::RigidProxyReference(const std::vector<SceneObject>& scene,
       tool_edge_pieces_.push_back({points[k], points[k + 1]});
   }
   edge_distance_.assign(tool_edge_pieces_.size(), -1.0);
+  for (std::size_t i = 0; i < tool_edge_pieces_.size(); ++i) edge_queue_.push(-1.0, i);
   edge_nearby_.resize(tool_edge_pieces_.size());
   edge_motion_at_.assign(tool_edge_pieces_.size(), 0.0);
 
@@ -338,6 +341,26 @@ double RigidProxyReference::friction_of(int32_t object) const {
   return object >= 0 ? object_friction_[static_cast<std::size_t>(object)] : 0.0;
 }
 
+void RigidProxyReference::DueQueue::push(double key, std::size_t index) {
+  heap_.emplace_back(key, index);
+  std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+}
+
+void RigidProxyReference::DueQueue::take(double limit, std::vector<std::size_t>& due) {
+  due.clear();
+  while (!heap_.empty() && heap_.front().first < limit) {
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    due.push_back(heap_.back().second);
+    heap_.pop_back();
+  }
+  std::sort(due.begin(), due.end());
+}
+
+// The slack on a DueQueue's key when the points whose bounds may have
+// fallen below the band are taken, so that rounding cannot hold back one
+// the exact test takes (m).
+constexpr double kDueSlackM = 1e-9;
+
 // The tool's sharp edges, piece by piece, against every scene triangle
 // within the band, by exact segment–triangle distances: a tool ridge
 // crossing a scene ridge between their samples keeps ε too (the samples
@@ -350,7 +373,8 @@ void RigidProxyReference::collect_edge_rows(double band) {
   std::vector<Vec3> on_piece, on_triangle;  // per near triangle: the closest points
   std::vector<std::array<Vec3, 3>> corners;
   std::vector<int32_t> objects;
-  for (std::size_t i = 0; i < tool_edge_pieces_.size(); ++i) {
+  edge_queue_.take(motion_m_ + band + kDueSlackM, due_);
+  for (const std::size_t i : due_) {
     if (edge_distance_[i] - (motion_m_ - edge_motion_at_[i]) >= band) continue;
     const Vec3 a = pose.transform_point(tool_edge_pieces_[i][0]);
     const Vec3 b = pose.transform_point(tool_edge_pieces_[i][1]);
@@ -399,6 +423,7 @@ void RigidProxyReference::collect_edge_rows(double band) {
   refresh_distances(*scene_, far_middles, far_pieces, edge_distance_);
   for (std::size_t i : far_pieces)
     edge_distance_[i] -= 0.5 * (tool_edge_pieces_[i][1] - tool_edge_pieces_[i][0]).norm();
+  for (const std::size_t i : due_) edge_queue_.push(edge_distance_[i] + edge_motion_at_[i], i);
 }
 
 // Every linearised distance the next step can change by more than its
@@ -411,7 +436,8 @@ void RigidProxyReference::collect_rows(double band) {
   // bound (one batch per side), so they are not asked again for a while.
   std::vector<std::size_t> far_samples, far_vertices;
   std::vector<Vec3> far_points;
-  for (std::size_t i = 0; i < tool_samples_.size(); ++i) {
+  sample_queue_.take(motion_m_ + band + kDueSlackM, due_);
+  for (const std::size_t i : due_) {
     if (sample_distance_[i] - (motion_m_ - sample_motion_at_[i]) >= band) continue;
     const Vec3 p = pose.transform_point(tool_samples_[i]);
     scene_->triangles_within(p, band, near_);
@@ -429,6 +455,8 @@ void RigidProxyReference::collect_rows(double band) {
     if (near_.empty()) far_samples.push_back(i), far_points.push_back(p);
   }
   refresh_distances(*scene_, far_points, far_samples, sample_distance_);
+  for (const std::size_t i : due_)
+    sample_queue_.push(sample_distance_[i] + sample_motion_at_[i], i);
   collect_edge_rows(band);
   // Scene vertices in the cells the tool's sphere (grown by the band) touches.
   const double reach = tool_radius_m_ + band;

@@ -160,6 +160,22 @@ class RigidProxyReference {
   std::vector<double> sample_distance_, sample_motion_at_;
   std::vector<double> vertex_distance_, vertex_motion_at_;
   std::vector<double> edge_distance_, edge_motion_at_;  ///< per tool edge piece
+  /// Points (by index) in the order their bounds run out: a bound
+  /// d − (motion − motion_at) falls below a band once motion + band passes
+  /// the key d + motion_at (m), so an iteration takes only those (a tool of
+  /// 100,000 samples and edge pieces has a few hundred near the scene).
+  class DueQueue {
+   public:
+    void push(double key, std::size_t index);
+    /// Removes every index whose key is below `limit`, into `due`
+    /// (cleared first) in ascending order.
+    void take(double limit, std::vector<std::size_t>& due);
+
+   private:
+    std::vector<std::pair<double, std::size_t>> heap_;  ///< least key first
+  };
+  DueQueue sample_queue_, edge_queue_;
+  std::vector<std::size_t> due_;  ///< scratch: the indices taken
   /// Per tool edge piece: the scene triangles found within `reach` of its
   /// middle when it lay at `ends` (world): they hold every triangle within
   /// the band of it while band + half its length + its ends' motion since
