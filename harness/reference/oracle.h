@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -26,6 +27,10 @@ struct PointQueryRequest {
   std::span<const Vec3> points;  ///< m, world frame
   bool want_inside = true;       ///< inside any closed scene object?
   bool want_closest = false;     ///< closest point on the scene surface, distance, normal
+  /// m: a point with no scene triangle within this distance is answered
+  /// with this distance (a lower bound; closest NaN, normal 0, object −1)
+  /// instead of being searched farther. A backend may answer it exactly.
+  double max_distance = std::numeric_limits<double>::infinity();
 };
 
 struct PointQueryResult {

@@ -331,9 +331,10 @@ class EmbreeOracle final : public Oracle {
           result.object[k] = -1;
           continue;
         }
-        const ClosestSearch search = nearest_triangle(p);
-        if (search.best_object < 0) {  // cannot happen with an unbounded first sphere
-          result.distance[k] = std::numeric_limits<double>::quiet_NaN();
+        const ClosestSearch search = nearest_triangle(p, request.max_distance);
+        if (search.best_object < 0 ||
+            search.best_distance_sq > request.max_distance * request.max_distance) {
+          result.distance[k] = request.max_distance;  // nothing nearer (or no triangle at all)
           result.closest[k] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
           result.normal[k] = Vec3::Zero();
           result.object[k] = -1;
@@ -478,7 +479,8 @@ class EmbreeOracle final : public Oracle {
     return false;
   }
 
-  ClosestSearch nearest_triangle(const Vec3& p) const {
+  // The nearest triangle within max_distance (m; none found beyond it).
+  ClosestSearch nearest_triangle(const Vec3& p, double max_distance) const {
     ClosestSearch search;
     search.objects = &objects_;
     search.point = p;
@@ -490,7 +492,10 @@ class EmbreeOracle final : public Oracle {
     query.y = static_cast<float>(p.y());
     query.z = static_cast<float>(p.z());
     query.time = 0;
-    query.radius = std::numeric_limits<float>::infinity();
+    query.radius = std::isfinite(max_distance)
+                       ? std::nextafter(static_cast<float>(max_distance + search.slack),
+                                        std::numeric_limits<float>::infinity())
+                       : std::numeric_limits<float>::infinity();
     RTCPointQueryContext context;
     rtcInitPointQueryContext(&context);
     rtcPointQuery(scene_.get(), &query, &context, &visit_candidate, &search);

@@ -223,14 +223,17 @@ std::vector<char> implied_triangles(std::span<const Vec3> from, std::span<const 
 }
 
 // Sets distance[indices[k]] to the exact distance of points[k] from the
-// oracle's surface.
+// oracle's surface, or to max_distance where that is nearer (a lower
+// bound: a search that stops there costs far less than one that goes on).
 void refresh_distances(const Oracle& oracle, std::span<const Vec3> points,
-                       std::span<const std::size_t> indices, std::vector<double>& distance) {
+                       std::span<const std::size_t> indices, double max_distance,
+                       std::vector<double>& distance) {
   if (points.empty()) return;
   PointQueryRequest request;
   request.points = points;
   request.want_inside = false;
   request.want_closest = true;
+  request.max_distance = max_distance;
   PointQueryResult result;
   oracle.query_points(request, result);
   for (std::size_t k = 0; k < indices.size(); ++k)
@@ -420,7 +423,7 @@ void RigidProxyReference::collect_edge_rows(double band) {
     }
   }
   // A piece is no nearer than its middle less half its length.
-  refresh_distances(*scene_, far_middles, far_pieces, edge_distance_);
+  refresh_distances(*scene_, far_middles, far_pieces, far_bound_m(), edge_distance_);
   for (std::size_t i : far_pieces)
     edge_distance_[i] -= 0.5 * (tool_edge_pieces_[i][1] - tool_edge_pieces_[i][0]).norm();
   for (const std::size_t i : due_) edge_queue_.push(edge_distance_[i] + edge_motion_at_[i], i);
@@ -454,7 +457,7 @@ void RigidProxyReference::collect_rows(double band) {
     sample_motion_at_[i] = motion_m_;
     if (near_.empty()) far_samples.push_back(i), far_points.push_back(p);
   }
-  refresh_distances(*scene_, far_points, far_samples, sample_distance_);
+  refresh_distances(*scene_, far_points, far_samples, far_bound_m(), sample_distance_);
   for (const std::size_t i : due_)
     sample_queue_.push(sample_distance_[i] + sample_motion_at_[i], i);
   collect_edge_rows(band);
@@ -492,7 +495,7 @@ void RigidProxyReference::collect_rows(double band) {
   far_points.clear();
   for (std::size_t j : far_vertices)
     far_points.push_back(pose.inverse_transform_point(scene_vertices_[j]));
-  refresh_distances(*tool_, far_points, far_vertices, vertex_distance_);
+  refresh_distances(*tool_, far_points, far_vertices, far_bound_m(), vertex_distance_);
 }
 
 // The step δ = (δx, φ) minimising ½(δ − g)ᵀK(δ − g) subject to every row

@@ -1,7 +1,8 @@
 // Checks of the Embree oracle against closed forms: the exact box distance
 // and closest point, the exact sphere (outside its mesh's tessellation gap),
 // the known resting depth of a box tool on a slab, the refusal of an open
-// mesh, and an independent brute-force ray-parity count on a real model.
+// mesh, a closest-point search bounded by max_distance, and an
+// independent brute-force ray-parity count on a real model.
 // Units m; quaternions (qw,qx,qy,qz).
 #include <algorithm>
 #include <array>
@@ -67,6 +68,29 @@ Vec3 first_parity_direction() {
 
 const Pose kCubePose = make_pose(Vec3(0.3, -0.2, 0.5), 0.7, Vec3(1, 2, 3));
 const Shape kUnitCube = box_shape(Vec3(1, 1, 1));
+
+TEST_CASE("a closest-point search stops at max_distance and answers it as a lower bound") {
+  // The unit cube (turned and moved): points 0.3 m and 2 m off its +x face.
+  const auto oracle = make_embree_oracle({shape_object("cube", kUnitCube, kCubePose)});
+  const std::vector<Vec3> points = {kCubePose.transform_point(Vec3(0.8, 0.1, -0.2)),
+                                    kCubePose.transform_point(Vec3(2.5, 0.1, -0.2))};
+  PointQueryRequest request;
+  request.points = points;
+  request.want_inside = false;
+  request.want_closest = true;
+  request.max_distance = 1.0;
+  PointQueryResult result;
+  oracle->query_points(request, result);
+  REQUIRE(result.distance.size() == 2);
+  CHECK(result.distance[0] == Approx(0.3).epsilon(1e-12));  // within: exact
+  CHECK(result.object[0] == 0);
+  CHECK(result.distance[1] == 1.0);  // beyond: the bound, no point
+  CHECK(result.object[1] == -1);
+  CHECK(std::isnan(result.closest[1].x()));
+  request.max_distance = std::numeric_limits<double>::infinity();
+  oracle->query_points(request, result);
+  CHECK(result.distance[1] == Approx(2.0).epsilon(1e-12));
+}
 
 TEST_CASE("unit cube: inside and outside, also 1e-6 off every face") {
   const auto oracle = make_embree_oracle({shape_object("cube", kUnitCube, kCubePose)});
