@@ -73,6 +73,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     escape_reported_ = false;
     state_ = state_at_rest(body_, escape_.pose);
     target_ = start;
+    certifier_.forget();
     certificate_ = certifier_.certify(escape_.pose, certifier_.widest_band());
     impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
     warm_active_.clear();

@@ -79,6 +79,14 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   return certificate;
 }
 
+void ProximityCertifier::forget() const {
+  searched_ = SearchedPairs{};
+  crowded_ = false;
+  widen_ = true;
+  plain_searches_ = 0;
+  last_search_widened_ = false;
+}
+
 void ProximityCertifier::mark_repeats(ProximityCertificate& certificate) const {
   // The listed pairs' groups (listed_groups_, from the search): the first
   // listed pair of a group is measured, the others repeat it.
@@ -203,6 +211,16 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
               : max_pairs;
   ProximityResult found =
       ccd_.proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept);
+  // Nothing near: how far the scene is (up to kFreeSpaceReachBands widest
+  // bands), so that the proxy may go that far before the next certificate
+  // (a late slow loop must not hold it back in free space).
+  if (found.pairs.empty()) {
+    const ProximityResult nearest =
+        ccd_.proximity(anchor, kFreeSpaceReachBands * settings_.haptic_band_m, 0);
+    found.clearance_m = std::max(found.clearance_m, nearest.clearance_m);
+    found.bv_tests += nearest.bv_tests;
+    found.pair_tests += nearest.pair_tests;
+  }
   searched_.anchor = anchor;
   searched_.widened = widened;
   searched_.clearance_m = found.clearance_m;
@@ -213,7 +231,7 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   group_searched_pairs();
   std::optional<ProximityResult> answer =
       answer_within(searched_.pairs, searched_.clearance_m, band_m, max_pairs);
-  if (!answer) {
+  if (!answer || searched_.pairs.empty()) {  // cut short, or free space (its clearance)
     answer.emplace();
     answer->pairs = searched_.pairs;
     answer->clearance_m = searched_.clearance_m;
@@ -241,6 +259,9 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
   // The answer needs every pair within band_m, or max_pairs + 1 pairs
   // within `complete` (then the last of them is the clearance).
   if (complete < band_m && searched_.pairs.size() <= max_pairs) return std::nullopt;
+  // In free space the clearance is the reach: measured again once the tool
+  // has moved half of it away, so a late certificate still reaches far.
+  if (searched_.pairs.empty() && moved > 0.5 * searched_.clearance_m) return std::nullopt;
   const double within = std::min(complete, band_m);
   // A pair's distance has changed by `moved` at most: only those that can
   // be within reach are measured again (with groups, measure_grouped picks
@@ -270,6 +291,7 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
     pair_tests = measured_index_.size();
   }
   std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
+  if (answer && searched_.pairs.empty()) answer->clearance_m = complete;  // free space
   if (answer) answer->pair_tests = static_cast<int64_t>(pair_tests);
   if (!group.empty())
     listed_groups_.resize(answer ? answer->pairs.size() : 0);  // a prefix of measured_'s

@@ -28,6 +28,10 @@ inline constexpr double kSearchMargin = 0.5;
 /// settings.haptic_max_pairs), so that a list cut short by its limit can be
 /// answered again from them.
 inline constexpr std::size_t kSearchedPairsPerListed = 2;
+/// How far (in widest bands, ContactSettings::haptic_band_m) a search that
+/// found nothing near measures the scene's distance: the certificate's
+/// clearance, and so the proxy's reach, in free space.
+inline constexpr double kFreeSpaceReachBands = 10;
 /// Searches that ask only for what they need before a wider one is tried
 /// again, after the wider ones were not used (ProximityCertifier::certify).
 inline constexpr int kPlainSearchesBetweenTries = 8;
@@ -93,6 +97,11 @@ class ProximityCertifier {
   /// query asks for, the query only measures them again (the same list and
   /// clearance a search would give).
   ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
+  /// Forgets the kept search and what the last queries decided, so that a
+  /// run from reset() answers as the first did (a free-space answer from
+  /// kept pairs is the search's clearance less the motion since, not what a
+  /// new search would measure).
+  void forget() const;
 
   /// The band for the next certificate: six times how far (point_reach) the
   /// device moved from `previous_target` to `target` between two slow

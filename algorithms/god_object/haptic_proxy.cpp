@@ -19,6 +19,7 @@ HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,
 
 void HapticProxy::reset(const Pose& start) {
   pose_ = start;
+  certifier_.forget();
   certificate_ = certify(start, settings_.haptic_band_m);
   com_pose_current_ = false;
   measured_.clear();

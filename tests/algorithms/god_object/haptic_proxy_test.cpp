@@ -73,14 +73,21 @@ struct CubeOnSlab : ProxyRig {
 
 TEST_CASE("in free space the proxy is the device's pose until it would leave the certificate") {
   CubeOnSlab rig;
-  rig.proxy.reset(at(Vec3(0, 0, 0.1)));  // 8 cm above the face: nothing within the band
+  // 8 cm above the face: nothing within the band, nor within ten widest
+  // bands, how far a search measures the scene in free space.
+  rig.proxy.reset(at(Vec3(0, 0, 0.1)));
   CHECK(rig.proxy.certificate().pairs.empty());
-  CHECK(rig.proxy.certificate().clearance_m == rig.settings.haptic_band_m);
-  const double reach = rig.settings.haptic_band_m - rig.settings.standoff_m;
+  CHECK(rig.proxy.certificate().clearance_m == kFreeSpaceReachBands * rig.settings.haptic_band_m);
+  // 3 cm above it: the clearance is that distance, the reach all but the
+  // standoff of it.
+  rig.proxy.reset(at(Vec3(0, 0, 0.05)));
+  CHECK(rig.proxy.certificate().pairs.empty());
+  CHECK(rig.proxy.certificate().clearance_m == Approx(0.03).epsilon(1e-12));
+  const double reach = rig.proxy.certificate().clearance_m - rig.settings.standoff_m;
   for (int tick = 1; tick <= 80; ++tick) {
-    // 0.1 mm per tick sideways, with a slow turn; no new certificate.
+    // 0.5 mm per tick sideways, with a slow turn; no new certificate.
     const Pose target =
-        at(Vec3(1e-4 * tick, 0, 0.1), quat_from_rotation_vector(Vec3(0, 0, 1e-3 * tick)));
+        at(Vec3(5e-4 * tick, 0, 0.05), quat_from_rotation_vector(Vec3(0, 0, 1e-3 * tick)));
     const HapticSolveStats stats = rig.proxy.step(target);
     const double moved = point_reach(
         displacement(rig.proxy.certificate().anchor, Pose{rig.proxy.pose().p, rig.proxy.pose().q}),
@@ -91,7 +98,7 @@ TEST_CASE("in free space the proxy is the device's pose until it would leave the
       CHECK((rig.proxy.pose().p - target.p).norm() < 1e-12);
       CHECK(rig.proxy.pose().q.angularDistance(target.q) < 1e-12);
     }
-    if (tick <= 30) CHECK_FALSE(stats.bounded);  // 3 mm + 0.03 rad · 3.5 cm < 5 mm
+    if (tick <= 50) CHECK_FALSE(stats.bounded);  // 25 mm + 0.05 rad · 3.5 cm < 30 mm
     if (tick >= 60) CHECK(stats.bounded);
   }
   // A new certificate at the proxy lets it move on at once.
