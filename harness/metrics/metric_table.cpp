@@ -93,6 +93,17 @@ constexpr MetricDefinition kMetrics[] = {
      .compare_when_present = true,
      .read = [](const RunMetrics& m) { return m.timing.slow_loop_rate_hz; },
      .description = "slow-loop updates achieved per second of the replay's virtual time"},
+    {.name = "slow_data_age_p99_ticks",
+     .json_pointer = "/timing/slow_loop/data_age_p99_ticks",
+     .unit = "ticks",
+     .kind = ValueKind::kCount,
+     .compare_when_present = true,
+     .read = [](const RunMetrics& m) -> std::optional<double> {
+       if (!m.timing.slow_data_age_p99_ticks) return std::nullopt;
+       return static_cast<double>(*m.timing.slow_data_age_p99_ticks);
+     },
+     .description = "99th percentile over the ticks of how many ticks old the slow loop's data "
+                    "the step used was (from the start of the update that made it)"},
     {.name = "slow_updates_over_1ms_share",
      .json_pointer = "/timing/slow_loop/updates_over_1ms_share",
      .unit = "fraction",

@@ -88,6 +88,7 @@ void MetricsAccumulator::add_timing(const TickRecord& record, bool in_contact) {
     slow_age_sum_ += record.slow_data_age_ticks;
     ++slow_age_count_;
     slow_age_max_ = std::max(slow_age_max_, record.slow_data_age_ticks);
+    slow_age_.add(record.slow_data_age_ticks);
   }
 }
 
@@ -333,6 +334,7 @@ RunMetrics MetricsAccumulator::finish() const {
     m.timing.slow_data_age_mean_ticks =
         static_cast<double>(slow_age_sum_) / static_cast<double>(slow_age_count_);
     m.timing.slow_data_age_max_ticks = slow_age_max_;
+    m.timing.slow_data_age_p99_ticks = std::llround(slow_age_.result().p99);
   }
   if (ideal_ticks_ > 0) {
     m.accuracy.force_err_rms_n = std::sqrt(force_err_sq_ / static_cast<double>(ideal_ticks_));

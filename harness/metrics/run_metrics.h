@@ -68,6 +68,8 @@ struct TimingMetrics {
   std::optional<int64_t> slow_updates_over_tick;   ///< updates that took longer than 1 ms
   std::optional<double> slow_data_age_mean_ticks;  ///< staleness of contact data seen by step()
   std::optional<int64_t> slow_data_age_max_ticks;
+  /// Nearest-rank 99th percentile of the staleness over the ticks that had data.
+  std::optional<int64_t> slow_data_age_p99_ticks;
   CpuPerTick cpu_per_tick_ns;
 };
 
@@ -290,6 +292,7 @@ class MetricsAccumulator {
   StreamingPercentiles cpu_ns_;
   double cpu_sum_ns_ = 0;
   int64_t slow_age_sum_ = 0, slow_age_count_ = 0, slow_age_max_ = -1;
+  StreamingPercentiles slow_age_;  ///< ticks
   int64_t slow_over_tick_ = 0;
   RunMetrics partial_;
   // Force signal and (ideal, displayed) force per reference tick, for finish().

@@ -159,6 +159,7 @@ json slow_loop_json(const AlgorithmRun& run) {
       {"update_ns", percentiles_json(t.slow_update_ns)},
       {"updates_over_1ms", or_null(t.slow_updates_over_tick)},
       {"data_age_mean_ticks", or_null(t.slow_data_age_mean_ticks)},
+      {"data_age_p99_ticks", or_null(t.slow_data_age_p99_ticks)},
       {"data_age_max_ticks", or_null(t.slow_data_age_max_ticks)}};
 }
 

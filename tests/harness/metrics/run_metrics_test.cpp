@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/spectrum.h"
@@ -162,6 +163,39 @@ TEST_CASE("slow updates: time spread over the ticks until installation, count ov
   CHECK(m.timing.cpu_per_tick_ns.mean == Approx((5 * 1'000'100.0 + 500'100 + 4 * 100) / 10));
   CHECK(m.timing.cpu_per_tick_ns.percentiles.p50 == 500'100);
   CHECK(m.timing.cpu_per_tick_ns.percentiles.max == 1'000'100);
+}
+
+TEST_CASE("slow data age: mean, 99th percentile and maximum over the ticks that had data") {
+  // A slow loop 10 ticks late whose next update starts as one installs:
+  // the data a step uses is 10, 11, ..., 19 ticks old, over and over (1,000
+  // ticks); 20 ticks before the first installation have none. Nearest rank:
+  // the 99th percentile of 100 cycles of 10..19 is 19 (rank 990 of 1,000).
+  MetricsAccumulator metrics{MetricsSettings{}};
+  std::vector<DeviceSample> samples(1020);
+  for (int k = 0; k < 1020; ++k) {
+    samples[k].tick = k;
+    TickRecord r;
+    r.device = &samples[k];
+    r.step_ns = 100;
+    r.slow_data_age_ticks = k < 20 ? -1 : 10 + (k - 20) % 10;
+    metrics.add(r, TickEvaluation{});
+  }
+  const RunMetrics m = metrics.finish();
+  REQUIRE(m.timing.slow_data_age_mean_ticks);
+  CHECK(*m.timing.slow_data_age_mean_ticks == Approx(14.5));
+  CHECK(m.timing.slow_data_age_p99_ticks == 19);
+  CHECK(m.timing.slow_data_age_max_ticks == 19);
+  // One tick in a hundred 40 ticks old: the maximum, not the 99th percentile.
+  MetricsAccumulator rare{MetricsSettings{}};
+  for (int k = 0; k < 1000; ++k) {
+    TickRecord r;
+    r.device = &samples[k];
+    r.slow_data_age_ticks = k % 100 == 99 && k < 900 ? 40 : 2;
+    rare.add(r, TickEvaluation{});
+  }
+  const RunMetrics rm = rare.finish();
+  CHECK(rm.timing.slow_data_age_p99_ticks == 2);
+  CHECK(rm.timing.slow_data_age_max_ticks == 40);
 }
 
 TEST_CASE("force error, direction error and penetration against the reference") {
