@@ -46,7 +46,10 @@
 // clear of their bounds replaces the iterate, and the sweeps go on from
 // there; they converge at the next sweep when the root is the solution.
 // Convergence is judged by the sweeps alone, as without polishing. A polish
-// that stalls is dropped; after two, the sweeps go on alone.
+// that stalls is dropped; after two, the sweeps go on alone. A caller that
+// solves a sticking problem exactly itself may ask the sweeps to stop as
+// soon as every loaded contact clearly sticks (FrictionalContactOptions::
+// stick_slip; the solution is then `stuck`, not `converged`).
 //
 // With R = K⁻¹ (the coupling's stiffness) and u_free the unconstrained
 // displacement, the same problem is the massless god-object's quasi-static
