@@ -372,7 +372,9 @@ TEST_CASE("closed loop: every proxy renders no force in free space with the defa
   CHECK(checked == 4);
 }
 
-TEST_CASE("a slow loop 50 ticks late does not drag the proxy in free space, open or closed loop") {
+TEST_CASE(
+    "a slow loop 50 ticks late does not drag the proxy in free space, open or closed loop, nor "
+    "let it sink when it comes down") {
   // The sphere circles 8 cm above the slab. Between certificates a proxy
   // moves only within the last one's reach; a reach cut at the search's
   // band held it while the device went on: 60.7 N (god-object) and 74.7 N
@@ -396,6 +398,33 @@ TEST_CASE("a slow loop 50 ticks late does not drag the proxy in free space, open
       CHECK(transparency.at("free_space_ticks").get<int>() == 3000);
       CHECK(transparency.at("free_space_force_max_n").get<double>() <= 0.01);
     }
+  }
+  // The reach that lets the proxy follow in free space must still stop it
+  // at the surface: the sphere driven from 3 cm above into the slab at
+  // 2 m/s, the slow loops 50 ticks late, sinks nowhere (Embree oracle).
+  scenario.erase("closed_loop");
+  scenario["trace"] = {{"generator", "impact"},
+                       {"duration_s", 2.0},
+                       {"seed", 1},
+                       {"params",
+                        {{"start", {0, 0, 0.05}},
+                         {"axis", {0, 0, -1}},
+                         {"surface_distance", 0.03},
+                         {"speed_mps", 2.0},
+                         {"depth", 0.01}}}};
+  scenario["reference"] = {{"oracle", "embree"}, {"analytic", "none"}};
+  scenario["budgets"] = {{"nonfinite", 0}};
+  std::ofstream(work.path() / "impact.json") << scenario.dump(2);
+  const auto impact =
+      hb::test::run_hapticbench("run impact.json --out impact --quiet", work.path());
+  INFO(impact.stderr_text);
+  REQUIRE(impact.exit_code == 0);
+  const json runs =
+      json::parse(hb::test::read_text_file(work.path() / "impact/summary.json")).at("runs");
+  REQUIRE(runs.size() == 2);
+  for (const json& run : runs) {
+    INFO(run.at("label").get<std::string>());
+    CHECK(run.at("accuracy").at("penetration_max_m").get<double>() == 0);
   }
 }
 
