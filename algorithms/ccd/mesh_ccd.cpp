@@ -312,6 +312,12 @@ ProximityResult MeshCcd::proximity(const Pose& tool_pose, double max_distance,
                                       max_pairs);
 }
 
+ProximityInSlices MeshCcd::start_proximity(const Pose& tool_pose, double max_distance,
+                                           std::size_t max_pairs) const {
+  return ProximityInSlices(ccd_detail::start_proximity_search(data_->tool, data_->scene, tool_pose,
+                                                              max_distance, max_pairs));
+}
+
 PairClosestPoints MeshCcd::closest_points(const ContactFeatures& features,
                                           const Pose& tool_pose) const {
   return ccd_detail::pair_closest_points(

@@ -47,6 +47,9 @@ struct ContactFeatures {
   int tool_feature = 0;   ///< tool vertex, triangle or edge index
   int scene_feature = 0;  ///< scene triangle, vertex or edge index
   bool operator==(const ContactFeatures&) const = default;
+  /// By kind, object, tool feature, scene feature: the order that breaks
+  /// ties between pairs at one distance (ProximityPair).
+  auto operator<=>(const ContactFeatures&) const = default;
 };
 
 /// A feature pair's geometry at one tool pose.
@@ -115,14 +118,63 @@ struct ProximityPair {
   double distance = 0;  ///< m
 };
 
+/// The order proximity lists pairs in: by distance, pairs at one distance
+/// by their features (the greater first), so that a list depends on the
+/// pose alone, not on which search found the pairs or in what order. The
+/// contact solvers' paths depend on the order of pairs at one distance
+/// (docs/performance.md): this one keeps the suites' results within the
+/// gate's tolerances of the order the searches met them in.
+inline bool nearer(const ProximityPair& a, const ProximityPair& b) {
+  return a.distance < b.distance || (a.distance == b.distance && b.features < a.features);
+}
+
 /// What lies near the tool at one pose (MeshCcd::proximity).
 struct ProximityResult {
-  /// Feature pairs closer than clearance_m (or at it), nearest first.
+  /// Feature pairs closer than clearance_m (or at it), nearest first
+  /// (nearer()).
   std::vector<ProximityPair> pairs;
   /// Every feature pair not listed is at least this far apart (m).
   double clearance_m = 0;
   int64_t bv_tests = 0;    ///< node pairs tested
   int64_t pair_tests = 0;  ///< feature pairs whose distance was computed
+};
+
+namespace ccd_detail {
+class ProximitySearch;
+}
+
+/// A proximity query worked in slices (MeshCcd::start_proximity), so that
+/// a caller can spread one search over several calls: each advance opens a
+/// bounded number of node pairs of the trees, nearest first. Once complete,
+/// finish() gives what MeshCcd::proximity gives at the same pose, bit for
+/// bit. It reads the MeshCcd's trees, which must outlive it.
+class ProximityInSlices {
+ public:
+  /// Deletes the search (mesh_proximity.cpp, where it is defined).
+  struct Deleter {
+    void operator()(ccd_detail::ProximitySearch* search) const;
+  };
+  using Search = std::unique_ptr<ccd_detail::ProximitySearch, Deleter>;
+
+  ProximityInSlices() = default;
+  explicit ProximityInSlices(Search search) : search_(std::move(search)) {}
+
+  /// Opens at most `node_pairs` (> 0) more node pairs; true once the search
+  /// is complete (also for a default-constructed one).
+  bool advance(int64_t node_pairs);
+  /// Node pairs opened so far.
+  int64_t opened() const;
+  /// No feature pair is nearer than this (m), from the node pairs opened so
+  /// far (the nearest pair found, the least bound of those still open, the
+  /// distance asked for): a lower bound of the tool's distance to the scene
+  /// that tightens as the search goes on (0 for a default-constructed one).
+  double nearest_bound() const;
+  /// Completes the search and gives its answer (an empty one, clearance 0,
+  /// for a default-constructed one); the search is spent afterwards.
+  ProximityResult finish();
+
+ private:
+  Search search_;
 };
 
 /// Bounding-sphere trees of one tool and a static scene, built once.
@@ -173,6 +225,9 @@ class MeshCcd {
   /// either way no pair outside the list is closer.
   ProximityResult proximity(const Pose& tool_pose, double max_distance,
                             std::size_t max_pairs) const;
+  /// proximity(tool_pose, max_distance, max_pairs), to be worked in slices.
+  ProximityInSlices start_proximity(const Pose& tool_pose, double max_distance,
+                                    std::size_t max_pairs) const;
 
   /// Closest points of the pair's two closed features, the tool's frame at
   /// `tool_pose`. Indices are checked as by evaluate().

@@ -36,28 +36,39 @@ uint64_t pair_key(const ContactFeatures& f) {
 // pair by pair.
 constexpr double kBoundSlack = 1e-12;
 
+}  // namespace
+
 class ProximitySearch {
  public:
-  ProximitySearch(const MeshFeatures& tool, const Pose& tool_pose, double max_distance,
-                  std::size_t max_pairs)
-      : tool_(tool),
-        rotation_(tool_pose.q.normalized().toRotationMatrix()),
-        translation_(tool_pose.p),
-        threshold_(max_distance),
-        max_pairs_(max_pairs) {}
-
   // Best first: node pairs in increasing order of the lower bound on their
   // features' distance, so the nearest pairs are found early and the
   // threshold shrinks before most of the trees is opened.
-  void search(std::span<const MeshFeatures> scene) {
+  ProximitySearch(const MeshFeatures& tool, std::span<const MeshFeatures> scene,
+                  const Pose& tool_pose, double max_distance, std::size_t max_pairs)
+      : tool_(tool),
+        scene_(scene),
+        rotation_(tool_pose.q.normalized().toRotationMatrix()),
+        translation_(tool_pose.p),
+        max_distance_(max_distance),
+        threshold_(max_distance),
+        max_pairs_(max_pairs) {
     if (tool_.tree.empty()) return;
     for (std::size_t o = 0; o < scene.size(); ++o)
       if (!scene[o].tree.empty()) push(static_cast<int>(o), 0, scene[o], 0);
-    while (!open_.empty()) {
+  }
+
+  // Opens at most `node_pairs` node pairs (all that are left when negative);
+  // true once the search is complete.
+  bool advance(int64_t node_pairs) {
+    for (int64_t opened = 0; !open_.empty() && (node_pairs < 0 || opened < node_pairs); ++opened) {
+      ++opened_;
       const NodePair pair = open_.top();
       open_.pop();
-      if (pair.lower_bound > threshold_) break;  // every other pair is farther still
-      const MeshFeatures& objects = scene[static_cast<std::size_t>(pair.object)];
+      if (pair.lower_bound > threshold_) {  // every other pair is farther still
+        open_ = {};
+        break;
+      }
+      const MeshFeatures& objects = scene_[static_cast<std::size_t>(pair.object)];
       const SphereTreeNode& tool_node = tool_.node(pair.tool);
       const SphereTreeNode& scene_node = objects.node(pair.scene);
       if (tool_node.is_leaf() && scene_node.is_leaf()) {
@@ -74,10 +85,22 @@ class ProximitySearch {
         push(pair.object, pair.tool, objects, scene_node.first + 1);
       }
     }
+    double bound = std::min(nearest_found_, max_distance_);
+    if (!open_.empty()) bound = std::min(bound, open_.top().lower_bound);
+    nearest_bound_ = std::max(nearest_bound_, bound);
+    return open_.empty();
   }
 
-  ProximityResult finish(double max_distance) {
-    result_.clearance_m = max_distance;
+  // No feature pair is nearer than this (m), from what has been opened so
+  // far: the nearest pair found, the least bound of the node pairs still
+  // open, the distance asked for; the greatest such bound met so far (a
+  // node pair's children may be bounded lower than it was).
+  double nearest_bound() const { return nearest_bound_; }
+  int64_t opened() const { return opened_; }
+
+  ProximityResult finish() {
+    advance(-1);
+    result_.clearance_m = max_distance_;
     if (nearest_.size() > max_pairs_) {
       result_.clearance_m = nearest_.top().distance;  // the nearest pair left out
       nearest_.pop();
@@ -216,56 +239,71 @@ class ProximitySearch {
                  distance);
       }
     }
-    // Edges against edges.
+    // Edges against edges: the scene leaf's edges on near triangles
+    // gathered once, when the first tool edge needs them.
+    SceneEdge scene_edges[LeafFeatures::kMaxVertices];
+    int scene_edge_count = -1;
     for (int i = 0; i < tool_leaf.edge_count; ++i) {
       if (!(tool_leaf.edge_triangles[i] & near_tool)) continue;
       const auto& te = tool_.edge(tool_leaf.edges[i]);
       const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
-      const ToolEdge edge{tool_leaf.edges[i], p0, p1, 0.5 * (p0 + p1), 0.5 * (p1 - p0).norm()};
+      const Segment edge{tool_leaf.edges[i], p0, p1, 0.5 * (p0 + p1), 0.5 * (p1 - p0).norm()};
       if (beyond(edge.middle, edge.half, scene_node.centre, scene_node.radius)) continue;
+      if (scene_edge_count < 0) {
+        scene_edge_count = 0;
+        for (int j = 0; j < scene_leaf.edge_count; ++j) {
+          if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
+          const auto& se = scene.edge(scene_leaf.edges[j]);
+          const Vec3& q0 = scene.vertex(se[0]);
+          const Vec3& q1 = scene.vertex(se[1]);
+          scene_edges[scene_edge_count++] =
+              SceneEdge{scene_leaf.edges[j], q0, q1, 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm()};
+        }
+      }
+      const std::span<const SceneEdge> near_edges(scene_edges,
+                                                  static_cast<std::size_t>(scene_edge_count));
       // Every scene edge is under half as long as a tool edge longer than
       // the scene leaf's diameter (a small tile's edges under a long face's).
       if (edge.half > 2 * scene_node.radius)
-        edge_pairs<true>(edge, scene, scene_leaf, near_scene, object);
+        edge_pairs<true>(edge, near_edges, object);
       else
-        edge_pairs<false>(edge, scene, scene_leaf, near_scene, object);
+        edge_pairs<false>(edge, near_edges, object);
     }
   }
 
-  /// A tool edge placed in the world (m): its ends, middle and half length.
-  struct ToolEdge {
+  /// An edge placed in the world (m): its index, ends, middle and half length.
+  struct Segment {
     int index;
     Vec3 p0, p1, middle;
     double half;
   };
+  using ToolEdge = Segment;
+  using SceneEdge = Segment;
 
-  /// The tool edge against the scene leaf's edges on near triangles. An
-  /// edge lies within half its length of its middle, so a pair is no nearer
-  /// than one edge's middle is from the other edge, less that half: the
-  /// shorter edge's middle bounds best, the scene edge's when
-  /// kBySceneMiddles, else the tool edge's.
+  /// The tool edge against the scene leaf's edges on near triangles. Two
+  /// edges are no nearer than their middles less both half lengths (a
+  /// squared test first); then an edge lies within half its length of its
+  /// middle, so a pair is no nearer than one edge's middle is from the other
+  /// edge, less that half: the shorter edge's middle bounds best, the scene
+  /// edge's when kBySceneMiddles, else the tool edge's.
   template <bool kBySceneMiddles>
-  void edge_pairs(const ToolEdge& edge, const MeshFeatures& scene, const LeafFeatures& scene_leaf,
-                  unsigned near_scene, int object) {
-    for (int j = 0; j < scene_leaf.edge_count; ++j) {
-      if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
-      const auto& se = scene.edge(scene_leaf.edges[j]);
-      const Vec3& q0 = scene.vertex(se[0]);
-      const Vec3& q1 = scene.vertex(se[1]);
+  void edge_pairs(const ToolEdge& edge, std::span<const SceneEdge> scene_edges, int object) {
+    for (const SceneEdge& other : scene_edges) {
+      const double reach = threshold_ + (1 + kBoundSlack) * (edge.half + other.half);
+      if ((other.middle - edge.middle).squaredNorm() > reach * reach) continue;
       if constexpr (kBySceneMiddles) {
-        const Vec3 scene_middle = 0.5 * (q0 + q1);
-        const double scene_half = 0.5 * (q1 - q0).norm();
-        if ((scene_middle - closest_point_on_segment(scene_middle, edge.p0, edge.p1)).norm() -
-                scene_half - kBoundSlack * scene_half >
+        if ((other.middle - closest_point_on_segment(other.middle, edge.p0, edge.p1)).norm() -
+                other.half - kBoundSlack * other.half >
             threshold_)
           continue;
-      } else if ((edge.middle - closest_point_on_segment(edge.middle, q0, q1)).norm() - edge.half -
-                     kBoundSlack * edge.half >
+      } else if ((edge.middle - closest_point_on_segment(edge.middle, other.p0, other.p1)).norm() -
+                     edge.half - kBoundSlack * edge.half >
                  threshold_) {
         continue;
       }
-      const double distance = closest_points_of_segments(edge.p0, edge.p1, q0, q1).distance();
-      consider({ContactFeatureKind::kEdgeEdge, object, edge.index, scene_leaf.edges[j]}, distance);
+      const double distance =
+          closest_points_of_segments(edge.p0, edge.p1, other.p0, other.p1).distance();
+      consider({ContactFeatureKind::kEdgeEdge, object, edge.index, other.index}, distance);
     }
   }
 
@@ -273,6 +311,7 @@ class ProximitySearch {
     ++result_.pair_tests;
     if (!(distance <= threshold_)) return;
     if (!seen_.insert(pair_key(features))) return;
+    nearest_found_ = std::min(nearest_found_, distance);
     nearest_.push(ProximityPair{features, distance});
     if (nearest_.size() > max_pairs_ + 1) nearest_.pop();
     // With max_pairs + 1 pairs known, nothing farther than the farthest of
@@ -281,16 +320,20 @@ class ProximitySearch {
       threshold_ = std::min(threshold_, nearest_.top().distance);
   }
 
+  // The heap's top is the farthest pair kept (ties: the last by features).
   struct Farther {
-    bool operator()(const ProximityPair& a, const ProximityPair& b) const {
-      return a.distance < b.distance;
-    }
+    bool operator()(const ProximityPair& a, const ProximityPair& b) const { return nearer(a, b); }
   };
 
   const MeshFeatures& tool_;
+  std::span<const MeshFeatures> scene_;
   Mat3 rotation_;
   Vec3 translation_;
+  double max_distance_;
   double threshold_;
+  double nearest_found_ = std::numeric_limits<double>::infinity();
+  int64_t opened_ = 0;
+  double nearest_bound_ = 0;
   std::size_t max_pairs_;
   std::priority_queue<ProximityPair, std::vector<ProximityPair>, Farther> nearest_;
   KeySet seen_;
@@ -298,14 +341,18 @@ class ProximitySearch {
   ProximityResult result_;
 };
 
-}  // namespace
+ProximityInSlices::Search start_proximity_search(const MeshFeatures& tool,
+                                                 std::span<const MeshFeatures> scene,
+                                                 const Pose& tool_pose, double max_distance,
+                                                 std::size_t max_pairs) {
+  return ProximityInSlices::Search(
+      new ProximitySearch(tool, scene, tool_pose, max_distance, max_pairs));
+}
 
 ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshFeatures> scene,
                                  const Pose& tool_pose, double max_distance,
                                  std::size_t max_pairs) {
-  ProximitySearch search(tool, tool_pose, max_distance, max_pairs);
-  search.search(scene);
-  return search.finish(max_distance);
+  return ProximitySearch(tool, scene, tool_pose, max_distance, max_pairs).finish();
 }
 
 PairClosestPoints pair_closest_points(const MeshFeatures& tool, const MeshFeatures& scene,
@@ -323,3 +370,28 @@ PlacedToolVertices::PlacedToolVertices(const MeshFeatures& tool, const Mat3& rot
 }
 
 }  // namespace hb::ccd_detail
+
+namespace hb {
+
+void ProximityInSlices::Deleter::operator()(ccd_detail::ProximitySearch* search) const {
+  delete search;
+}
+
+bool ProximityInSlices::advance(int64_t node_pairs) {
+  return search_ == nullptr || search_->advance(std::max<int64_t>(node_pairs, 1));
+}
+
+int64_t ProximityInSlices::opened() const { return search_ == nullptr ? 0 : search_->opened(); }
+
+double ProximityInSlices::nearest_bound() const {
+  return search_ == nullptr ? 0.0 : search_->nearest_bound();
+}
+
+ProximityResult ProximityInSlices::finish() {
+  if (search_ == nullptr) return ProximityResult{};
+  ProximityResult result = search_->finish();
+  search_.reset();
+  return result;
+}
+
+}  // namespace hb

@@ -12,6 +12,12 @@
 
 namespace hb::ccd_detail {
 
+/// MeshCcd::start_proximity's search (ProximityInSlices).
+ProximityInSlices::Search start_proximity_search(const MeshFeatures& tool,
+                                                 std::span<const MeshFeatures> scene,
+                                                 const Pose& tool_pose, double max_distance,
+                                                 std::size_t max_pairs);
+
 /// The feature pairs of the tool (its frame at `tool_pose`) and the scene
 /// closer than max_distance, at most max_pairs of them (MeshCcd::proximity).
 ProximityResult search_proximity(const MeshFeatures& tool, std::span<const MeshFeatures> scene,

@@ -43,11 +43,13 @@ struct ConstrainedDynamicsWork {
     kCoulombViolations,
     kSkewResolves,
     kProximitySearches,
+    kProximitySearchesAhead,
   };
   static constexpr WorkCounters::Names kNames = {
-      "pairs_evaluated", "solver_iterations",  "solver_unconverged", "active_contacts",
-      "reach_bounded",   "certificates_taken", "certificates_kept",  "start_escapes",
-      "start_escape_um", "coulomb_violations", "skew_resolves",      "proximity_searches"};
+      "pairs_evaluated",         "solver_iterations",  "solver_unconverged", "active_contacts",
+      "reach_bounded",           "certificates_taken", "certificates_kept",  "start_escapes",
+      "start_escape_um",         "coulomb_violations", "skew_resolves",      "proximity_searches",
+      "proximity_searches_ahead"};
 };
 
 class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
@@ -217,6 +219,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   // carries each pair's impulse over to it for the warm start.
   void install(Certification& update, WorkCounters& work) {
     work.add(ConstrainedDynamicsWork::kProximitySearches, update.certificate.searches);
+    work.add(ConstrainedDynamicsWork::kProximitySearchesAhead, update.certificate.ahead_searches);
     if (!certifier_.within_reach(update.certificate, tool_pose(body_, state_))) {
       work.add(ConstrainedDynamicsWork::kCertificatesKept);
       return;

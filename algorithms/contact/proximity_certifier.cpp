@@ -1,8 +1,10 @@
 #include "algorithms/contact/proximity_certifier.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <utility>
@@ -42,6 +44,7 @@ ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const ContactSettings
 ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double band_m) const {
   ProximityCertificate certificate;
   certificate.anchor = frames_.com_frame(tool_pose);
+  ahead_taken_ = advance_search_ahead(certificate.anchor) ? 1 : 0;
   const auto most = static_cast<std::size_t>(settings_.haptic_max_pairs);
   const std::size_t first = std::min(kFirstListedPairs, most);
   constexpr double kReachPerBand = 1.0 / 3;
@@ -51,10 +54,12 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   const auto too_little_reach = [&](double clearance) {
     return clearance < band_m && clearance - settings_.standoff_m < reach_wanted;
   };
-  ProximityResult found =
-      listed_pairs(certificate.anchor, band_m, crowded_ ? most : first, certificate.searches);
-  if (!crowded_ && first < most && too_little_reach(found.clearance_m))
-    found = listed_pairs(certificate.anchor, band_m, most, certificate.searches);
+  std::size_t listed = crowded_ ? most : first;
+  ProximityResult found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches);
+  if (!crowded_ && first < most && too_little_reach(found.clearance_m)) {
+    listed = most;
+    found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches);
+  }
   // Whether the first pairs alone would have left too little reach here
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
@@ -76,10 +81,74 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     certificate.distances.push_back(pair.distance);
   }
   if (!listed_groups_.empty()) mark_repeats(certificate);
+  certificate.ahead_searches = ahead_taken_;
+  start_search_ahead(certificate, band_m, listed);
+  last_anchor_ = certificate.anchor;
+  last_clearance_m_ = certificate.clearance_m;
   return certificate;
 }
 
+double ProximityCertifier::queries_left(const Pose& anchor) const {
+  if (!last_anchor_) return std::numeric_limits<double>::infinity();
+  const double step = point_reach(displacement(*last_anchor_, anchor), radius_);
+  if (!(step > 0)) return std::numeric_limits<double>::infinity();
+  const double room = searched_.clearance_m -
+                      point_reach(displacement(searched_.anchor, anchor), radius_) -
+                      last_clearance_m_;
+  return std::max(0.0, std::floor(room / step));
+}
+
+void ProximityCertifier::start_search_ahead(const ProximityCertificate& certificate, double band_m,
+                                            std::size_t max_pairs) const {
+  // Only near the scene (in free space the clearance is the reach), with
+  // room beyond what the query needed, and once the queries left are few
+  // enough to need it but enough to share it: a proxy at rest keeps its
+  // pairs, and one that outruns every search (an impact) searches as it goes.
+  if (ahead_ || searched_.pairs.empty() || search_node_pairs_ == 0 || !last_anchor_ ||
+      !(searched_.clearance_m > last_clearance_m_))
+    return;
+  const double left = queries_left(certificate.anchor);
+  if (!(left <= kAheadLeadQueries && left >= kAheadLeastQueries)) return;
+  // Centred where the tool will be when the kept pairs run out, at its
+  // motion per query, so that the new pairs' room lies ahead of it.
+  const Pose anchor =
+      displaced(certificate.anchor, left * displacement(*last_anchor_, certificate.anchor));
+  const std::size_t kept =
+      std::max(max_pairs, std::min(kAheadPairsPerListed * max_pairs,
+                                   static_cast<std::size_t>(settings_.haptic_max_pairs)));
+  ahead_.emplace(
+      SearchAhead{ccd_.start_proximity(anchor, (1 + kAheadMargin) * band_m, kept), anchor});
+}
+
+bool ProximityCertifier::advance_search_ahead(const Pose& anchor) const {
+  if (!ahead_) return false;
+  // The rest of the node pairs the last search opened, shared among this
+  // query and those left; at least kAheadLeastSlice, at most a slice.
+  int64_t slice = kAheadLeastSlice;
+  const double left = queries_left(anchor);
+  if (std::isfinite(left)) {
+    const int64_t remaining =
+        std::max(search_node_pairs_ - ahead_->search.opened(), kAheadLeastSlice);
+    slice = std::clamp(static_cast<int64_t>(std::ceil(static_cast<double>(remaining) / (left + 1))),
+                       kAheadLeastSlice, kAheadSliceNodePairs);
+  }
+  if (!ahead_->search.advance(slice)) return false;
+  return complete_search_ahead();
+}
+
+bool ProximityCertifier::complete_search_ahead() const {
+  if (!ahead_) return false;
+  SearchAhead ahead = std::move(*ahead_);
+  ahead_.reset();
+  keep_search(ahead.anchor, std::move(ahead.search), true);
+  return true;
+}
+
 void ProximityCertifier::forget() const {
+  ahead_.reset();
+  search_node_pairs_ = 0;
+  last_anchor_.reset();
+  last_clearance_m_ = 0;
   searched_ = SearchedPairs{};
   crowded_ = false;
   widen_ = true;
@@ -157,16 +226,23 @@ void ProximityCertifier::group_searched_pairs() const {
 
 namespace {
 
-// The first `count` entries of `order` (distance, index: no two equal) in
-// ascending order, the rest dropped: the pairs by distance, ties in the
-// order measured (a stable sort's order), as far as they are read.
-void keep_nearest(std::vector<std::pair<double, int>>& order, std::size_t count) {
+// The first `count` entries of `order` (distance, index of a pair whose
+// features are features_of(index)) in the order proximity lists pairs
+// (nearer(): ties by features), the rest dropped, as far as they are read:
+// the same list whichever search the pairs came from.
+template <class FeaturesOf>
+void keep_nearest(std::vector<std::pair<double, int>>& order, std::size_t count,
+                  FeaturesOf&& features_of) {
+  const auto before = [&](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+    return nearer(ProximityPair{features_of(a.second), a.first},
+                  ProximityPair{features_of(b.second), b.first});
+  };
   if (order.size() > count) {
-    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count),
-                     order.end());
+    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), order.end(),
+                     before);
     order.resize(count);
   }
-  std::sort(order.begin(), order.end());
+  std::sort(order.begin(), order.end(), before);
 }
 
 // The max_pairs nearest of `nearest` (ascending distances) within band_m,
@@ -199,6 +275,14 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
                                                  std::size_t max_pairs, int& searches) const {
   if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
     return std::move(*answer);
+  // A search ahead, completed here if it is at least half done (else a
+  // search of what the query needs costs less), may answer.
+  if (ahead_ && 2 * ahead_->search.opened() < search_node_pairs_) ahead_.reset();
+  if (complete_search_ahead()) {
+    ++ahead_taken_;
+    if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
+      return std::move(*answer);
+  }
   ++searches;
   // Farther than asked and up to twice the pairs (within the most a query
   // lists), so that the next queries can be answered from the pairs found
@@ -209,26 +293,12 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
       widened ? std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
                                              static_cast<std::size_t>(settings_.haptic_max_pairs)))
               : max_pairs;
-  ProximityResult found =
-      ccd_.proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept);
-  // Nothing near: how far the scene is (up to kFreeSpaceReachBands widest
-  // bands), so that the proxy may go that far before the next certificate
-  // (a late slow loop must not hold it back in free space).
-  if (found.pairs.empty()) {
-    const ProximityResult nearest =
-        ccd_.proximity(anchor, kFreeSpaceReachBands * settings_.haptic_band_m, 0);
-    found.clearance_m = std::max(found.clearance_m, nearest.clearance_m);
-    found.bv_tests += nearest.bv_tests;
-    found.pair_tests += nearest.pair_tests;
-  }
-  searched_.anchor = anchor;
-  searched_.widened = widened;
-  searched_.clearance_m = found.clearance_m;
-  searched_.pairs = std::move(found.pairs);
+  keep_search(anchor,
+              ccd_.start_proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept),
+              widened);
   // The search holds every pair nearer than its clearance, and more than
   // max_pairs of them if it was cut short beyond max_pairs; cut short at
   // max_pairs, its list and clearance are the answer.
-  group_searched_pairs();
   std::optional<ProximityResult> answer =
       answer_within(searched_.pairs, searched_.clearance_m, band_m, max_pairs);
   if (!answer || searched_.pairs.empty()) {  // cut short, or free space (its clearance)
@@ -236,14 +306,35 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
     answer->pairs = searched_.pairs;
     answer->clearance_m = searched_.clearance_m;
   }
-  answer->bv_tests = found.bv_tests;
-  answer->pair_tests = found.pair_tests;
   // The answer is a prefix of the searched pairs.
   const std::vector<int>& group = searched_.group;
   listed_groups_.assign(
       group.begin(),
       group.begin() + static_cast<std::ptrdiff_t>(group.empty() ? 0 : answer->pairs.size()));
   return std::move(*answer);
+}
+
+void ProximityCertifier::keep_search(const Pose& anchor, ProximityInSlices search,
+                                     bool widened) const {
+  search.advance(std::numeric_limits<int64_t>::max());
+  search_node_pairs_ = search.opened();
+  ProximityResult found = search.finish();
+  // Nothing near: how far the scene is (up to kFreeSpaceReachBands widest
+  // bands), so that the proxy may go that far before the next certificate
+  // (a late slow loop must not hold it back in free space). A lower bound
+  // serves as well as the distance: the best-first search's after
+  // kFreeSpaceNodePairs node pairs.
+  if (found.pairs.empty()) {
+    ProximityInSlices nearest =
+        ccd_.start_proximity(anchor, kFreeSpaceReachBands * settings_.haptic_band_m, 0);
+    nearest.advance(kFreeSpaceNodePairs);
+    found.clearance_m = std::max(found.clearance_m, nearest.nearest_bound());
+  }
+  searched_.anchor = anchor;
+  searched_.widened = widened;
+  searched_.clearance_m = found.clearance_m;
+  searched_.pairs = std::move(found.pairs);
+  group_searched_pairs();
 }
 
 std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
@@ -281,7 +372,9 @@ std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
     for (std::size_t i = 0; i < to_measure_.size(); ++i)
       if (measured_points_[i].distance <= within)
         order_.push_back(std::pair<double, int>{measured_points_[i].distance, static_cast<int>(i)});
-    keep_nearest(order_, needed);
+    keep_nearest(order_, needed, [&](int i) -> const ContactFeatures& {
+      return to_measure_[static_cast<std::size_t>(i)];
+    });
     measured_.clear();
     for (const auto& [distance, i] : order_)
       measured_.push_back(ProximityPair{to_measure_[static_cast<std::size_t>(i)], distance});
@@ -325,7 +418,9 @@ void ProximityCertifier::measure_grouped(const Pose& anchor, double moved, doubl
   }
   for (const int i : measured_index_)
     group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])] = -1;
-  keep_nearest(order_, needed);
+  keep_nearest(order_, needed, [&](int i) -> const ContactFeatures& {
+    return pairs[static_cast<std::size_t>(i)].features;
+  });
   measured_.clear();
   listed_groups_.clear();
   for (const auto& [distance, i] : order_) {

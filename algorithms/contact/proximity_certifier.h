@@ -8,6 +8,7 @@
 // not listed).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
@@ -36,6 +37,27 @@ inline constexpr double kFreeSpaceReachBands = 10;
 /// again, after the wider ones were not used (ProximityCertifier::certify).
 inline constexpr int kPlainSearchesBetweenTries = 8;
 
+/// A search ahead (ProximityCertifier::certify) starts when the kept
+/// search's pairs can answer at most this many more queries at the tool's
+/// motion per query, and at least kAheadLeastQueries (fewer leave no time
+/// to share its work).
+inline constexpr double kAheadLeadQueries = 12;
+inline constexpr double kAheadLeastQueries = 2;
+/// It looks this many bands beyond the band and keeps up to this many pairs
+/// per pair listed (within settings.haptic_max_pairs): most of a search's
+/// cost is reaching the contact, so more pairs buy room cheaply (a fandisk
+/// face pressed on the armadillo: 0.55 ms for 190 pairs within 0.5 mm,
+/// 1.0 ms for 512, 2.3 ms for 2,048; mesh_proximity_bench).
+inline constexpr double kAheadMargin = 1.5;
+inline constexpr std::size_t kAheadPairsPerListed = 8;
+/// The most node pairs a query opens of it (about 0.3 ms at that crowded
+/// contact), and the least.
+inline constexpr int64_t kAheadSliceNodePairs = 300;
+inline constexpr int64_t kAheadLeastSlice = 64;
+/// Node pairs the free-space measurement opens (kFreeSpaceReachBands): its
+/// best-first search's least open bound by then is the clearance.
+inline constexpr int64_t kFreeSpaceNodePairs = 1024;
+
 /// What a proximity query certifies around an anchor pose: within reach
 /// clearance_m − standoff of the anchor (point_reach of the displacement
 /// from it), only the listed pairs can come closer than the standoff.
@@ -47,6 +69,9 @@ struct ProximityCertificate {
   /// Tree searches the certificate took: 0 when the pairs of an earlier
   /// search answered it (ProximityCertifier::certify), else 1 or 2.
   int searches = 0;
+  /// Searches ahead (worked in slices over the queries before) that the
+  /// query took as its pairs' source when they were complete.
+  int ahead_searches = 0;
   /// Listed pairs that repeat an earlier listed one: the same kind and tool
   /// feature, scene features at one place (MeshCcd::scene_feature_place:
   /// tiles that share a corner), so the same closest points at every pose.
@@ -95,7 +120,13 @@ class ProximityCertifier {
   /// it found (unless such searches went unused); while the tool stays
   /// near enough to that search's pose for its pairs to hold every pair the
   /// query asks for, the query only measures them again (the same list and
-  /// clearance a search would give).
+  /// clearance a search would give). While the tool moves through that
+  /// room, the next search starts early (kAheadLeadQueries), centred where
+  /// the tool's motion per query will have taken it when the room runs
+  /// out and looking farther (kAheadMargin, kAheadPairsPerListed); each
+  /// query opens its share of it (at most kAheadSliceNodePairs), and it is
+  /// kept when complete. A query the kept pairs cannot answer completes it
+  /// if it is half done, and searches anew if that does not answer either.
   ProximityCertificate certify(const Pose& tool_pose, double band_m) const;
   /// Forgets the kept search and what the last queries decided, so that a
   /// run from reset() answers as the first did (a free-space answer from
@@ -149,6 +180,31 @@ class ProximityCertifier {
     std::vector<int> group;
   };
 
+  /// A search started ahead of need, worked in slices by the queries.
+  struct SearchAhead {
+    ProximityInSlices search;
+    Pose anchor;  ///< centre-of-mass frame (world) it searches at
+  };
+
+  /// Makes `found`, searched at `anchor` (looking kSearchMargin farther
+  /// than asked when `widened`), the kept search: in free space with the
+  /// scene's distance as its clearance (kFreeSpaceReachBands).
+  void keep_search(const Pose& anchor, ProximityInSlices search, bool widened) const;
+  /// How many more queries at the tool's motion since the last query (from
+  /// it to `anchor`) the kept search's pairs can answer; infinite for a
+  /// tool at rest.
+  double queries_left(const Pose& anchor) const;
+  /// Works the search ahead by this query's share (the rest of its expected
+  /// node pairs over the queries left), keeping it when complete; whether
+  /// it was kept.
+  bool advance_search_ahead(const Pose& anchor) const;
+  /// Completes the search ahead and keeps it, if there is one; whether there was.
+  bool complete_search_ahead() const;
+  /// Starts a search ahead when none runs and the queries left are between
+  /// kAheadLeastQueries and kAheadLeadQueries.
+  void start_search_ahead(const ProximityCertificate& certificate, double band_m,
+                          std::size_t max_pairs) const;
+
   /// The max_pairs nearest pairs within band_m at `anchor` and their
   /// clearance (MeshCcd::proximity's answer), from the last search's pairs
   /// when they hold the answer, else from a new search (counted in
@@ -171,6 +227,15 @@ class ProximityCertifier {
   /// certificate is valid whichever way it was listed).
   mutable bool crowded_ = false;
   mutable SearchedPairs searched_;
+  mutable std::optional<SearchAhead> ahead_;
+  /// Searches ahead the current certify took (complete_search_ahead).
+  mutable int ahead_taken_ = 0;
+  /// Node pairs the last complete search opened: what the next is expected
+  /// to open.
+  mutable int64_t search_node_pairs_ = 0;
+  /// The last query's anchor and its certificate's clearance (m).
+  mutable std::optional<Pose> last_anchor_;
+  mutable double last_clearance_m_ = 0;
   /// Whether searches look wider than asked (certify decides), the plain
   /// searches since the last wider one, and whether the last certificate
   /// ended with a wider search.

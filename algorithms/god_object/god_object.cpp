@@ -38,11 +38,15 @@ struct GodObjectWork {
     kStartEscapeUm,
     kCoulombViolations,
     kProximitySearches,
+    kProximitySearchesAhead,
   };
-  static constexpr WorkCounters::Names kNames = {
-      "ccd_bound_tests", "ccd_primitive_queries", "qp_iterations",       "ccd_moves",
-      "pairs_evaluated", "ccd_budget_hits",       "ccd_certified_moves", "proximity_queries",
-      "start_escapes",   "start_escape_um",       "coulomb_violations",  "proximity_searches"};
+  static constexpr WorkCounters::Names kNames = {"ccd_bound_tests",         "ccd_primitive_queries",
+                                                 "qp_iterations",           "ccd_moves",
+                                                 "pairs_evaluated",         "ccd_budget_hits",
+                                                 "ccd_certified_moves",     "proximity_queries",
+                                                 "start_escapes",           "start_escape_um",
+                                                 "coulomb_violations",      "proximity_searches",
+                                                 "proximity_searches_ahead"};
 };
 
 class GodObjectRenderer : public Renderer, public SlowLoop {
@@ -139,11 +143,13 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     update.stats = solver_.update(target_, &update.certificate);
     update.stats.certificates = 1;
     update.stats.proximity_searches = update.certificate.searches;
+    update.stats.proximity_searches_ahead = update.certificate.ahead_searches;
     update.proxy = solver_.proxy_pose();
     if (!haptic_.within_reach(update.certificate, update.proxy)) {
       update.certificate = haptic_.certify(update.proxy, band);
       ++update.stats.certificates;
       update.stats.proximity_searches += update.certificate.searches;
+      update.stats.proximity_searches_ahead += update.certificate.ahead_searches;
     }
     return box;
   }
@@ -175,6 +181,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     result.work.add(GodObjectWork::kCcdCertifiedMoves, update.stats.certified_moves);
     result.work.add(GodObjectWork::kProximityQueries, update.stats.certificates);
     result.work.add(GodObjectWork::kProximitySearches, update.stats.proximity_searches);
+    result.work.add(GodObjectWork::kProximitySearchesAhead, update.stats.proximity_searches_ahead);
     result.work.add(GodObjectWork::kCoulombViolations, update.stats.coulomb_violations);
   }
 

@@ -85,6 +85,8 @@ struct GodObjectUpdateStats {
   int budget_hits = 0;         ///< moves whose CCD had a kernel answer by its budget fallback
   int certificates = 0;        ///< proximity queries made for the update (by its caller)
   int proximity_searches = 0;  ///< tree searches those queries took (the rest reused pairs)
+  /// Searches ahead those queries took, worked in slices by the queries before.
+  int proximity_searches_ahead = 0;
   int64_t bv_tests = 0;
   int64_t primitive_queries = 0;
   int64_t qp_iterations = 0;

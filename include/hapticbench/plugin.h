@@ -24,7 +24,7 @@ namespace hb {
 /// a type shared with plugins (Renderer, RenderContext, ParamSet,
 /// AlgorithmEntry, ...) changes its layout or meaning; a plugin built
 /// against another version is refused.
-inline constexpr uint32_t kPluginAbiVersion = 1;
+inline constexpr uint32_t kPluginAbiVersion = 2;
 
 /// What a plugin's entry point returns. abi_version comes first and stays
 /// first in every version, so that any host can read it.

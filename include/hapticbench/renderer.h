@@ -37,7 +37,7 @@ struct Contact {
 /// contacts.work by those names. Plain integers, so that counting inside
 /// step() costs an increment.
 struct WorkCounters {
-  static constexpr std::size_t kSlots = 12;
+  static constexpr std::size_t kSlots = 16;
   using Names = std::array<std::string_view, kSlots>;  ///< "" marks an unused slot
 
   const Names* names = nullptr;  ///< null: nothing counted

@@ -4,6 +4,8 @@
 // built-in one; a missing file, a library without the entry point, another
 // ABI version and a taken name are each refused with exit 2, the path and
 // the reason, and leave no run folder.
+#include "hapticbench/plugin.h"
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -226,7 +228,8 @@ TEST_CASE("a plugin that cannot be used is exit 2 with its path and the reason")
       {"no entry point", (kPlugins / "plugin_without_entry_point.so").string(),
        "exports no hapticbench_plugin()"},
       {"another ABI version", (kPlugins / "plugin_other_abi.so").string(),
-       "built for plugin ABI version 2, but this hapticbench loads version 1"},
+       "built for plugin ABI version " + std::to_string(hb::kPluginAbiVersion + 1) +
+           ", but this hapticbench loads version " + std::to_string(hb::kPluginAbiVersion)},
       {"a taken name", (kPlugins / "plugin_taken_name.so").string(),
        "the algorithm name \"god_object\" is taken by a built-in algorithm"},
   };

@@ -5,6 +5,7 @@
 // point functions, pair by pair.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -113,6 +114,61 @@ TEST_CASE("proximity lists exactly the pairs within the distance, or the nearest
     }
   }
   CHECK(crowded > 10);  // the cap was exercised
+}
+
+// The same query worked in slices (MeshCcd::start_proximity): whatever the
+// slice, the answer is proximity()'s bit for bit, and the nearest-distance
+// bound it gives on the way never exceeds the true nearest distance and is
+// that distance once the search is complete.
+TEST_CASE("a proximity query worked in slices answers as one worked at once") {
+  const TriangleMesh sphere = shape_mesh(test::sphere_tool(0.01).shape.value());
+  SceneObject object;
+  object.name = "box";
+  object.mesh = shape_mesh(*test::box_object(Vec3(0.04, 0.04, 0.04), Pose{}).shape);
+  const std::vector<SceneObject> scene = {object};
+  const MeshCcd ccd(sphere, scene);
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> lateral(-0.03, 0.03), gap(0.0001, 0.01), angle(-3, 3);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Pose pose{Vec3(lateral(rng), lateral(rng), 0.02 + 0.01 + gap(rng)),
+                    quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng)))};
+    const std::vector<BruteForcePair> pairs = all_pairs(ccd, sphere, object.mesh, pose);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const BruteForcePair& pair : pairs) nearest = std::min(nearest, pair.distance);
+    for (const std::size_t max_pairs : {std::size_t{0}, std::size_t{8}, std::size_t{100000}}) {
+      const ProximityResult whole = ccd.proximity(pose, 0.05, max_pairs);
+      for (const int64_t slice : {1, 7, 100}) {
+        INFO("trial " << trial << ", max_pairs " << max_pairs << ", slice " << slice);
+        ProximityInSlices sliced = ccd.start_proximity(pose, 0.05, max_pairs);
+        int slices = 0;
+        double bound = 0;
+        bool complete = false;
+        while (!complete) {
+          complete = sliced.advance(slice);
+          ++slices;
+          CHECK(sliced.nearest_bound() <= nearest + 1e-15);
+          CHECK(sliced.nearest_bound() >= bound);  // it only tightens
+          bound = sliced.nearest_bound();
+        }
+        CHECK(bound == Approx(nearest).margin(1e-15));
+        if (slice == 1) CHECK(slices > 10);
+        const int64_t opened = sliced.opened();
+        CHECK(opened >= slices - 1);
+        const ProximityResult answer = sliced.finish();
+        CHECK(answer.clearance_m == whole.clearance_m);
+        REQUIRE(answer.pairs.size() == whole.pairs.size());
+        for (std::size_t i = 0; i < answer.pairs.size(); ++i) {
+          CHECK(answer.pairs[i].features == whole.pairs[i].features);
+          CHECK(answer.pairs[i].distance == whole.pairs[i].distance);
+        }
+        CHECK(answer.bv_tests == whole.bv_tests);
+      }
+    }
+  }
+  // One that was never started is complete and lists nothing.
+  ProximityInSlices none;
+  CHECK(none.advance(1));
+  CHECK(none.finish().pairs.empty());
 }
 
 // Many pairs measured at one pose (MeshCcd::closest_points and evaluate over

@@ -3,6 +3,7 @@
 // measured once for all, and every value is what measuring each pair gives.
 #include "algorithms/contact/proximity_certifier.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>
@@ -77,6 +78,52 @@ TEST_CASE("a certificate over tiles edge to edge measures each repeated pair onc
   }
   CHECK(remeasured > 20);
   CHECK(with_repeats > 20);
+}
+
+TEST_CASE("searches ahead, worked a slice a query, answer as a new search would") {
+  // A 5 cm box sliding steadily 0.3 mm over 1 cm tiles 0.05 mm apart, 20 um
+  // a query and turning a little: the pairs it keeps run out every few
+  // queries, so searches start ahead of need and are taken when complete.
+  // Each certificate is compared with a search of its own at its pose; the
+  // tiles' shared corners put many pairs at one distance.
+  const std::vector<SceneObject> scene = test::box_tiles(8, 0.01, 5e-5);
+  const Tool tool = test::meshed_box_tool(Vec3(0.05, 0.05, 0.02));
+  const MeshCcd ccd(tool.mesh, scene);
+  const ContactSettings settings;
+  const ProximityCertifier certifier(ccd, settings, Vec3::Zero());
+  const double band = 0.0006;
+  int searches = 0, ahead = 0, queries = 0;
+  for (int step = 0; step < 400; ++step) {
+    const Quat q(Eigen::AngleAxisd(2e-4 * step, Vec3::UnitZ()));
+    const Pose pose{Vec3(0.03 + 2e-5 * step, 0.03 + 1e-5 * step, 0.0103), q};
+    const ProximityCertificate certificate = certifier.certify(pose, band);
+    searches += certificate.searches;
+    ahead += certificate.ahead_searches;
+    ++queries;
+    const std::size_t limit = certificate.pairs.size() > kFirstListedPairs
+                                  ? static_cast<std::size_t>(settings.haptic_max_pairs)
+                                  : kFirstListedPairs;
+    const ProximityResult searched = ccd.proximity(certificate.anchor, band, limit);
+    INFO("query " << step << ": " << certificate.pairs.size() << " pairs, searches "
+                  << certificate.searches << ", ahead " << certificate.ahead_searches);
+    // The same list in the same order (pairs at one distance by their
+    // features), whichever search the pairs came from.
+    REQUIRE(certificate.pairs.size() == searched.pairs.size());
+    CHECK(certificate.clearance_m == Approx(searched.clearance_m).margin(1e-12));
+    for (std::size_t k = 0; k < searched.pairs.size(); ++k) {
+      CHECK(certificate.pairs[k] == searched.pairs[k].features);
+      CHECK(certificate.distances[k] == Approx(searched.pairs[k].distance).margin(1e-15));
+    }
+  }
+  INFO(searches << " searches and " << ahead << " searches ahead for " << queries << " queries");
+  CHECK(ahead >= 5);
+  CHECK(searches * 10 < queries);
+  // Forgotten, the next query searches as the first did.
+  certifier.forget();
+  const ProximityCertificate first =
+      certifier.certify(Pose{Vec3(0.03, 0.03, 0.0103), Quat::Identity()}, band);
+  CHECK(first.searches == 1);
+  CHECK(first.ahead_searches == 0);
 }
 
 TEST_CASE("a scene whose features are all apart lists no repeats") {
