@@ -233,9 +233,10 @@ namespace {
 template <class FeaturesOf>
 void keep_nearest(std::vector<std::pair<double, int>>& order, std::size_t count,
                   FeaturesOf&& features_of) {
+  // nearer(), without building the pairs.
   const auto before = [&](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-    return nearer(ProximityPair{features_of(a.second), a.first},
-                  ProximityPair{features_of(b.second), b.first});
+    return a.first < b.first ||
+           (a.first == b.first && features_of(b.second) < features_of(a.second));
   };
   if (order.size() > count) {
     std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), order.end(),
