@@ -146,12 +146,11 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
   }
 }
 
-// m += a bᵀ, column by column (kept inline: Eigen's product assignment was
-// a call per point).
-inline void add_outer(Mat3& m, const Vec3& a, const Vec3& b) {
-  m.col(0) += b.x() * a;
-  m.col(1) += b.y() * a;
-  m.col(2) += b.z() * a;
+// m += a bᵀ, element by element, as b(c) a(r) (Eigen's column update was
+// a call per column, its product assignment a call per point).
+[[gnu::always_inline]] inline void add_outer(Mat3& m, const Vec3& a, const Vec3& b) {
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m(r, c) += b[c] * a[r];
 }
 
 }  // namespace
