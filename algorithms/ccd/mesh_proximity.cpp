@@ -239,71 +239,56 @@ class ProximitySearch {
                  distance);
       }
     }
-    // Edges against edges: the scene leaf's edges on near triangles
-    // gathered once, when the first tool edge needs them.
-    SceneEdge scene_edges[LeafFeatures::kMaxVertices];
-    int scene_edge_count = -1;
+    // Edges against edges.
     for (int i = 0; i < tool_leaf.edge_count; ++i) {
       if (!(tool_leaf.edge_triangles[i] & near_tool)) continue;
       const auto& te = tool_.edge(tool_leaf.edges[i]);
       const Vec3 p0 = tool_local(te[0]), p1 = tool_local(te[1]);
-      const Segment edge{tool_leaf.edges[i], p0, p1, 0.5 * (p0 + p1), 0.5 * (p1 - p0).norm()};
+      const ToolEdge edge{tool_leaf.edges[i], p0, p1, 0.5 * (p0 + p1), 0.5 * (p1 - p0).norm()};
       if (beyond(edge.middle, edge.half, scene_node.centre, scene_node.radius)) continue;
-      if (scene_edge_count < 0) {
-        scene_edge_count = 0;
-        for (int j = 0; j < scene_leaf.edge_count; ++j) {
-          if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
-          const auto& se = scene.edge(scene_leaf.edges[j]);
-          const Vec3& q0 = scene.vertex(se[0]);
-          const Vec3& q1 = scene.vertex(se[1]);
-          scene_edges[scene_edge_count++] =
-              SceneEdge{scene_leaf.edges[j], q0, q1, 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm()};
-        }
-      }
-      const std::span<const SceneEdge> near_edges(scene_edges,
-                                                  static_cast<std::size_t>(scene_edge_count));
       // Every scene edge is under half as long as a tool edge longer than
       // the scene leaf's diameter (a small tile's edges under a long face's).
       if (edge.half > 2 * scene_node.radius)
-        edge_pairs<true>(edge, near_edges, object);
+        edge_pairs<true>(edge, scene, scene_leaf, near_scene, object);
       else
-        edge_pairs<false>(edge, near_edges, object);
+        edge_pairs<false>(edge, scene, scene_leaf, near_scene, object);
     }
   }
 
-  /// An edge placed in the world (m): its index, ends, middle and half length.
-  struct Segment {
+  /// A tool edge placed in the world (m): its ends, middle and half length.
+  struct ToolEdge {
     int index;
     Vec3 p0, p1, middle;
     double half;
   };
-  using ToolEdge = Segment;
-  using SceneEdge = Segment;
 
-  /// The tool edge against the scene leaf's edges on near triangles. Two
-  /// edges are no nearer than their middles less both half lengths (a
-  /// squared test first); then an edge lies within half its length of its
-  /// middle, so a pair is no nearer than one edge's middle is from the other
-  /// edge, less that half: the shorter edge's middle bounds best, the scene
-  /// edge's when kBySceneMiddles, else the tool edge's.
+  /// The tool edge against the scene leaf's edges on near triangles. An
+  /// edge lies within half its length of its middle, so a pair is no nearer
+  /// than one edge's middle is from the other edge, less that half: the
+  /// shorter edge's middle bounds best, the scene edge's when
+  /// kBySceneMiddles, else the tool edge's.
   template <bool kBySceneMiddles>
-  void edge_pairs(const ToolEdge& edge, std::span<const SceneEdge> scene_edges, int object) {
-    for (const SceneEdge& other : scene_edges) {
-      const double reach = threshold_ + (1 + kBoundSlack) * (edge.half + other.half);
-      if ((other.middle - edge.middle).squaredNorm() > reach * reach) continue;
+  void edge_pairs(const ToolEdge& edge, const MeshFeatures& scene, const LeafFeatures& scene_leaf,
+                  unsigned near_scene, int object) {
+    for (int j = 0; j < scene_leaf.edge_count; ++j) {
+      if (!(scene_leaf.edge_triangles[j] & near_scene)) continue;
+      const auto& se = scene.edge(scene_leaf.edges[j]);
+      const Vec3& q0 = scene.vertex(se[0]);
+      const Vec3& q1 = scene.vertex(se[1]);
       if constexpr (kBySceneMiddles) {
-        if ((other.middle - closest_point_on_segment(other.middle, edge.p0, edge.p1)).norm() -
-                other.half - kBoundSlack * other.half >
+        const Vec3 scene_middle = 0.5 * (q0 + q1);
+        const double scene_half = 0.5 * (q1 - q0).norm();
+        if ((scene_middle - closest_point_on_segment(scene_middle, edge.p0, edge.p1)).norm() -
+                scene_half - kBoundSlack * scene_half >
             threshold_)
           continue;
-      } else if ((edge.middle - closest_point_on_segment(edge.middle, other.p0, other.p1)).norm() -
-                     edge.half - kBoundSlack * edge.half >
+      } else if ((edge.middle - closest_point_on_segment(edge.middle, q0, q1)).norm() - edge.half -
+                     kBoundSlack * edge.half >
                  threshold_) {
         continue;
       }
-      const double distance =
-          closest_points_of_segments(edge.p0, edge.p1, other.p0, other.p1).distance();
-      consider({ContactFeatureKind::kEdgeEdge, object, edge.index, other.index}, distance);
+      const double distance = closest_points_of_segments(edge.p0, edge.p1, q0, q1).distance();
+      consider({ContactFeatureKind::kEdgeEdge, object, edge.index, scene_leaf.edges[j]}, distance);
     }
   }
 

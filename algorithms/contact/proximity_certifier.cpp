@@ -44,7 +44,7 @@ ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const ContactSettings
 ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double band_m) const {
   ProximityCertificate certificate;
   certificate.anchor = frames_.com_frame(tool_pose);
-  ahead_taken_ = advance_search_ahead(certificate.anchor) ? 1 : 0;
+  certificate.ahead_searches = advance_search_ahead(certificate.anchor) ? 1 : 0;
   const auto most = static_cast<std::size_t>(settings_.haptic_max_pairs);
   const std::size_t first = std::min(kFirstListedPairs, most);
   constexpr double kReachPerBand = 1.0 / 3;
@@ -55,10 +55,12 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     return clearance < band_m && clearance - settings_.standoff_m < reach_wanted;
   };
   std::size_t listed = crowded_ ? most : first;
-  ProximityResult found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches);
+  ProximityResult found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches,
+                                       certificate.ahead_searches);
   if (!crowded_ && first < most && too_little_reach(found.clearance_m)) {
     listed = most;
-    found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches);
+    found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches,
+                         certificate.ahead_searches);
   }
   // Whether the first pairs alone would have left too little reach here
   // (their clearance: the distance of the next pair): then the next query,
@@ -81,11 +83,15 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     certificate.distances.push_back(pair.distance);
   }
   if (!listed_groups_.empty()) mark_repeats(certificate);
-  certificate.ahead_searches = ahead_taken_;
   start_search_ahead(certificate, band_m, listed);
   last_anchor_ = certificate.anchor;
   last_clearance_m_ = certificate.clearance_m;
   return certificate;
+}
+
+std::size_t ProximityCertifier::pairs_kept(std::size_t max_pairs, std::size_t per_listed) const {
+  return std::max(max_pairs, std::min(per_listed * max_pairs,
+                                      static_cast<std::size_t>(settings_.haptic_max_pairs)));
 }
 
 double ProximityCertifier::queries_left(const Pose& anchor) const {
@@ -113,11 +119,9 @@ void ProximityCertifier::start_search_ahead(const ProximityCertificate& certific
   // motion per query, so that the new pairs' room lies ahead of it.
   const Pose anchor =
       displaced(certificate.anchor, left * displacement(*last_anchor_, certificate.anchor));
-  const std::size_t kept =
-      std::max(max_pairs, std::min(kAheadPairsPerListed * max_pairs,
-                                   static_cast<std::size_t>(settings_.haptic_max_pairs)));
-  ahead_.emplace(
-      SearchAhead{ccd_.start_proximity(anchor, (1 + kAheadMargin) * band_m, kept), anchor});
+  ahead_.emplace(SearchAhead{ccd_.start_proximity(anchor, (1 + kAheadMargin) * band_m,
+                                                  pairs_kept(max_pairs, kAheadPairsPerListed)),
+                             anchor});
 }
 
 bool ProximityCertifier::advance_search_ahead(const Pose& anchor) const {
@@ -273,14 +277,15 @@ std::optional<ProximityResult> answer_within(std::span<const ProximityPair> near
 }  // namespace
 
 ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band_m,
-                                                 std::size_t max_pairs, int& searches) const {
+                                                 std::size_t max_pairs, int& searches,
+                                                 int& ahead_searches) const {
   if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
     return std::move(*answer);
   // A search ahead, completed here if it is at least half done (else a
   // search of what the query needs costs less), may answer.
   if (ahead_ && 2 * ahead_->search.opened() < search_node_pairs_) ahead_.reset();
   if (complete_search_ahead()) {
-    ++ahead_taken_;
+    ++ahead_searches;
     if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
       return std::move(*answer);
   }
@@ -290,10 +295,7 @@ ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band
   // (certify says when).
   const bool widened = widen_ || plain_searches_ >= kPlainSearchesBetweenTries;
   plain_searches_ = widened ? 0 : plain_searches_ + 1;
-  const std::size_t kept =
-      widened ? std::max(max_pairs, std::min(kSearchedPairsPerListed * max_pairs,
-                                             static_cast<std::size_t>(settings_.haptic_max_pairs)))
-              : max_pairs;
+  const std::size_t kept = widened ? pairs_kept(max_pairs, kSearchedPairsPerListed) : max_pairs;
   keep_search(anchor,
               ccd_.start_proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept),
               widened);

@@ -186,10 +186,13 @@ class ProximityCertifier {
     Pose anchor;  ///< centre-of-mass frame (world) it searches at
   };
 
-  /// Makes `found`, searched at `anchor` (looking kSearchMargin farther
-  /// than asked when `widened`), the kept search: in free space with the
-  /// scene's distance as its clearance (kFreeSpaceReachBands).
+  /// Completes `search`, started at `anchor` (looking kSearchMargin or
+  /// kAheadMargin farther than asked when `widened`), and keeps it: in free
+  /// space with the scene's distance as its clearance (kFreeSpaceReachBands).
   void keep_search(const Pose& anchor, ProximityInSlices search, bool widened) const;
+  /// How many pairs a search keeps for a query listing max_pairs when it
+  /// keeps per_listed per listed pair (within settings.haptic_max_pairs).
+  std::size_t pairs_kept(std::size_t max_pairs, std::size_t per_listed) const;
   /// How many more queries at the tool's motion since the last query (from
   /// it to `anchor`) the kept search's pairs can answer; infinite for a
   /// tool at rest.
@@ -207,10 +210,11 @@ class ProximityCertifier {
 
   /// The max_pairs nearest pairs within band_m at `anchor` and their
   /// clearance (MeshCcd::proximity's answer), from the last search's pairs
-  /// when they hold the answer, else from a new search (counted in
-  /// `searches`).
+  /// when they hold the answer, else from the search ahead completed here
+  /// (counted in `ahead_searches`) when its pairs hold it, else from a new
+  /// search (counted in `searches`).
   ProximityResult listed_pairs(const Pose& anchor, double band_m, std::size_t max_pairs,
-                               int& searches) const;
+                               int& searches, int& ahead_searches) const;
   /// The pair as `points` (its closest points at com_pose) give it.
   PairContact contact_of(const ContactFeatures& pair, const PairClosestPoints& points,
                          const Pose& com_pose) const;
@@ -228,8 +232,6 @@ class ProximityCertifier {
   mutable bool crowded_ = false;
   mutable SearchedPairs searched_;
   mutable std::optional<SearchAhead> ahead_;
-  /// Searches ahead the current certify took (complete_search_ahead).
-  mutable int ahead_taken_ = 0;
   /// Node pairs the last complete search opened: what the next is expected
   /// to open.
   mutable int64_t search_node_pairs_ = 0;
