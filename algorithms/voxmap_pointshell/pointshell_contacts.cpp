@@ -146,11 +146,35 @@ void descend(const PointShell& shell, const VoxelLookup& voxmap, const PointShel
   }
 }
 
-// m += a bᵀ, element by element, as b(c) a(r) (Eigen's column update was
-// a call per column, its product assignment a call per point).
-[[gnu::always_inline]] inline void add_outer(Mat3& m, const Vec3& a, const Vec3& b) {
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) m(r, c) += b[c] * a[r];
+// Sums of outer products a bᵀ over points, for a and b stacked from 3-vectors
+// (rows/3 × cols/3 blocks of 3×3 sums), added a column at a time so that each
+// column is a few packet operations (Eigen's 3×3 column update was a call
+// per column). Element (r, c) gets b(c) a(r), as a 3×3 sum of its own would.
+template <int Rows, int Cols>
+struct OuterSums {
+  Eigen::Matrix<double, Rows, Cols> sum = Eigen::Matrix<double, Rows, Cols>::Zero();
+  [[gnu::always_inline]] void add(const Eigen::Matrix<double, Rows, 1>& a,
+                                  const Eigen::Matrix<double, Cols, 1>& b) {
+    for (int c = 0; c < Cols; ++c) sum.col(c) += b[c] * a;
+  }
+  /// The 3×3 sum of block row i, block column j.
+  Mat3 block(int i, int j) const { return sum.template block<3, 3>(3 * i, 3 * j); }
+};
+
+// 3-vectors one above the other.
+[[gnu::always_inline]] inline Eigen::Matrix<double, 6, 1> stacked(const Vec3& a, const Vec3& b) {
+  Eigen::Matrix<double, 6, 1> v;
+  v.head<3>() = a;
+  v.tail<3>() = b;
+  return v;
+}
+[[gnu::always_inline]] inline Eigen::Matrix<double, 9, 1> stacked(const Vec3& a, const Vec3& b,
+                                                                  const Vec3& c) {
+  Eigen::Matrix<double, 9, 1> v;
+  v.segment<3>(0) = a;
+  v.segment<3>(3) = b;
+  v.segment<3>(6) = c;
+  return v;
 }
 
 }  // namespace
@@ -348,9 +372,10 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   const Mat3 to_tool = rotation.transpose();
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // Σ d n, Σ d m (tool)
   Vec3 plane_force = Vec3::Zero(), plane_torque = Vec3::Zero();  // over tangent-plane hits
-  Mat3 n_n = Mat3::Zero(), m_n = Mat3::Zero(), n_c = Mat3::Zero(), m_c = Mat3::Zero();
-  Mat3 d_s_n = Mat3::Zero();  // Σ d s nᵀ over field hits (tool)
-  double d_n_s = 0;           // Σ d n·s over field hits
+  // Σ [n; m] [n; c]ᵀ: blocks n nᵀ, n cᵀ (row 0), m nᵀ, m cᵀ (row 1).
+  OuterSums<6, 6> contact_sums;
+  OuterSums<3, 3> d_s_n;  // Σ d s nᵀ over field hits (tool)
+  double d_n_s = 0;       // Σ d n·s over field hits
   for (const PointHit& hit : hits.contacts) {
     // A flat spot of φ (a point deep in a uniform block) adds nothing to any
     // sum below; it still counts for McNeely's averaging.
@@ -374,13 +399,10 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
       plane_torque += hit.depth * m;
     } else {
       c = -m;  // ∇φ × s
-      add_outer(d_s_n, hit.depth * r, n);
+      d_s_n.add(hit.depth * r, n);
       d_n_s += hit.depth * n.dot(r);
     }
-    add_outer(n_n, n, n);
-    add_outer(m_n, m, n);
-    add_outer(n_c, n, c);
-    add_outer(m_c, m, c);
+    contact_sums.add(stacked(n, m), stacked(n, c));
   }
   const double weight = hits.weight;
   const double contact_scale =
@@ -392,8 +414,10 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   result.wrench.torque = contact_scale * (rotation * torque);
   auto to_world = [&](const Mat3& tool) -> Mat3 { return rotation * tool * to_tool; };
   if (with_jacobians && !hits.contacts.empty()) {
+    const Mat3 n_n = contact_sums.block(0, 0), n_c = contact_sums.block(0, 1);
+    const Mat3 m_n = contact_sums.block(1, 0), m_c = contact_sums.block(1, 1);
     const Mat3 force_turn = -skew(plane_force);
-    const Mat3 torque_turn = -skew(plane_torque) + d_s_n - d_n_s * Mat3::Identity();
+    const Mat3 torque_turn = -skew(plane_torque) + d_s_n.sum - d_n_s * Mat3::Identity();
     result.stiffness.block<3, 3>(0, 0) = -contact_scale * to_world(n_n);
     result.stiffness.block<3, 3>(0, 3) = contact_scale * to_world(n_c + force_turn);
     result.stiffness.block<3, 3>(3, 0) = -contact_scale * to_world(m_n);
@@ -416,9 +440,9 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   const Vec3 v = to_tool * state.v;
   const Vec3 w = to_tool * state.w;
   Vec3 brake_force = Vec3::Zero(), brake_torque = Vec3::Zero();
-  Mat3 u_n = Mat3::Zero(), u_p = Mat3::Zero(), u_q = Mat3::Zero();
-  Mat3 su_n = Mat3::Zero(), su_p = Mat3::Zero(), su_q = Mat3::Zero();
-  Mat3 c_ss = Mat3::Zero(), c_su = Mat3::Zero();
+  // Σ [u; s×u] [n; p; q]ᵀ: blocks u nᵀ, u pᵀ, u qᵀ (row 0), (s×u) nᵀ, … (row 1).
+  OuterSums<6, 9> brake_sums;
+  OuterSums<3, 6> c_s_sums;  // Σ c s [s; u]ᵀ: blocks c s sᵀ, c s uᵀ
   Vec3 c_s = Vec3::Zero(), c_ws_s = Vec3::Zero();
   double c_sum = 0, c_s2 = 0, c_ws = 0, c_us = 0;
   std::size_t braking = 0;
@@ -435,14 +459,8 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
     if (!with_jacobians) continue;
     const Vec3 p = -shell.moments[i];
     const Vec3 q = u.cross(n) + s.cross(w.cross(n));
-    add_outer(u_n, u, n);
-    add_outer(u_p, u, p);
-    add_outer(u_q, u, q);
-    add_outer(su_n, s_u, n);
-    add_outer(su_p, s_u, p);
-    add_outer(su_q, s_u, q);
-    add_outer(c_ss, c * s, s);
-    add_outer(c_su, c * s, u);
+    brake_sums.add(stacked(u, s_u), stacked(n, p, q));
+    c_s_sums.add(c * s, stacked(s, u));
     c_s += c * s;
     c_ws_s += (c * w.dot(s)) * s;
     c_sum += c;
@@ -455,6 +473,11 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
   result.wrench.torque += brake_scale * (rotation * brake_torque);
   if (with_jacobians && braking > 0) {
     const Mat3 identity = Mat3::Identity();
+    const Mat3 u_n = brake_sums.block(0, 0), u_p = brake_sums.block(0, 1),
+               u_q = brake_sums.block(0, 2);
+    const Mat3 su_n = brake_sums.block(1, 0), su_p = brake_sums.block(1, 1),
+               su_q = brake_sums.block(1, 2);
+    const Mat3 c_ss = c_s_sums.block(0, 0), c_su = c_s_sums.block(0, 1);
     result.damping.block<3, 3>(0, 0) += brake_scale * to_world(u_n + c_sum * identity);
     result.damping.block<3, 3>(0, 3) += -brake_scale * to_world(u_p + skew(c_s));
     result.damping.block<3, 3>(3, 0) += brake_scale * to_world(su_n + skew(c_s));

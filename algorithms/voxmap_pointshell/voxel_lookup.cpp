@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <limits>
@@ -12,6 +13,14 @@ namespace {
 constexpr uint8_t kUnreached = 255;
 
 int32_t uniform_code(VoxelState state) { return -(static_cast<int32_t>(state) + 1); }
+
+// std::floor(x), by truncation where x fits an int (without SSE4.1 the
+// library's floor is a dozen instructions more).
+inline double floor_of(double x) {
+  if (!(std::abs(x) < 2147483647.0)) return std::floor(x);
+  const double truncated = static_cast<double>(static_cast<int>(x));
+  return truncated > x ? truncated - 1 : truncated;
+}
 }  // namespace
 
 VoxelLookup::VoxelLookup(double voxel_size_m, const Eigen::Vector3i& block_min,
@@ -22,6 +31,8 @@ VoxelLookup::VoxelLookup(double voxel_size_m, const Eigen::Vector3i& block_min,
       with_distances_(with_distances),
       voxel_min_(block_min * kBlockEdge),
       voxel_count_(block_count * kBlockEdge),
+      first_voxel_(voxel_min_.cast<double>()),
+      voxels_per_axis_(voxel_count_.cast<double>()),
       block_count_(block_count),
       outside_distance_(outside_distance_m) {
   const auto blocks = static_cast<std::size_t>(block_count.prod());
@@ -218,7 +229,7 @@ void VoxelLookup::compute_fine_clearance() {
 
 double VoxelLookup::interpolated_distance(const Vec3& world, Vec3& gradient) const {
   const Vec3 u = world * inv_h_;
-  const Vec3 base = u.array().floor();
+  const Vec3 base(floor_of(u.x()), floor_of(u.y()), floor_of(u.z()));
   const Vec3 f = u - base;
   const Eigen::Vector3i i0 = base.cast<int>();
   double c[2][2][2];

@@ -82,11 +82,11 @@ class VoxelLookup {
   /// The cell of the voxel containing a world point (m).
   Cell cell_at(const Vec3& world) const {
     Cell cell;
-    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - voxel_min_.cast<double>();
+    const Vec3 u = world * inv_h_ + Vec3::Constant(0.5) - first_voxel_;
     // Compared before the cast (a far point's index would not fit an int;
     // NaN fails the test).
-    cell.inside = u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxel_count_.x() &&
-                  u.y() < voxel_count_.y() && u.z() < voxel_count_.z();
+    cell.inside = u.x() >= 0 && u.y() >= 0 && u.z() >= 0 && u.x() < voxels_per_axis_.x() &&
+                  u.y() < voxels_per_axis_.y() && u.z() < voxels_per_axis_.z();
     if (!cell.inside) return cell;
     // Truncation is the floor here: u ≥ 0.
     cell.v =
@@ -181,6 +181,8 @@ class VoxelLookup {
   bool with_distances_ = false;
   Eigen::Vector3i voxel_min_ = Eigen::Vector3i::Zero();    ///< first voxel of the arrays
   Eigen::Vector3i voxel_count_ = Eigen::Vector3i::Zero();  ///< voxels per axis
+  Vec3 first_voxel_ = Vec3::Zero();      ///< voxel_min_, as doubles (converted once)
+  Vec3 voxels_per_axis_ = Vec3::Zero();  ///< voxel_count_, as doubles
   Eigen::Vector3i block_count_ = Eigen::Vector3i::Zero();  ///< blocks per axis
   std::vector<int32_t> block_code_;  ///< >= 0: dense block number; < 0: uniform state −(code+1)
   std::vector<uint8_t> states_;      ///< kBlockVoxels per dense block

@@ -278,7 +278,7 @@ void measure_poses() {
 
 /// What one pass over the poses did.
 struct PassTotals {
-  int64_t looked_up = 0, spheres = 0, contacts = 0, braking = 0;
+  int64_t looked_up = 0, spheres = 0, front_entries = 0, contacts = 0, braking = 0;
 };
 
 /// The poses in trace order once, each query from the last one's front
@@ -289,6 +289,7 @@ struct PassTotals {
   PassTotals totals;
   const int64_t looked_up = s.work.get("points_looked_up");
   const int64_t spheres = s.work.get("sphere_tests");
+  const int64_t front_entries = s.work.get("front_entries");
   double force_sink = 0;
   for (const DeviceSample& pose : s.poses) {
     force_sink += s.vps_query(pose, true);
@@ -298,6 +299,7 @@ struct PassTotals {
   benchmark::DoNotOptimize(force_sink);
   totals.looked_up = s.work.get("points_looked_up") - looked_up;
   totals.spheres = s.work.get("sphere_tests") - spheres;
+  totals.front_entries = s.work.get("front_entries") - front_entries;
   return totals;
 }
 
@@ -447,13 +449,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (once) {
+    const auto begin = std::chrono::steady_clock::now();
     const PassTotals totals = coherent_pass();
+    const double pass_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     std::printf(
         "%zu poses once from the last front: %lld points looked up, %lld spheres tested, %lld "
-        "contacts, %lld braking points\n",
+        "front entries kept, %lld contacts, %lld braking points; %.2f ms\n",
         s.poses.size(), static_cast<long long>(totals.looked_up),
-        static_cast<long long>(totals.spheres), static_cast<long long>(totals.contacts),
-        static_cast<long long>(totals.braking));
+        static_cast<long long>(totals.spheres), static_cast<long long>(totals.front_entries),
+        static_cast<long long>(totals.contacts), static_cast<long long>(totals.braking),
+        1e3 * pass_s);
     return 0;
   }
   measure_poses();
