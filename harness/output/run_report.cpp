@@ -99,17 +99,21 @@ void write_table_metrics(json& out, const RunMetrics& m) {
 }
 
 // The one stability verdict (stability_verdict.h) at its defaults, with
-// the criterion it applied.
-json stability_verdict_json(const RunMetrics& metrics) {
+// the criterion it applied, and whether the run passes it (stable, or
+// unstable where that is expected, and why).
+json stability_verdict_json(const AlgorithmRun& run) {
   const StabilityRequest request;
-  const StabilityResult verdict = judge_stability(metrics, request);
-  return {{"stable", verdict.stable},
-          {"failed", verdict.failed == StabilityCheck::kNone
-                         ? json(nullptr)
-                         : json(stability_check_name(verdict.failed))},
-          {"reason", verdict.reason},
-          {"criterion", stability_criterion_name(request.criterion)},
-          {"epsilon_j", request.epsilon_j}};
+  const StabilityResult verdict = run_stability(run);
+  return {
+      {"stable", verdict.stable},
+      {"failed", verdict.failed == StabilityCheck::kNone
+                     ? json(nullptr)
+                     : json(stability_check_name(verdict.failed))},
+      {"reason", verdict.reason},
+      {"criterion", stability_criterion_name(request.criterion)},
+      {"epsilon_j", request.epsilon_j},
+      {"expected_unstable", run.unstable_expected ? json(*run.unstable_expected) : json(nullptr)},
+      {"pass", stability_passes(run)}};
 }
 
 // Every oracle backend this build knows, in oracle_backends() order: the
@@ -279,7 +283,7 @@ json run_json(const AlgorithmRun& run) {
         {"passivity_energy_final_j", m.stability.passivity_energy_final_j},
         {"force_hf_energy_fraction", m.stability.force_hf_energy_fraction},
         {"device_chatter_m", m.stability.device_chatter_m},
-        {"verdict", stability_verdict_json(m)}}},
+        {"verdict", stability_verdict_json(run)}}},
       {"transparency",
        {{"free_space_ticks", m.transparency.free_space_ticks},
         {"free_space_force_rms_n", or_null(m.transparency.free_space_force_rms_n)}}},
@@ -306,6 +310,16 @@ Spread spread_of(std::vector<double> values) {
   if (values.empty()) return {};
   std::sort(values.begin(), values.end());
   return {values.front(), values[(values.size() - 1) / 2], values.back()};
+}
+
+StabilityResult run_stability(const AlgorithmRun& run) { return judge_stability(run.metrics); }
+
+bool stability_passes(const AlgorithmRun& run) {
+  return run.unstable_expected.has_value() || run_stability(run).stable;
+}
+
+bool ScenarioRun::all_stable_or_expected() const {
+  return std::all_of(runs.begin(), runs.end(), stability_passes);
 }
 
 bool ScenarioRun::all_budgets_pass() const {
@@ -366,6 +380,23 @@ std::string junit_xml(const ScenarioRun& run) {
   int tests = 0, failures = 0;
   std::ostringstream cases;
   for (const AlgorithmRun& r : run.runs) {
+    // The stability verdict, a test of every run: it fails where the run is
+    // unstable and that is not expected.
+    ++tests;
+    const StabilityResult verdict = run_stability(r);
+    cases << "    <testcase classname=\"" << xml_escape(run.scenario_name + "." + r.label)
+          << "\" name=\"stability\">";
+    if (!stability_passes(r)) {
+      ++failures;
+      cases << "<failure message=\"" << xml_escape("unstable: " + verdict.reason) << "\"/>";
+    } else {
+      cases << "<system-out>"
+            << xml_escape(verdict.stable ? "stable (" + verdict.reason + ")"
+                                         : "unstable: " + verdict.reason +
+                                               ", expected: " + *r.unstable_expected)
+            << "</system-out>";
+    }
+    cases << "</testcase>\n";
     for (const BudgetVerdict& b : r.budgets) {
       ++tests;
       cases << "    <testcase classname=\"" << xml_escape(run.scenario_name + "." + r.label)

@@ -14,6 +14,7 @@
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
 #include "harness/replay/noise_floor.h"
+#include "harness/stability/stability_verdict.h"
 
 namespace hb {
 
@@ -89,6 +90,10 @@ struct AlgorithmRun {
   std::optional<TimingRepeats> repeats;           ///< with --repeat N > 1
   std::optional<InstructionCounts> instructions;  ///< with --instructions
   std::vector<BudgetVerdict> budgets;
+  /// Why this label's instability is expected (the scenario's
+  /// "expected_unstable", or `run --expect-unstable`); nullopt: an unstable
+  /// run fails the command.
+  std::optional<std::string> unstable_expected;
   std::string ticks_file;  ///< file name inside the run folder
   std::string ticks_hash;  ///< determinism fingerprint (TicksCsvWriter)
   /// "separate": step times from a replay with no ground truth between
@@ -126,7 +131,14 @@ struct ScenarioRun {
   std::vector<AlgorithmRun> runs;
 
   bool all_budgets_pass() const;
+  /// Every run stable, or unstable where that is expected.
+  bool all_stable_or_expected() const;
 };
+
+/// The run's stability verdict: stability_verdict.h's, at its defaults.
+StabilityResult run_stability(const AlgorithmRun& run);
+/// Stable, or unstable where that is expected.
+bool stability_passes(const AlgorithmRun& run);
 
 /// summary.json content.
 nlohmann::json summary_json(const ScenarioRun& run);

@@ -17,9 +17,9 @@ std::string fixed(std::optional<double> value, double scale, int decimals) {
 
 void print_run_table(std::ostream& out, const ScenarioRun& run) {
   char line[256];
-  std::snprintf(line, sizeof line, "  %-22s %6s %8s %8s %9s %10s %10s %9s %5s %8s  %s\n", "label",
+  std::snprintf(line, sizeof line, "  %-22s %6s %8s %8s %9s %10s %10s %9s %5s %-12s %s\n", "label",
                 "ticks", "p50_us", "p99_us", "cpu99_us", "F_err_N", "pen_max_mm", "E_min_mJ",
-                "nonfin", "diverged", "budgets");
+                "nonfin", "stability", "budgets");
   out << line;
   for (const AlgorithmRun& r : run.runs) {
     const RunMetrics& m = r.metrics;
@@ -29,17 +29,29 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
         r.budgets.empty() ? "none"
                           : std::to_string(passed) + "/" + std::to_string(r.budgets.size()) +
                                 (passed == static_cast<int>(r.budgets.size()) ? " pass" : " FAIL");
-    std::snprintf(line, sizeof line, "  %-22s %6lld %8s %8s %9s %10s %10s %9s %5lld %8s  %s\n",
-                  r.label.c_str(), static_cast<long long>(m.timing.ticks),
-                  fixed(m.timing.step_ns.p50, 1e-3, 2).c_str(),
-                  fixed(m.timing.step_ns.p99, 1e-3, 2).c_str(),
-                  fixed(m.timing.cpu_per_tick_ns.percentiles.p99, 1e-3, 2).c_str(),
-                  fixed(m.accuracy.force_err_rms_n, 1, 4).c_str(),
-                  fixed(m.accuracy.penetration_max_m, 1e3, 3).c_str(),
-                  fixed(m.stability.passivity_energy_min_j, 1e3, 3).c_str(),
-                  static_cast<long long>(m.stability.nonfinite),
-                  m.stability.diverged ? "YES" : "no", budgets.c_str());
+    // "stable", or the check the run failed ("chatter", "limit_cycle", …),
+    // starred where that is expected.
+    const StabilityResult stability = run_stability(r);
+    const std::string stability_cell = stability.stable
+                                           ? "stable"
+                                           : std::string(stability_check_name(stability.failed)) +
+                                                 (r.unstable_expected ? "*" : "");
+    std::snprintf(
+        line, sizeof line, "  %-22s %6lld %8s %8s %9s %10s %10s %9s %5lld %-12s %s\n",
+        r.label.c_str(), static_cast<long long>(m.timing.ticks),
+        fixed(m.timing.step_ns.p50, 1e-3, 2).c_str(), fixed(m.timing.step_ns.p99, 1e-3, 2).c_str(),
+        fixed(m.timing.cpu_per_tick_ns.percentiles.p99, 1e-3, 2).c_str(),
+        fixed(m.accuracy.force_err_rms_n, 1, 4).c_str(),
+        fixed(m.accuracy.penetration_max_m, 1e3, 3).c_str(),
+        fixed(m.stability.passivity_energy_min_j, 1e3, 3).c_str(),
+        static_cast<long long>(m.stability.nonfinite), stability_cell.c_str(), budgets.c_str());
     out << line;
+    if (!stability.stable)
+      out << (r.unstable_expected ? "    unstable, as expected: " : "    UNSTABLE: ")
+          << stability.reason
+          << (r.unstable_expected ? " (" + *r.unstable_expected + ")"
+                                  : std::string(" (fails the run)"))
+          << "\n";
     for (const BudgetVerdict& b : r.budgets)
       if (!b.pass) out << "    budget failed: " << b.message << "\n";
     if (r.instructions) {

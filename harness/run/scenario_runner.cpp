@@ -380,6 +380,9 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     }
     for (const Budget& budget : scenario.budgets)
       run.budgets.push_back(evaluate_budget(budget.name, budget.limit, run.metrics));
+    if (const auto expected = scenario.expected_unstable.find(run.label);
+        expected != scenario.expected_unstable.end())
+      run.unstable_expected = expected->second;
     run.ticks_file = ticks_file;
     run.ticks_hash = observer.ticks().deterministic_hash();
     run.timing_pass = "separate";

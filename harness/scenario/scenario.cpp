@@ -189,7 +189,7 @@ class ScenarioReader {
     root.require_object("expected a JSON object with the scenario's keys");
     root.reject_unknown_keys({"name", "description", "tags", "plugins", "scene", "tool", "trace",
                               "algorithms", "coupling", "device", "gravity", "reference", "budgets",
-                              "closed_loop"});
+                              "expected_unstable", "closed_loop"});
 
     Scenario scenario;
     scenario.path = path_;
@@ -208,6 +208,9 @@ class ScenarioReader {
     if (root.has("reference"))
       scenario.reference = read_reference(root.existing_member("reference"));
     if (root.has("budgets")) scenario.budgets = read_budgets(root.existing_member("budgets"));
+    if (root.has("expected_unstable"))
+      scenario.expected_unstable =
+          read_expected_unstable(root.existing_member("expected_unstable"), scenario.algorithms);
     if (root.has("coupling"))
       scenario.context.coupling = read_coupling(root.existing_member("coupling"));
     if (root.has("device")) scenario.context.device = read_device(root.existing_member("device"));
@@ -803,6 +806,28 @@ class ScenarioReader {
       budgets.push_back({item.key(), limit});
     }
     return budgets;
+  }
+
+  // {label: why}: every key a label of the scenario's algorithms, every
+  // value a non-empty reason.
+  std::map<std::string, std::string> read_expected_unstable(
+      const JsonField& field, const std::vector<AlgorithmSpec>& algorithms) const {
+    field.require_object("expected an object {label: why its instability is expected}");
+    std::vector<std::string_view> labels;
+    for (const AlgorithmSpec& spec : algorithms) labels.emplace_back(spec.label);
+    field.reject_unknown_keys(labels, "label");
+    std::map<std::string, std::string> expected;
+    for (const auto& item : field.json().items()) {
+      const std::string why = field.existing_member(item.key())
+                                  .string(
+                                      "expected a text saying why this label's instability "
+                                      "is expected");
+      if (why.empty())
+        field.existing_member(item.key())
+            .fail("expected a text saying why this label's instability is expected");
+      expected[item.key()] = why;
+    }
+    return expected;
   }
 
   std::string path_;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,6 +64,9 @@ struct Scenario {
   std::vector<AlgorithmSpec> algorithms;
   ReferenceSpec reference;
   std::vector<Budget> budgets;
+  /// Labels whose instability is the point of the scenario ("expected_unstable":
+  /// {label: why}), so that an unstable run of theirs does not fail the command.
+  std::map<std::string, std::string> expected_unstable;
   /// Closed-loop replay ("closed_loop" block, docs/closed-loop.md): the
   /// trace is the operator's intent and a hand and a device are integrated
   /// between ticks. Empty: open loop, the trace is the device.

@@ -39,6 +39,9 @@ SweepJobState sweep_job_state_on_disk(const fs::path& run_folder) {
     state.scenario_hash = summary["scenario"]["hash"].get<std::string>();
   bool pass = true;
   for (const Json& run : summary["runs"]) {
+    // An unstable run that was not expected to be fails the job as a budget does.
+    const Json::json_pointer verdict_pass("/stability/verdict/pass");
+    if (run.contains(verdict_pass) && run[verdict_pass] == false) pass = false;
     if (!run.contains("budgets") || !run["budgets"].is_array()) continue;
     for (const Json& budget : run["budgets"])
       pass = pass && budget.contains("pass") && budget["pass"] == true;

@@ -18,7 +18,7 @@ namespace hb {
 enum class SweepJobStatus {
   kPending,       ///< not run yet (or run by another shard that has not finished it)
   kOk,            ///< summary.json written, every budget met
-  kBudgetFailed,  ///< summary.json written, a budget failed
+  kBudgetFailed,  ///< summary.json written, a budget or the stability verdict failed
   kFailed,        ///< the worker stopped on an error it named (exit 2: a full disk, bad input)
   kCrashed,       ///< the worker ended otherwise without writing its run folder
 };

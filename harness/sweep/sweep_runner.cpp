@@ -59,7 +59,9 @@ int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
                             /*sweep_job=*/true);
   std::cout << "scenario " << scenario.name << " -> " << folder.string() << "/\n";
   print_run_table(std::cout, outcome.report);
-  return outcome.report.all_budgets_pass() ? kSweepOk : kSweepBudgetFailed;
+  return outcome.report.all_budgets_pass() && outcome.report.all_stable_or_expected()
+             ? kSweepOk
+             : kSweepBudgetFailed;
 }
 
 namespace {
@@ -215,10 +217,11 @@ int run_sweep(const SweepRunSettings& args) {
     if (went_wrong && !result.stderr_text.empty())
       std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
                 << last_lines(result.stderr_text, 20) << "\n";
-    const char* verdict = state.status == SweepJobStatus::kOk             ? "ok"
-                          : state.status == SweepJobStatus::kBudgetFailed ? "budgets failed"
-                          : state.status == SweepJobStatus::kFailed       ? "FAILED"
-                                                                          : "CRASHED";
+    const char* verdict = state.status == SweepJobStatus::kOk ? "ok"
+                          : state.status == SweepJobStatus::kBudgetFailed
+                              ? "budgets or stability failed"
+                          : state.status == SweepJobStatus::kFailed ? "FAILED"
+                                                                    : "CRASHED";
     progress.finished(
         job.name,
         went_wrong ? std::string(verdict) + " (" + state.detail + ")" : std::string(verdict),
@@ -238,8 +241,8 @@ int run_sweep(const SweepRunSettings& args) {
       ++failed_budgets_in_shard;
   std::cout << "sweep " << spec.name << " -> " << out_dir.string()
             << "/sweep.json: " << to_run.size() << " ran (" << ok << " ok, " << budget_failed
-            << " budgets failed, " << failed << " failed, " << crashed << " crashed), "
-            << done_earlier << " done earlier\n";
+            << " failed a budget or the stability verdict, " << failed << " failed, " << crashed
+            << " crashed), " << done_earlier << " done earlier\n";
   if (crashed > 0) return kSweepCrashed;
   if (failed > 0) return kSweepFailed;
   return failed_budgets_in_shard > 0 ? kSweepBudgetFailed : kSweepOk;

@@ -157,6 +157,8 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     runs = [run for folder in folders for run in folder.runs]
     failed = [run for run in runs if any(b.get("pass") is not True
                                          for b in run.summary.get("budgets") or [])]
+    unstable = [run for run in runs
+                if dig(run.summary, "stability", "verdict", "pass") is False]
     body = ["<header><h1>hapticbench report</h1>",
             '<p class="small">%d scenario%s, %d run%s; generated %s.</p>'
             % (len(folders), "" if len(folders) == 1 else "s", len(runs),
@@ -171,11 +173,21 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
                 % "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
                           for f in folders))
     body.append('<section id="summary"><h2>Summary</h2>')
+    problems = []
+    if unstable:
+        problems.append("%d of %d runs are unstable where that is not expected: %s."
+                        % (len(unstable), len(runs),
+                           ", ".join("%s (%s)" % (esc(r.name), esc(dig(
+                               r.summary, "stability", "verdict", "reason") or "?"))
+                                     for r in unstable)))
+    if failed:
+        problems.append("%d of %d runs failed a budget: %s."
+                        % (len(failed), len(runs), ", ".join(esc(r.name) for r in failed)))
     body.append('<p class="%s">%s</p>' % (
-        "fail" if failed else "pass",
-        "%d of %d runs failed a budget: %s." % (len(failed), len(runs),
-                                                ", ".join(esc(r.name) for r in failed))
-        if failed else "All %d runs are within their budgets." % len(runs)))
+        "fail" if problems else "pass",
+        " ".join(problems) if problems
+        else "All %d runs are stable (or unstable where the scenario expects it) and within "
+             "their budgets." % len(runs)))
     body.append(summary_table(folders, metric_table))
     body.append('<p class="small">Columns come from the metric table '
                 "(<code>hapticbench list --metrics</code>; hover a header for its definition). "

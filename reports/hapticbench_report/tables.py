@@ -32,6 +32,23 @@ def cell(value, pattern="%.3g", scale=1.0, css=""):
     return '<td%s>%s</td>' % (' class="%s"' % css if css else "", esc(text))
 
 
+def stability_item(summary):
+    """The run's stability verdict as a cell, and whether it passes: stable, or unstable
+    where the scenario or the command line expects it (runs[].stability.verdict)."""
+    verdict = dig(summary, "stability", "verdict") or {}
+    if not verdict:
+        return '<td class="na">—</td>', True
+    if verdict.get("stable"):
+        return ('<td class="text pass" title="%s">stable</td>' % esc(verdict.get("reason", "")),
+                True)
+    expected = verdict.get("expected_unstable")
+    text = verdict.get("reason") or verdict.get("failed") or "unstable"
+    if expected:
+        return ('<td class="text" title="%s">%s (expected)</td>' % (esc(expected), esc(text)),
+                True)
+    return '<td class="text fail">✗ %s</td>' % esc(text), False
+
+
 def budget_items(budgets):
     if not budgets:
         return '<td class="na" title="no budgets in the scenario">—</td>', "none"
@@ -76,7 +93,7 @@ def summary_table(folders, metric_table):
     columns (harness/metrics/metric_table.cpp), so that a metric is added in one place."""
     columns = [m for m in metric_table if m.get("report_column")]
     head = ("<tr><th class='text'>scenario</th><th class='text'>label (algorithm)</th>"
-            "<th>ticks</th>"
+            "<th>ticks</th><th class='text'>stability</th>"
             + "".join("<th title='%s'>%s (%s)</th>" % (
                 esc(m.get("description", "")), esc(m["name"]),
                 esc(UNIT_DISPLAY.get(m["unit"], (m["unit"],))[0])) for m in columns)
@@ -86,6 +103,9 @@ def summary_table(folders, metric_table):
         for position, run in enumerate(folder.runs):
             s = run.summary
             budgets, verdict = budget_items(s.get("budgets") or [])
+            stability, stable = stability_item(s)
+            if not stable:
+                verdict = "fail"
             source = dig(s, "accuracy", "penetration_source")
             rows.append(
                 '<tr data-scenario="%s" data-label="%s" data-verdict="%s"%s>'
@@ -95,6 +115,7 @@ def summary_table(folders, metric_table):
                 + '<td class="text">%s <span class="small">(%s)</span></td>'
                 % (esc(run.label), esc(s.get("algorithm", "?")))
                 + cell(dig(s, "timing", "ticks"), "%d")
+                + stability
                 + "".join(metric_cell(m, at_pointer(s, m["pointer"])) for m in columns)
                 + ('<td class="text">%s</td>' % esc(source) if source
                    else '<td class="na">—</td>')

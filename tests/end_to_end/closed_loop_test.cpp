@@ -231,6 +231,64 @@ TEST_CASE("closed loop: the device buzzes above the exact stability limit of the
   CHECK(buzzed);
 }
 
+TEST_CASE("closed loop: a run in a limit cycle fails the command unless its label is expected to") {
+  // The press and hold with the coupling 30 % above Jury's limit: the
+  // device bounces in a limit cycle. The run folder is written either way.
+  const hb::test::ScratchDir work_dir("e2e_closed_loop_unstable_fails");
+  const fs::path& work = work_dir.path();
+  write_scenario(work, Intent::kPressAndHold, 1.5);
+  json scenario = json::parse(hb::test::read_text_file(work / "wall.json"));
+  scenario["coupling"]["k_t"] = 1.3 * jury_limit(0);
+  std::ofstream(work / "wall.json") << scenario.dump(2);
+
+  const hb::test::CommandResult unexpected =
+      hb::test::run_hapticbench("run wall.json --out plain", work);
+  INFO(unexpected.stdout_text << unexpected.stderr_text);
+  CHECK(unexpected.exit_code == 1);
+  CHECK(unexpected.stderr_text.find("1 unstable run") != std::string::npos);
+  const json run =
+      json::parse(hb::test::read_text_file(work / "plain/summary.json")).at("runs").at(0);
+  const json& verdict = run.at("stability").at("verdict");
+  // Above the passivity limit too, the first check failed may be passivity;
+  // the limit cycle is there either way.
+  CHECK(run.at("closed_loop").at("limit_cycle").get<bool>());
+  REQUIRE(verdict.at("failed").is_string());
+  const std::string failed = verdict.at("failed");
+  CHECK(verdict.at("pass") == false);
+  CHECK(verdict.at("expected_unstable").is_null());
+  CHECK(unexpected.stdout_text.find(" " + failed + " ") != std::string::npos);  // the column
+  CHECK(unexpected.stdout_text.find("UNSTABLE: ") != std::string::npos);
+  const std::string junit = hb::test::read_text_file(work / "plain/junit.xml");
+  CHECK(junit.find("name=\"stability\"><failure message=\"unstable: ") != std::string::npos);
+
+  // Expected on the command line, or by the scenario: exit 0, still said.
+  const hb::test::CommandResult flagged =
+      hb::test::run_hapticbench("run wall.json --out flagged --expect-unstable god_object", work);
+  CHECK(flagged.exit_code == 0);
+  CHECK(flagged.stdout_text.find(failed + "*") != std::string::npos);
+  CHECK(flagged.stdout_text.find("unstable, as expected: ") != std::string::npos);
+  scenario["expected_unstable"] = {{"god_object", "the coupling is above the loop's limit"}};
+  std::ofstream(work / "wall.json") << scenario.dump(2);
+  const hb::test::CommandResult declared =
+      hb::test::run_hapticbench("run wall.json --out declared", work);
+  CHECK(declared.exit_code == 0);
+  CHECK(json::parse(hb::test::read_text_file(work / "declared/summary.json"))
+            .at("runs")
+            .at(0)
+            .at("stability")
+            .at("verdict")
+            .at("expected_unstable") == "the coupling is above the loop's limit");
+
+  // A label the scenario does not run is an input error.
+  scenario["expected_unstable"] = {{"god_objet", "typo"}};
+  std::ofstream(work / "wall.json") << scenario.dump(2);
+  const hb::test::CommandResult typo = hb::test::run_hapticbench("run wall.json --out typo", work);
+  CHECK(typo.exit_code == 2);
+  CHECK(typo.stderr_text.find("/expected_unstable") != std::string::npos);
+  CHECK(typo.stderr_text.find("god_object") != std::string::npos);
+  CHECK_FALSE(fs::exists(work / "typo"));
+}
+
 }  // namespace
 
 namespace {

@@ -166,7 +166,11 @@ TEST_CASE("the meshes suite runs with penetration figures from both oracles") {
     if (entry.path().extension() == ".json")
       arguments +=
           " '" + hb::test::shortened_scenario(entry.path(), 0.6, work / "scenarios").string() + "'";
-  REQUIRE(hb::test::run_hapticbench("run" + arguments + " --out runs", work).exit_code == 0);
+  // Cut to 0.6 s, the presses are faster than the suite's: Voxmap
+  // PointShell gives energy away on some (its stability verdict fails);
+  // this test is about the oracles.
+  REQUIRE(hb::test::run_hapticbench("run" + arguments + " --out runs --expect-unstable all", work)
+              .exit_code == 0);
   int scenarios = 0;
   for (const auto& entry : fs::directory_iterator(work / "runs")) {
     ++scenarios;

@@ -117,6 +117,11 @@ TEST_CASE("the smoke suite's report opens offline in a browser with every figure
   // The default page name, and no temporary file left beside it.
   CHECK(listing(work) == std::set<std::string>{"report.html", "runs"});
   const std::string html = hb::test::read_text_file(work / "report.html");
+  // The explicit integrator that diverges on the stiff coupling is expected
+  // to: the summary table says so, and the banner passes.
+  CHECK(html.find("(expected)</td>") != std::string::npos);
+  CHECK(html.find("runs are stable (or unstable where the scenario expects it) and within "
+                  "their budgets.") != std::string::npos);
 
   // Self-contained: no external resource, every figure an inline PNG.
   for (const char* external : {"src=\"http", "href=\"http", "<link", "<script src", "url(http",
@@ -173,6 +178,28 @@ TEST_CASE("the smoke suite's report opens offline in a browser with every figure
   REQUIRE_FALSE(figures.empty());
   CHECK(loaded == figures);
   CHECK(std::stoul(figures) == inline_images);
+
+  // The same run, its instability no longer expected: the banner fails and
+  // names it, the summary table marks it.
+  const fs::path stiff = work / "unexpected" / "stiff_coupling_explicit_vs_implicit";
+  fs::create_directories(stiff.parent_path());
+  fs::copy(work / "runs" / "stiff_coupling_explicit_vs_implicit", stiff);
+  json summary = json::parse(hb::test::read_text_file(stiff / "summary.json"));
+  for (json& run : summary.at("runs")) {
+    json& verdict = run.at("stability").at("verdict");
+    if (verdict.at("stable") == true) continue;
+    verdict["expected_unstable"] = nullptr;
+    verdict["pass"] = false;
+  }
+  std::ofstream(stiff / "summary.json") << summary.dump(2);
+  const CommandResult failing = hapticbench("report unexpected --out unexpected.html", work);
+  INFO(failing.stderr_text);
+  REQUIRE(failing.exit_code == 0);
+  const std::string failing_html = hb::test::read_text_file(work / "unexpected.html");
+  CHECK(failing_html.find("runs are unstable where that is not expected: "
+                          "stiff_coupling_explicit_vs_implicit/explicit_euler (diverged") !=
+        std::string::npos);
+  CHECK(failing_html.find("<td class=\"text fail\">✗ diverged") != std::string::npos);
   CHECK(std::stoul(figures) >= expected_figures.size());
   for (const std::string& id : expected_figures) {
     INFO(id);

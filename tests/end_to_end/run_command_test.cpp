@@ -338,8 +338,11 @@ void check_stress_part(int part) {
     }
     arguments += " '" + shortened.string() + "'";
   }
+  // Which runs are unstable depends on the slow loops' measured schedules
+  // (a sanitized build's differ); this test is about crashes and non-finite
+  // forces, so every label's instability is expected here.
   const hb::test::CommandResult result =
-      hb::test::run_hapticbench("run" + arguments + " --out stress", work);
+      hb::test::run_hapticbench("run" + arguments + " --out stress --expect-unstable all", work);
   INFO(result.stderr_text);
   CHECK(result.exit_code == 0);  // every nonfinite budget (0) holds
   for (const fs::path& file : files) {
