@@ -15,14 +15,16 @@ namespace hb {
 
 int count_instructions_command(const std::vector<std::string>& args) {
   std::string scenario_path, schedule_dir, out;
-  std::optional<std::string> only;
+  AlgorithmSelection only;
   ProgressStyle progress_style = ProgressStyle::kNone;  // its stderr is a file
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--progress" && i + 1 < args.size() && progress_style_named(args[i + 1])) {
       progress_style = *progress_style_named(args[++i]);
-    } else if ((a == "--schedule" || a == "--out" || a == "--algo") && i + 1 < args.size()) {
-      (a == "--schedule" ? schedule_dir : a == "--out" ? out : only.emplace()) = args[++i];
+    } else if (a == "--algo" && i + 1 < args.size()) {
+      only.push_back(args[++i]);
+    } else if ((a == "--schedule" || a == "--out") && i + 1 < args.size()) {
+      (a == "--schedule" ? schedule_dir : out) = args[++i];
     } else if (scenario_path.empty() && a.rfind("--", 0) != 0) {
       scenario_path = a;
     } else {

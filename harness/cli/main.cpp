@@ -14,6 +14,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/output/run_context.h"
 #include "harness/plugins/plugin_loader.h"
 #include "harness/process/activity_report.h"
 #include "harness/process/interrupt.h"
@@ -21,8 +22,8 @@
 
 namespace {
 constexpr const char* kUsage =
-    "usage: hapticbench COMMAND [ARGS]\n"
-    "  run SCENARIO... [--algo NAME] [--out DIR] [--repeat N] [--instructions] [--schedule P]\n"
+    "usage: hapticbench COMMAND [ARGS]   (hapticbench --version: this build)\n"
+    "  run SCENARIO... [--algo NAME]... [--out DIR] [--repeat N] [--instructions] [--schedule P]\n"
     "                                              replay scenarios, write run folders\n"
     "  validate FILE...                            check a scenario, mesh or trace file\n"
     "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
@@ -44,7 +45,8 @@ constexpr const char* kUsage =
     "                                   docs/plugins.md)\n"
     "               --allow-scenario-plugins   load the plugins scenario files name (a\n"
     "                                   scenario alone never loads code; validate never does)\n"
-    "exit codes: 0 ok, 1 a budget or regression failed, 2 bad input or usage, 3 internal error\n";
+    "exit codes: 0 ok, 1 a budget, a stability verdict or a regression failed, 2 bad input or\n"
+    "            usage, 3 internal error\n";
 
 // Takes `--memory-limit MB` out of the arguments (anywhere after the
 // command): MB, or the default when absent; 0 with a message on stderr when
@@ -99,6 +101,10 @@ static int run_command_line(int argc, char** argv) {
   hb::apply_memory_limit(memory_limit_mb);
   if (command == "-h" || command == "--help" || command == "help") {
     std::cout << kUsage;  // loads no plugin: a bad one must not hide the help
+    return hb::kExitOk;
+  }
+  if (command == "--version" || command == "version") {
+    std::cout << hb::version_line() << "\n";
     return hb::kExitOk;
   }
   try {

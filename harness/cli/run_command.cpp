@@ -22,10 +22,10 @@ namespace fs = std::filesystem;
 
 namespace {
 const std::string kRunUsage =
-    "usage: hapticbench run SCENARIO.json... [--algo NAME] [--out DIR] [--repeat N]\n"
+    "usage: hapticbench run SCENARIO.json... [--algo NAME]... [--out DIR] [--repeat N]\n"
     "                      [--instructions] [--schedule PATH] [--expect-unstable LABEL]\n"
     "                      [--progress STYLE] [--quiet]\n"
-    "  --algo NAME     run only the algorithm with this name or label\n"
+    "  --algo NAME     run only the algorithms with this name or label (repeatable)\n"
     "  --out DIR       run folder (one scenario) or parent of <scenario name>/ (several);\n"
     "                  default out/<scenario name>/\n"
     "  --repeat N      N timing passes per algorithm; the summary gives the spread of\n"
@@ -44,7 +44,7 @@ constexpr int kMaxRepeat = 1000;
 
 struct RunArguments {
   std::vector<std::string> scenarios;
-  std::optional<std::string> algo;
+  AlgorithmSelection algos;  ///< --algo NAME, each; empty: every algorithm
   std::optional<std::string> out;
   std::optional<std::string> schedule;
   bool instructions = false;
@@ -61,7 +61,9 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     check_help(a);
-    if (a == "--algo" || a == "--out" || a == "--schedule" || a == "--repeat") {
+    if (a == "--algo") {
+      parsed.algos.push_back(option_value(args, i));
+    } else if (a == "--out" || a == "--schedule" || a == "--repeat") {
       const std::string& value = option_value(args, i);
       if (a == "--repeat") {
         const std::optional<long long> repeat = parse_whole_number(value, 1, kMaxRepeat);
@@ -70,7 +72,7 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
                            std::to_string(kMaxRepeat) + "], got \"" + value + "\""};
         parsed.options.repeat = static_cast<int>(*repeat);
       } else {
-        (a == "--algo" ? parsed.algo : a == "--out" ? parsed.out : parsed.schedule) = value;
+        (a == "--out" ? parsed.out : parsed.schedule) = value;
       }
     } else if (a == "--expect-unstable") {
       parsed.expect_unstable.push_back(option_value(args, i));
@@ -148,8 +150,7 @@ int run_command(const std::vector<std::string>& args) {
     std::vector<std::string> names;
     for (const Scenario& scenario : scenarios)
       for (const AlgorithmSpec& spec : scenario.algorithms)
-        if (!parsed->algo || spec.name == *parsed->algo || spec.label == *parsed->algo)
-          names.push_back(spec.name);
+        if (is_selected(parsed->algos, spec)) names.push_back(spec.name);
     if (should_isolate_plugins(names)) {
       progress.close();
       return run_plugins_isolated("run", args);  // the child says the warnings
@@ -163,7 +164,7 @@ int run_command(const std::vector<std::string>& args) {
       require_replaceable_folder(run_folder_for(*parsed, scenario), OutputFolderKind::kRun);
     for (std::size_t s = 0; s < scenarios.size(); ++s) {
       show_scenario(s);
-      prepared.push_back(prepare_scenario(scenarios[s], parsed->algo, &progress));
+      prepared.push_back(prepare_scenario(scenarios[s], parsed->algos, &progress));
       if (parsed->schedule) use_recorded_schedules(prepared.back(), *parsed->schedule);
     }
   } catch (const InputError& error) {
@@ -183,7 +184,7 @@ int run_command(const std::vector<std::string>& args) {
       if (parsed->instructions) {
         progress.task(scenario.name);
         progress.phase("instruction count under callgrind");
-        count_instructions(scenario.path, parsed->algo, outcome);
+        count_instructions(scenario.path, parsed->algos, outcome);
         progress.finish_task();
       }
     } catch (const InputError& error) {

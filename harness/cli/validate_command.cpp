@@ -68,7 +68,7 @@ void validate_scenario(const std::string& path, std::ostream& report, ProgressDi
   // bad or unknown algorithm parameters) and the ground truth (whose oracles
   // reject open or self-intersecting scene meshes).
   try {
-    prepare_scenario(scenario, std::nullopt, &progress);
+    prepare_scenario(scenario, {}, &progress);
   } catch (const InputError& error) {
     throw with_default_source(error, scenario.path);
   }

@@ -77,6 +77,11 @@ double measure_clock_overhead_ns() {
   return per_read[kBatches / 2];
 }
 
+std::string version_line() {
+  return std::string("hapticbench ") + HAPTICBENCH_VERSION + " (commit " + HAPTICBENCH_COMMIT +
+         ", " + HAPTICBENCH_BUILD_TYPE + " build)";
+}
+
 RunContext current_run_context() {
   RunContext c;
   c.commit = HAPTICBENCH_COMMIT;

@@ -24,6 +24,9 @@ struct RunContext {
 
 RunContext current_run_context();
 
+/// What `hapticbench --version` prints: "hapticbench 0.1.0 (commit …, Release build)".
+std::string version_line();
+
 /// Median cost of one std::chrono::steady_clock::now() (ns), from a few
 /// thousand back-to-back reads.
 double measure_clock_overhead_ns();

@@ -54,7 +54,7 @@ class IgnoringObserver : public TickObserver {
 
 }  // namespace
 
-void count_instructions(const std::string& scenario_path, const std::optional<std::string>& only,
+void count_instructions(const std::string& scenario_path, const AlgorithmSelection& only,
                         ScenarioOutcome& outcome) {
   const fs::path valgrind = find_on_path("valgrind");
   if (valgrind.empty())
@@ -82,9 +82,9 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
       folder.path().string(),
       "--out",
       (folder.path() / "counts.json").string()};
-  if (only) {
+  for (const std::string& name : only) {
     argv.push_back("--algo");
-    argv.push_back(*only);
+    argv.push_back(name);
   }
   ChildProcess child(argv, folder.path() / "stdout.txt", folder.path() / "stderr.txt");
   const ProcessEnd end = child.wait();
@@ -115,8 +115,7 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
   }
 }
 
-void count_instructions_here(const std::string& scenario_path,
-                             const std::optional<std::string>& only,
+void count_instructions_here(const std::string& scenario_path, const AlgorithmSelection& only,
                              const std::string& schedule_dir, const std::string& out,
                              ProgressDisplay* progress) {
   Scenario scenario = load_scenario(scenario_path);

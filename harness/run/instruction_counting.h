@@ -19,7 +19,7 @@ namespace hb {
 /// `scenario_path`, algorithms restricted to `only` when given) and stores
 /// them in each run's `instructions`. Throws InputError when valgrind is not
 /// installed, std::runtime_error when the child fails.
-void count_instructions(const std::string& scenario_path, const std::optional<std::string>& only,
+void count_instructions(const std::string& scenario_path, const AlgorithmSelection& only,
                         ScenarioOutcome& outcome);
 
 /// The child's work, in the process callgrind runs: loads the scenario
@@ -30,8 +30,7 @@ void count_instructions(const std::string& scenario_path, const std::optional<st
 /// slow_updates}} to `out`. Progress shows on `progress` as in a run's
 /// timing pass (between ticks, from the tick counter), so that the counts
 /// tell whether showing it costs anything inside the measured calls.
-void count_instructions_here(const std::string& scenario_path,
-                             const std::optional<std::string>& only,
+void count_instructions_here(const std::string& scenario_path, const AlgorithmSelection& only,
                              const std::string& schedule_dir, const std::string& out,
                              ProgressDisplay* progress = nullptr);
 

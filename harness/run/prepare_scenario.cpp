@@ -72,12 +72,12 @@ RenderContext context_with_reach(const Scenario& scenario) {
 
 std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
                                                   const RenderContext& context,
-                                                  const std::optional<std::string>& only,
+                                                  const AlgorithmSelection& only,
                                                   ProgressDisplay* progress) {
   std::vector<PreparedAlgorithm> prepared;
   for (std::size_t i = 0; i < scenario.algorithms.size(); ++i) {
     const AlgorithmSpec& spec = scenario.algorithms[i];
-    if (only && spec.name != *only && spec.label != *only) continue;
+    if (!is_selected(only, spec)) continue;
     PreparedAlgorithm algorithm;
     algorithm.spec = &spec;
     if (scenario.closed_loop) algorithm.replay.closed_loop = &*scenario.closed_loop;
@@ -105,13 +105,13 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
     if (progress) progress->finish_task();
     prepared.push_back(std::move(algorithm));
   }
-  if (only && prepared.empty()) {
-    std::string known;
+  if (!only.empty() && prepared.empty()) {
+    std::string known, asked;
     for (const AlgorithmSpec& spec : scenario.algorithms)
       known += (known.empty() ? "" : ", ") + spec.label;
-    throw InputError(
-        scenario.path, "--algo",
-        "no algorithm named or labelled \"" + *only + "\" (scenario has: " + known + ")");
+    for (const std::string& name : only) asked += (asked.empty() ? "\"" : " or \"") + name + "\"";
+    throw InputError(scenario.path, "--algo",
+                     "no algorithm named or labelled " + asked + " (scenario has: " + known + ")");
   }
   return prepared;
 }
@@ -189,7 +189,13 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
 }
 }  // namespace
 
-PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only,
+bool is_selected(const AlgorithmSelection& only, const AlgorithmSpec& spec) {
+  return only.empty() || std::find_if(only.begin(), only.end(), [&](const std::string& name) {
+                           return name == spec.name || name == spec.label;
+                         }) != only.end();
+}
+
+PreparedScenario prepare_scenario(const Scenario& scenario, const AlgorithmSelection& only,
                                   ProgressDisplay* progress) {
   PreparedScenario prepared;
   prepared.scenario = &scenario;

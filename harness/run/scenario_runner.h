@@ -61,14 +61,20 @@ struct PreparedScenario {
   GroundTruth truth;
 };
 
-/// Builds the renderers of the scenario (all of them, or those whose name or
-/// label is `only`) and its ground truth. Throws InputError naming the
-/// scenario file (or the offending mesh) and the field for unknown
-/// algorithms, bad parameters or a scene the oracles refuse, before
-/// anything runs. With `progress`: the tasks "<scenario> / <label>" in the
-/// phase "preprocessing" (with the builds' stages) and "<scenario> / ground
-/// truth" in the phase "oracle".
-PreparedScenario prepare_scenario(const Scenario& scenario, const std::optional<std::string>& only,
+/// The algorithms to run, by name or label (`run --algo NAME`, repeatable);
+/// empty: every algorithm of the scenario.
+using AlgorithmSelection = std::vector<std::string>;
+
+/// True when `spec` is selected: `only` is empty or names its name or label.
+bool is_selected(const AlgorithmSelection& only, const AlgorithmSpec& spec);
+
+/// Builds the renderers of the scenario (all of them, or those `only`
+/// selects; InputError when it selects none of them) and its ground truth. Throws InputError naming
+/// the scenario file (or the offending mesh) and the field for unknown algorithms, bad parameters
+/// or a scene the oracles refuse, before anything runs. With `progress`: the tasks "<scenario> /
+/// <label>" in the phase "preprocessing" (with the builds' stages) and "<scenario> / ground truth"
+/// in the phase "oracle".
+PreparedScenario prepare_scenario(const Scenario& scenario, const AlgorithmSelection& only,
                                   ProgressDisplay* progress = nullptr);
 
 /// Makes every multi-rate algorithm of `prepared` follow a recorded

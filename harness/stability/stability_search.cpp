@@ -118,7 +118,7 @@ StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, do
   prefix << "run " << ++runs_;
   for (const auto& [pointer, value] : settings) prefix << ", " << pointer << " = " << value;
   progress_.set_prefix(prefix.str() + ": ");
-  PreparedScenario prepared = prepare_scenario(loaded.scenario, label_, &progress_);
+  PreparedScenario prepared = prepare_scenario(loaded.scenario, {label_}, &progress_);
   RunOptions options;
   options.progress = &progress_;
   const ScenarioOutcome outcome = run_prepared(prepared, options);

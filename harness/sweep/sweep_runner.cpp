@@ -49,7 +49,7 @@ int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
   const Scenario scenario = load_sweep_job_scenario(spec, job);
   PreparedScenario prepared;
   try {
-    prepared = prepare_scenario(scenario, std::nullopt);
+    prepared = prepare_scenario(scenario, {});
   } catch (const InputError& error) {
     throw sweep_job_error(spec, job, error);
   }
@@ -86,7 +86,7 @@ std::vector<std::string> validate_jobs(const SweepSpec& spec, const std::vector<
     if (!checked_ground_truth.insert(ground_truth_key).second)
       scenario.reference.switch_off_oracle();
     try {
-      prepare_scenario(scenario, std::nullopt);
+      prepare_scenario(scenario, {});
     } catch (const InputError& error) {
       throw sweep_job_error(spec, job, error);
     }

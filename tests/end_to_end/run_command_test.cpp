@@ -407,4 +407,28 @@ TEST_CASE("usage errors exit with 2") {
   CHECK_FALSE(fs::exists(work / "--quiet"));
 }
 
+TEST_CASE("run takes --algo more than once, and --version names the build") {
+  const hb::test::ScratchDir work_dir("e2e_algo_twice");
+  const fs::path& work = work_dir.path();
+  const std::string press = (kSource / "scenarios/smoke/sphere_press_box.json").string();
+  const hb::test::CommandResult two = hb::test::run_hapticbench(
+      "run '" + press + "' --algo penalty_implicit --algo coupling_only --out two --quiet", work);
+  INFO(two.stderr_text);
+  REQUIRE(two.exit_code == 0);
+  const json summary = json::parse(hb::test::read_text_file(work / "two/summary.json"));
+  std::vector<std::string> labels;
+  for (const json& run : summary.at("runs")) labels.push_back(run.at("label"));
+  CHECK(labels == std::vector<std::string>{"coupling_only", "penalty_implicit"});  // scenario order
+  const hb::test::CommandResult none = hb::test::run_hapticbench(
+      "run '" + press + "' --algo nothing --algo neither --out none --quiet", work);
+  CHECK(none.exit_code == 2);
+  CHECK(none.stderr_text.find("\"nothing\" or \"neither\"") != std::string::npos);
+
+  const hb::test::CommandResult version = hb::test::run_hapticbench("--version", work);
+  CHECK(version.exit_code == 0);
+  CHECK(version.stdout_text.rfind("hapticbench 0.", 0) == 0);
+  CHECK(version.stdout_text.find("(commit ") != std::string::npos);
+  CHECK(version.stdout_text.find(" build)") != std::string::npos);
+}
+
 }  // namespace
