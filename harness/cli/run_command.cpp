@@ -201,6 +201,9 @@ int run_command(const std::vector<std::string>& args) {
     table << "scenario " << scenario.name << " -> " << folder.string() << "/"
           << (replaced ? " (replaced the earlier run folder)" : "") << "\n";
     print_run_table(table, outcome.report);
+    // What the runs showed (the scenario's own warnings were said when it loaded).
+    for (std::size_t w = scenario.warnings.size(); w < outcome.report.warnings.size(); ++w)
+      table << "  warning: " << outcome.report.warnings[w] << "\n";
     progress.print_above(std::cout, table.str());
     all_pass = all_pass && outcome.report.all_budgets_pass();
     for (const AlgorithmRun& run : outcome.report.runs)

@@ -372,6 +372,7 @@ json summary_json(const ScenarioRun& run) {
           {"oracle", oracle},
           {"force_reference", force_reference},
           {"runs", runs},
+          {"warnings", run.warnings},
           {"metric_table", metric_table_json()},
           {"oracle_backends", oracle_backends_json()}};
 }

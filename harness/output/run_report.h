@@ -129,6 +129,11 @@ struct ScenarioRun {
   std::optional<OracleDescription> oracle;
   std::optional<ForceReferenceDescription> force_reference;  ///< the mesh force reference
   std::vector<AlgorithmRun> runs;
+  /// What the run may not measure as it seems to: the scenario's warnings
+  /// (implausible settings, a point renderer given a mesh tool, a mesh
+  /// scene without penetration truth), then what the runs showed (a tool
+  /// that never reached the scene). summary.json "warnings".
+  std::vector<std::string> warnings;
 
   bool all_budgets_pass() const;
   /// Every run stable, or unstable where that is expected.

@@ -209,6 +209,19 @@ std::string penetration_source(const GroundTruth& truth) {
 
 namespace {
 
+// A run in which no algorithm reported a contact and the reference found
+// no penetration measured free space only: the trace may miss the scene.
+std::optional<std::string> never_reached_warning(const ScenarioRun& report) {
+  if (report.runs.empty()) return std::nullopt;
+  for (const AlgorithmRun& run : report.runs) {
+    if (run.metrics.contacts.contact_ticks > 0) return std::nullopt;
+    const std::optional<int64_t>& penetrating = run.metrics.accuracy.penetration_ticks;
+    if (penetrating && *penetrating > 0) return std::nullopt;
+  }
+  return "no algorithm reported a contact on any tick and the reference found no penetration: "
+         "the trace may never reach the scene, so the run measured free space only";
+}
+
 // What summary.json says of the scenario and its ground truth, before any run.
 ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) {
   ScenarioRun report;
@@ -219,6 +232,7 @@ ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) 
   for (const SceneObject& object : scenario.context.scene)
     report.scene_friction.push_back(object.friction);
   report.tags = scenario.tags;
+  report.warnings = scenario.warnings;
   report.coupling = scenario.context.coupling;
   report.context = current_run_context();
   if (truth.oracle) {
@@ -396,6 +410,8 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
     report_activity("idle");
     if (progress) progress->finish_task();
   }
+  if (const std::optional<std::string> warning = never_reached_warning(outcome.report))
+    outcome.report.warnings.push_back(*warning);
   return outcome;
 }
 

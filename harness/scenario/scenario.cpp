@@ -232,6 +232,8 @@ class ScenarioReader {
     check_oracle_sample_count(scenario);
 
     scenario.warnings = plausibility_warnings(scenario);
+    for (std::string& warning : measurement_warnings(root, scenario))
+      scenario.warnings.push_back(std::move(warning));
     scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
                              unchecked_algorithms_.end());
     scenario.content_hash = scenario_hash_.hex();
@@ -806,6 +808,30 @@ class ScenarioReader {
       budgets.push_back({item.key(), limit});
     }
     return budgets;
+  }
+
+  // Settings that run but measure less than they seem to.
+  static std::vector<std::string> measurement_warnings(const JsonField& root,
+                                                       const Scenario& scenario) {
+    std::vector<std::string> warnings;
+    if (root.existing_member("tool").has("mesh"))
+      for (std::size_t i = 0; i < scenario.algorithms.size(); ++i)
+        if (scenario.algorithms[i].name == "god_object_3dof")
+          warnings.push_back("/algorithms/" + std::to_string(i) + ": " +
+                             scenario.algorithms[i].label +
+                             " (god_object_3dof) renders the tool's origin only: the mesh tool's "
+                             "surface never touches the scene, so its contacts and forces are "
+                             "those of a point");
+    const JsonField scene = root.existing_member("scene");
+    bool mesh_scene = false;
+    for (std::size_t i = 0; i < scenario.context.scene.size(); ++i)
+      mesh_scene = mesh_scene || scene.element(i).has("mesh");
+    if (mesh_scene && !root.has("reference"))
+      warnings.push_back(
+          "/reference: absent, and the scene has meshes: no penetration truth (the oracle is off "
+          "by default and the closed forms cover primitives only); add \"reference\": "
+          "{\"oracle\": \"embree\"}");
+    return warnings;
   }
 
   // {label: why}: every key a label of the scenario's algorithms, every

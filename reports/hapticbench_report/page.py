@@ -188,6 +188,14 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
         " ".join(problems) if problems
         else "All %d runs are stable (or unstable where the scenario expects it) and within "
              "their budgets." % len(runs)))
+    warnings = [(folder.scenario, text) for folder in folders
+                for text in folder.summary.get("warnings") or []]
+    if warnings:
+        body.append('<div class="warn"><p>%d warning%s: what a run may not measure as it seems '
+                    'to.</p><ul>%s</ul></div>'
+                    % (len(warnings), "" if len(warnings) == 1 else "s",
+                       "".join("<li>%s: %s</li>" % (esc(name), esc(text))
+                               for name, text in warnings)))
     body.append(summary_table(folders, metric_table))
     body.append('<p class="small">Columns come from the metric table '
                 "(<code>hapticbench list --metrics</code>; hover a header for its definition). "

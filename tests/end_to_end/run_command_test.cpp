@@ -407,6 +407,51 @@ TEST_CASE("usage errors exit with 2") {
   CHECK_FALSE(fs::exists(work / "--quiet"));
 }
 
+TEST_CASE("runs that measure less than they seem to say so: console, summary and report") {
+  // A hook (mesh) tool held 50 cm above a hook (mesh) scene: the 3-DOF
+  // god-object renders only the tool's origin, no reference block means no
+  // penetration truth, and nothing ever touches.
+  const hb::test::ScratchDir work_dir("e2e_sanity_warnings");
+  const fs::path& work = work_dir.path();
+  const std::string hook = (kSource / "scenarios/stress/meshes/hook.off").string();
+  json scenario = {{"name", "far_above"},
+                   {"scene", {{{"mesh", hook}, {"pose", {{"p", {0, 0, 0}}, {"q", {1, 0, 0, 0}}}}}}},
+                   {"tool", {{"mesh", hook}, {"density", 1000}}},
+                   {"trace",
+                    {{"generator", "rest"},
+                     {"duration_s", 0.2},
+                     {"seed", 1},
+                     {"params", {{"p", {0, 0, 0.5}}, {"q", {1, 0, 0, 0}}}}}},
+                   {"algorithms",
+                    {{{"name", "god_object_3dof"}, {"label", "point"}},
+                     {{"name", "god_object"}, {"label", "god_object"}}}}};
+  std::ofstream(work / "far_above.json") << scenario.dump(2);
+  const hb::test::CommandResult result =
+      hb::test::run_hapticbench("run far_above.json --out run", work);
+  INFO(result.stdout_text << result.stderr_text);
+  REQUIRE(result.exit_code == 0);
+  CHECK(result.stderr_text.find("/algorithms/0: point (god_object_3dof) renders the tool's origin "
+                                "only") != std::string::npos);
+  CHECK(result.stderr_text.find("/reference: absent, and the scene has meshes") !=
+        std::string::npos);
+  CHECK(result.stdout_text.find("warning: no algorithm reported a contact") != std::string::npos);
+  const json summary = json::parse(hb::test::read_text_file(work / "run/summary.json"));
+  REQUIRE(summary.at("warnings").size() == 3);
+  CHECK(summary.at("warnings").at(2).get<std::string>().find("never reach the scene") !=
+        std::string::npos);
+  // validate says the scenario's own two.
+  const hb::test::CommandResult validated =
+      hb::test::run_hapticbench("validate far_above.json", work);
+  CHECK(validated.exit_code == 0);
+  CHECK(validated.stderr_text.find("renders the tool's origin only") != std::string::npos);
+  // The report lists all three.
+  const hb::test::CommandResult report = hb::test::run_hapticbench("report run", work);
+  REQUIRE(report.exit_code == 0);
+  const std::string html = hb::test::read_text_file(work / "report.html");
+  CHECK(html.find("3 warnings: what a run may not measure as it seems to.") != std::string::npos);
+  CHECK(html.find("never reach the scene") != std::string::npos);
+}
+
 TEST_CASE("run takes --algo more than once, and --version names the build") {
   const hb::test::ScratchDir work_dir("e2e_algo_twice");
   const fs::path& work = work_dir.path();
