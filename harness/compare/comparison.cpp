@@ -1,6 +1,9 @@
 #include "harness/compare/comparison.h"
 
 #include <cstdio>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "hapticbench/input_error.h"
 #include "harness/compare/run_checks.h"
@@ -60,6 +63,34 @@ CheckRow presence_row(const std::string& scenario, const std::string& label, boo
   return row;
 }
 
+// "PREFIX/key a → b" for each top-level key whose value differs between two
+// objects (a missing key reads "absent").
+void add_changed_keys(const nlohmann::ordered_json& a, const nlohmann::ordered_json& b,
+                      const std::string& prefix, std::vector<std::string>& changes) {
+  const auto text = [](const nlohmann::ordered_json& object, const std::string& key) {
+    return object.is_object() && object.contains(key) ? object.at(key).dump() : "absent";
+  };
+  std::set<std::string> keys;
+  for (const nlohmann::ordered_json* object : {&a, &b})
+    if (object->is_object())
+      for (const auto& item : object->items()) keys.insert(item.key());
+  for (const std::string& key : keys)
+    if (text(a, key) != text(b, key))
+      changes.push_back(prefix + "/" + key + " " + text(a, key) + " → " + text(b, key));
+}
+
+// What the two summaries show changed in the scenario: the coupling and the
+// parameters of each label both ran.
+std::vector<std::string> scenario_changes(const ScenarioSummary& baseline,
+                                          const ScenarioSummary& candidate) {
+  std::vector<std::string> changes;
+  add_changed_keys(baseline.coupling, candidate.coupling, "/coupling", changes);
+  for (const RunSummary& run : baseline.runs)
+    if (const RunSummary* other = candidate.find_run(run.label))
+      add_changed_keys(run.params, other->params, run.label + " params", changes);
+  return changes;
+}
+
 CheckRow scenario_hash_row(const ScenarioSummary& baseline, const ScenarioSummary& candidate) {
   CheckRow row;
   row.scenario = baseline.scenario_name;
@@ -72,7 +103,12 @@ CheckRow scenario_hash_row(const ScenarioSummary& baseline, const ScenarioSummar
   } else {
     row.change = "differs";
     row.verdict = Verdict::kInfo;
-    row.note = "the scenario or a file it names changed: metrics may differ for that reason";
+    const std::vector<std::string> changes = scenario_changes(baseline, candidate);
+    std::string listed;
+    for (const std::string& change : changes) listed += (listed.empty() ? "" : "; ") + change;
+    row.note = "the scenario or a file it names changed (" +
+               (listed.empty() ? std::string("not in the coupling or the parameters") : listed) +
+               "): metrics may differ for that reason";
   }
   return row;
 }

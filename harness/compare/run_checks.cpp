@@ -132,6 +132,13 @@ CheckRow determinism_row(CheckRow row, const ScenarioSummary& baseline_scenario,
   row.change = equal ? "equal" : "differs";
   const bool strict = same_build(b, c);
   row.detail = {{"same_build", strict}, {"hashes_equal", equal}};
+  if (baseline_scenario.scenario_hash != candidate_scenario.scenario_hash) {
+    // A changed scenario may change the forces: that is information.
+    row.verdict = Verdict::kInfo;
+    row.note = std::string("the scenario changed (scenario.hash), so ") +
+               (equal ? "the forces could have differed and did not" : "the forces may differ");
+    return row;
+  }
   if (strict) {
     row.verdict = equal ? Verdict::kPass : Verdict::kRegression;
     row.note = equal ? "same forces on the same build"

@@ -101,6 +101,7 @@ RunSummary read_run(const JsonField& run) {
   run.require_object("expected an object (one algorithm run)");
   RunSummary r;
   r.label = string_member(run, "label");
+  if (run.has("params")) r.params = run.existing_member("params").json();
   r.ticks_file = run.has("ticks_file")
                      ? run.existing_member("ticks_file").file_name_inside("expected a file name")
                      : "ticks_" + r.label + ".csv";
@@ -167,6 +168,7 @@ ScenarioSummary scenario_summary_from_json(const Json& document, const std::stri
   const JsonField scenario = object_member(root, "scenario");
   summary.scenario_name = string_member(scenario, "name");
   summary.scenario_hash = string_member(scenario, "hash");
+  if (scenario.has("coupling")) summary.coupling = scenario.existing_member("coupling").json();
 
   const JsonField runs = root.member("runs", "an array of algorithm runs");
   const std::size_t count = runs.array_size("expected an array of algorithm runs");

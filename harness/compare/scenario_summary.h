@@ -31,6 +31,8 @@ struct BuildContext {
 struct RunSummary {
   std::string label;
   std::string ticks_file;  ///< file name inside the run folder
+  /// The algorithm's "params" object as the summary gives it; null when absent.
+  nlohmann::ordered_json params;
 
   // Timing of Renderer::step (ns).
   std::optional<double> step_ns_p50;
@@ -64,6 +66,8 @@ struct ScenarioSummary {
   BuildContext context;
   std::string scenario_name;
   std::string scenario_hash;
+  /// scenario.coupling ({k_t, b_t, k_r, b_r}); null when absent.
+  nlohmann::ordered_json coupling;
   std::vector<RunSummary> runs;
 
   /// The run with this label, or nullptr.

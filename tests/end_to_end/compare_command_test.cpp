@@ -93,6 +93,31 @@ TEST_CASE("two runs of one build pass the gate") {
   fs::copy(work / "second", work / "suite_b/sphere_press_box", fs::copy_options::recursive);
   CHECK(hb::test::run_hapticbench("compare suite_a suite_b --gate --no-timing", work).exit_code ==
         0);
+
+  // After an intended change of the scenario (here written into a copy's
+  // summary: the coupling's k_t, a label's stiffness, and so its forces),
+  // the ticks hash is information, and the scenario row says what changed.
+  fs::copy(work / "second", work / "changed", fs::copy_options::recursive);
+  edit_summary(work / "changed/summary.json", [](json& summary) {
+    summary["scenario"]["hash"] = "0123456789abcdef";
+    summary["scenario"]["coupling"]["k_t"] = 3000;
+    for (json& run : summary["runs"]) {
+      if (run["label"] != "penalty_implicit") continue;
+      run["params"]["contact_stiffness"] = 10000;
+      run["determinism"]["ticks_hash"] = "fedcba9876543210";
+    }
+  });
+  const CommandResult changed =
+      hb::test::run_hapticbench("compare first changed --gate --no-timing --out changes", work);
+  INFO(changed.stdout_text << changed.stderr_text);
+  CHECK(changed.exit_code == 0);
+  const std::string hash_line =
+      table_line(changed.stdout_text, "penalty_implicit", "determinism.ticks_hash");
+  CHECK(contains(hash_line, "info"));
+  const std::string table = hb::test::read_text_file(work / "changes/compare.md");
+  CHECK(contains(table, "the scenario changed (scenario.hash), so the forces may differ"));
+  CHECK(contains(table, "/coupling/k_t 2000.0 → 3000"));
+  CHECK(contains(table, "penalty_implicit params/contact_stiffness 3000 → 10000"));
 }
 
 TEST_CASE("a 20 percent worse force error fails the gate and the table names it") {
