@@ -105,7 +105,10 @@ std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderC
   std::string known;
   for (const AlgorithmEntry& entry : table().rows)
     known += (known.empty() ? "" : ", ") + std::string(entry.name);
-  throw InputError("", field, "unknown algorithm \"" + name + "\" (known: " + known + ")");
+  throw InputError("", field,
+                   "unknown algorithm \"" + name + "\" (known: " + known +
+                       "; a renderer built outside hapticbench loads with --plugin PATH.so, "
+                       "docs/plugins.md)");
 }
 
 }  // namespace hb

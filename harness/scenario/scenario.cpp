@@ -702,7 +702,9 @@ class ScenarioReader {
         continue;
       }
       if (!registered)
-        name.fail_with("unknown algorithm \"" + spec.name + "\" (known: " + known + ")");
+        name.fail_with("unknown algorithm \"" + spec.name + "\" (known: " + known +
+                       "; a renderer built outside hapticbench loads with --plugin PATH.so, "
+                       "docs/plugins.md)");
 
       spec.label = spec.name;
       std::string label_pointer = name.pointer();

@@ -332,6 +332,7 @@ TEST_CASE("an unknown algorithm is caught at load time") {
   CHECK(r.what.find(r.scenario_path +
                     ": /algorithms/0/name: unknown algorithm \"no_such_algorithm\" (known: ") == 0);
   CHECK(r.what.find("coupling_only") != std::string::npos);
+  CHECK(r.what.find("loads with --plugin PATH.so") != std::string::npos);
 }
 
 TEST_CASE("an unknown generator names /trace/generator") {
