@@ -1,5 +1,6 @@
 #include "harness/output/run_table.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -12,6 +13,24 @@ std::string fixed(std::optional<double> value, double scale, int decimals) {
   char text[32];
   std::snprintf(text, sizeof text, "%.*f", decimals, *value * scale);
   return text;
+}
+// Why a timing pass's machine was not quiet: the NoiseFloor criteria it missed.
+std::string noise_reasons(const NoiseFloor& noise) {
+  std::string reasons;
+  const auto add = [&reasons](const std::string& text) {
+    reasons += (reasons.empty() ? "" : ", ") + text;
+  };
+  if (noise.cpu_share < kQuietCpuShare) add("CPU share " + fixed(noise.cpu_share, 1, 2));
+  if (noise.calibration_spread > kQuietSpread)
+    add("calibration spread " + fixed(noise.calibration_spread, 1, 2));
+  if (noise.calibration_drift > kQuietDrift)
+    add("calibration drift " + fixed(noise.calibration_drift, 1, 2));
+  if (noise.load_average_1m > noise.logical_cores - 0.5)
+    add("load " + fixed(noise.load_average_1m, 1, 1) + " on " +
+        std::to_string(noise.logical_cores) + " cores");
+  if (noise.other_runnable > std::max(0, noise.logical_cores - 2))
+    add(std::to_string(noise.other_runnable) + " other tasks runnable");
+  return reasons.empty() ? "the noise probe's criteria" : reasons;
 }
 }  // namespace
 
@@ -75,6 +94,14 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
     if (r.passes_agree && !*r.passes_agree)
       out << "    NOT DETERMINISTIC: the timing and evaluation replays computed different forces\n";
   }
+  std::string noisy;  // "label (why)" of each run timed on a machine that was not quiet
+  for (const AlgorithmRun& r : run.runs)
+    if (!r.noise.quiet)
+      noisy += (noisy.empty() ? "" : ", ") + r.label + " (" + noise_reasons(r.noise) + ")";
+  if (!noisy.empty())
+    out << "  timing: the machine was not quiet while timing " << noisy
+        << ": those step and CPU times are not comparable with a quiet run's (timing.noise; "
+           "docs/performance.md)\n";
 }
 
 }  // namespace hb
