@@ -1,5 +1,7 @@
 // Preparing a scenario: renderers (with the replay's own parameters split
 // off), the reach box, ground truth, and recorded schedules to follow.
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -190,8 +192,11 @@ GroundTruth prepare_ground_truth(const Scenario& scenario, ProgressDisplay* prog
 }  // namespace
 
 bool is_selected(const AlgorithmSelection& only, const AlgorithmSpec& spec) {
+  const auto matches = [](const std::string& pattern, const std::string& text) {
+    return pattern == text || ::fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
+  };
   return only.empty() || std::find_if(only.begin(), only.end(), [&](const std::string& name) {
-                           return name == spec.name || name == spec.label;
+                           return matches(name, spec.name) || matches(name, spec.label);
                          }) != only.end();
 }
 

@@ -61,11 +61,13 @@ struct PreparedScenario {
   GroundTruth truth;
 };
 
-/// The algorithms to run, by name or label (`run --algo NAME`, repeatable);
-/// empty: every algorithm of the scenario.
+/// The algorithms to run, by name or label or a shell pattern over them
+/// (`run --algo NAME`, repeatable; `--algo 'vps*'`); empty: every algorithm
+/// of the scenario.
 using AlgorithmSelection = std::vector<std::string>;
 
-/// True when `spec` is selected: `only` is empty or names its name or label.
+/// True when `spec` is selected: `only` is empty, or one of its entries is
+/// the name or label or a pattern (fnmatch) that matches one of them.
 bool is_selected(const AlgorithmSelection& only, const AlgorithmSpec& spec);
 
 /// Builds the renderers of the scenario (all of them, or those `only`

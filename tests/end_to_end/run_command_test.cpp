@@ -464,6 +464,12 @@ TEST_CASE("run takes --algo more than once, and --version names the build") {
   std::vector<std::string> labels;
   for (const json& run : summary.at("runs")) labels.push_back(run.at("label"));
   CHECK(labels == std::vector<std::string>{"coupling_only", "penalty_implicit"});  // scenario order
+  // A pattern over the labels.
+  const hb::test::CommandResult pattern = hb::test::run_hapticbench(
+      "run '" + press + "' --algo 'penalty_*' --out pattern --quiet", work);
+  REQUIRE(pattern.exit_code == 0);
+  CHECK(json::parse(hb::test::read_text_file(work / "pattern/summary.json")).at("runs").size() ==
+        3);
   const hb::test::CommandResult none = hb::test::run_hapticbench(
       "run '" + press + "' --algo nothing --algo neither --out none --quiet", work);
   CHECK(none.exit_code == 2);
