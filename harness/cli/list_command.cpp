@@ -14,6 +14,7 @@
 #include "harness/metrics/metric_table.h"
 #include "harness/scenario/scenario.h"
 #include "harness/trace/generators.h"
+#include "harness/trace/trace.h"
 
 namespace hb {
 
@@ -99,6 +100,10 @@ void print_plausible_ranges(std::ostream& out) {
   for (const PlausibleRange& range : plausible_ranges())
     out << "| `" << range.pointer << "` | " << range.low << " – " << range.high << " | "
         << range.unit << " | " << range.why << " |\n";
+  out << "\n| trace file | plausible up to | unit | why |\n| --- | --- | --- | --- |\n";
+  for (const TracePlausibleLimit& limit : trace_plausible_limits())
+    out << "| " << limit.quantity << " | " << limit.high << " | " << limit.unit << " | "
+        << limit.why << " |\n";
 }
 
 }  // namespace

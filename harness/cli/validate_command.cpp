@@ -120,9 +120,12 @@ void validate_trace(const std::string& path, TraceFileFormat format, std::ostrea
     report << " from t = 0 to " << span_s << " s";
     if (n >= 2 && span_s > 0)
       report << ", mean rate " << static_cast<double>(n - 1) / span_s << " Hz";
-    report << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities";
+    report << ", " << (trace.samples.front().twist ? "with" : "without") << " velocities"
+           << trace_reading_note(trace.info);
   }
   report << "\n";
+  for (const std::string& warning : trace_plausibility_warnings(trace))
+    std::cerr << "warning: " << path << ": " << warning << "\n";
   // What run does with it: resample onto the 1 kHz clock (spans checked).
   try {
     (void)DeviceTrajectory::of_trace(trace, 0);

@@ -234,6 +234,8 @@ class ScenarioReader {
     scenario.warnings = plausibility_warnings(scenario);
     for (std::string& warning : measurement_warnings(root, scenario))
       scenario.warnings.push_back(std::move(warning));
+    scenario.warnings.insert(scenario.warnings.end(), trace_warnings_.begin(),
+                             trace_warnings_.end());
     scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
                              unchecked_algorithms_.end());
     scenario.content_hash = scenario_hash_.hex();
@@ -627,7 +629,7 @@ class ScenarioReader {
       field.fail_with(has_file ? "give either \"file\" or \"generator\", not both"
                                : "missing; expected \"generator\": NAME or \"file\": PATH");
     if (has_file) {
-      field.reject_unknown_keys({"file", "format", "duration_s"});
+      field.reject_unknown_keys({"file", "format", "duration_s", "units"});
       const JsonField file_field = field.existing_member("file");
       const std::string path = existing_file(file_field, "trace file");
       const std::string extension = std::filesystem::path(path).extension().string();
@@ -635,9 +637,20 @@ class ScenarioReader {
       if (field.has("format")) format = field.existing_member("format").choice({"csv", "tum"});
       const int64_t ticks =
           field.has("duration_s") ? read_duration_ticks(field.existing_member("duration_s")) : 0;
+      std::optional<TraceUnits> units;
+      if (field.has("units")) {
+        const JsonField units_field = field.existing_member("units");
+        units = parse_trace_units(units_field.string(kTraceUnitsExpected));
+        if (!units) units_field.fail(kTraceUnitsExpected);
+      }
       try {
         Trace trace = read_trace_file(
-            path, format == "tum" ? TraceFileFormat::kTum : TraceFileFormat::kHapticbenchCsv);
+            path, format == "tum" ? TraceFileFormat::kTum : TraceFileFormat::kHapticbenchCsv,
+            units);
+        scenario.trace_description =
+            "file " + path + " (" + format + trace_reading_note(trace.info) + ")";
+        for (const std::string& warning : trace_plausibility_warnings(trace))
+          trace_warnings_.push_back(file_field.pointer() + ": " + path + ": " + warning);
         scenario.trajectory = DeviceTrajectory::of_trace(std::move(trace), ticks);
         scenario_hash_.add(file_content_hash(path));
       } catch (const InputError& error) {
@@ -646,7 +659,6 @@ class ScenarioReader {
             error.source().empty() ? InputError(path, error.location(), error.message()) : error;
         throw with_reference_note(located, path_, file_field.pointer());
       }
-      scenario.trace_description = "file " + path + " (" + format + ")";
     } else {
       field.reject_unknown_keys({"generator", "duration_s", "seed", "params"});
       const JsonField name_field = field.existing_member("generator");
@@ -862,6 +874,7 @@ class ScenarioReader {
   std::filesystem::path directory_;
   bool plugins_not_loaded_ = false;  // the plugin policy left a named plugin unloaded
   mutable std::vector<std::string> unchecked_algorithms_;  // warnings: algorithms left unchecked
+  std::vector<std::string> trace_warnings_;  // warnings: a trace implausible for a desk device
   ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
 };
 

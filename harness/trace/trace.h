@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hapticbench/pose.h"
@@ -21,13 +23,41 @@ struct TraceSample {
   std::optional<Twist> twist;  ///< world frame; absent when the source has no velocity
 };
 
-/// Sidecar metadata (`<name>.json` beside `<name>.csv`).
+/// The units a trace file's numbers are in, written "<length>, <time>,
+/// <angle>" ("mm, s, deg") or as the length alone ("mm"). The reader
+/// converts positions and velocities to metres and radians; times are
+/// always the format's own (CSV t_ns in ns, TUM t in s), so the time unit
+/// is "s" (the velocities' per second). Orientations are quaternions,
+/// which have no unit: the angle unit applies to wx,wy,wz only.
+struct TraceUnits {
+  std::string length = "m";   ///< "m", "cm" or "mm"
+  std::string angle = "rad";  ///< "rad" or "deg"
+  double metres_per_unit() const;
+  double radians_per_unit() const;
+  bool is_si() const { return length == "m" && angle == "rad"; }
+  std::string text() const { return length + ", s, " + angle; }
+  bool operator==(const TraceUnits&) const = default;
+};
+
+/// What a units text may be, for error messages.
+inline constexpr const char* kTraceUnitsExpected =
+    "expected units \"<length>, s, <angle>\" with length m, cm or mm and angle rad or deg "
+    "(\"mm, s, rad\"), or the length alone (\"mm\")";
+
+/// Parses a units text (TraceUnits); nullopt for anything else.
+std::optional<TraceUnits> parse_trace_units(std::string_view text);
+
+/// Sidecar metadata (`<name>.json` beside `<name>.csv`), and what reading
+/// the file did to its numbers.
 struct TraceInfo {
   std::string source = "unknown";  ///< "generator:press", "recorded", "tum:<file>", ...
   std::string frame = "world";
-  std::string units = "m, s, rad";
+  TraceUnits units;  ///< the units of the file's numbers (the samples are in m and rad)
   double rate_hz = 1000;
   std::string content_hash;  ///< hash of the CSV bytes (hex)
+  /// Subtracted from the file's times so that the first sample is at t = 0
+  /// (ns; device logs carry epoch stamps). 0 when the file starts at 0.
+  int64_t start_shift_ns = 0;
 };
 
 struct Trace {
@@ -52,12 +82,39 @@ enum class TraceFileFormat {
 /// Reads a trace file. Throws InputError naming the file and line for a
 /// malformed row, a non-finite value, a non-unit quaternion (|q| off 1 by
 /// more than 1e-3; otherwise renormalised) or non-increasing timestamps.
+/// Times become relative to the first row (info.start_shift_ns; TUM:
+/// t_ns = round((t - t0) * 1e9), exact for plain decimal stamps).
 /// CSV: when the sidecar `<stem>.json` exists, source, frame, units and
-/// rate come from it, and a content_hash that is not the hash of the CSV
-/// bytes is an InputError (sidecar path, "/content_hash"): a stale sidecar.
-/// TUM: times become relative to the first row (t_ns = round((t - t0) * 1e9),
-/// exact for plain decimal stamps); the sidecar is not read.
-Trace read_trace_file(const std::string& path, TraceFileFormat format);
+/// rate come from it; a content_hash that is not the hash of the CSV bytes
+/// (a stale sidecar) or units that parse_trace_units refuses are an
+/// InputError naming the sidecar and the field. TUM: the sidecar is not read.
+/// declared_units: the units the scenario gives the file (its /trace/units);
+/// a sidecar that says otherwise is an InputError at its /units. Positions
+/// and velocities are converted to m and rad from the units in force.
+Trace read_trace_file(const std::string& path, TraceFileFormat format,
+                      const std::optional<TraceUnits>& declared_units = std::nullopt);
+
+/// What reading did to a file's numbers, for a description ("; mm, s, rad
+/// converted to m, s, rad; times shifted by -1700000000.5 s to start at 0"),
+/// or "" when it changed none.
+std::string trace_reading_note(const TraceInfo& info);
+
+/// A bound past which a trace is implausible for a desk device: most
+/// likely its numbers are in other units than it says.
+struct TracePlausibleLimit {
+  std::string_view quantity;
+  std::string_view unit;
+  double high;  ///< in unit
+  std::string_view why;
+};
+
+/// Every trace limit, in the order the warnings check them.
+std::span<const TracePlausibleLimit> trace_plausible_limits();
+
+/// Warnings for a trace beyond its plausible limits, each naming the value,
+/// the bound and the units that would bring it within ("the trace may be in
+/// mm"). Empty for a plausible trace.
+std::vector<std::string> trace_plausibility_warnings(const Trace& trace);
 
 /// Writes `<path>` (hapticbench CSV, full double precision) and the JSON
 /// sidecar beside it (same stem, .json). Writes to temporary names first.

@@ -2,6 +2,7 @@
 // sidecar, and import of the TUM trajectory format. Every malformed input
 // is an InputError naming the file, the line and what was expected.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -129,10 +131,11 @@ class RowParser {
     return q;
   }
 
-  void check_increasing(const std::vector<TraceSample>& samples, int64_t t_ns) const {
-    if (!samples.empty() && t_ns <= samples.back().t_ns)
+  /// t_ns after `previous` (the row before's time, none for the first row).
+  void check_increasing(std::optional<int64_t> previous, int64_t t_ns) const {
+    if (previous && t_ns <= *previous)
       fail("expected t_ns to increase strictly from row to row, found " + std::to_string(t_ns) +
-           " after " + std::to_string(samples.back().t_ns));
+           " after " + std::to_string(*previous));
   }
 
   void check_enough_samples(const std::vector<TraceSample>& samples) const {
@@ -146,13 +149,14 @@ class RowParser {
            " ns, less than one 1 kHz tick (1,000,000 ns): t_ns must be nanoseconds");
   }
 
-  /// The first sample's time, at its line: a trace starts at t = 0 (within
-  /// one tick). Before 0 its samples would be dropped; after it, its first
-  /// pose would be held, silently, until the first sample.
-  void check_start(int64_t t_ns) const {
-    if (t_ns < 0 || t_ns > kOneTickNs)
-      fail("expected the first sample at t_ns = 0 (a trace starts at t = 0), found " +
-           std::to_string(t_ns) + " ns: shift the times so that the first is 0");
+  /// A row's time made relative to the first row's (t0_ns), which a trace
+  /// may start at (device logs carry epoch stamps).
+  int64_t relative_to_start(int64_t t_ns, int64_t t0_ns) const {
+    int64_t relative = 0;
+    if (__builtin_sub_overflow(t_ns, t0_ns, &relative))
+      fail("expected times within 292 years of the first, found " + std::to_string(t_ns) +
+           " ns after a first sample at " + std::to_string(t0_ns) + " ns");
+    return relative;
   }
 
  private:
@@ -201,7 +205,10 @@ double average_rate_hz(const std::vector<TraceSample>& samples) {
   return static_cast<double>(samples.size() - 1) * 1e9 / span_ns;
 }
 
-std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::string_view bytes) {
+/// The rows of a hapticbench CSV, times relative to the first row's
+/// (start_ns: the first row's time in the file).
+std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::string_view bytes,
+                                               int64_t& start_ns) {
   const std::vector<std::string_view> lines = split_lines(bytes);
   RowParser parser(path);
   parser.set_line(1);
@@ -216,6 +223,7 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
 
   std::vector<TraceSample> samples;
   samples.reserve(row_capacity(lines.size(), bytes.size()));
+  std::optional<int64_t> previous_file_t_ns;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     parser.set_line(static_cast<int64_t>(i) + 1);
     if (trim(lines[i]).empty()) continue;
@@ -224,12 +232,14 @@ std::vector<TraceSample> parse_hapticbench_csv(const std::string& path, std::str
       parser.fail("expected " + std::to_string(columns) + " comma-separated values (" +
                   std::string(header) + "), found " + std::to_string(fields.size()));
     TraceSample sample;
-    sample.t_ns = parser.integer_ns(fields[0], kColumnNames[0]);
+    const int64_t file_t_ns = parser.integer_ns(fields[0], kColumnNames[0]);
     double value[14];
     for (std::size_t c = 1; c < columns; ++c)
       value[c] = parser.finite_number(fields[c], kColumnNames[c]);
-    if (samples.empty()) parser.check_start(sample.t_ns);
-    parser.check_increasing(samples, sample.t_ns);
+    if (samples.empty()) start_ns = file_t_ns;
+    parser.check_increasing(previous_file_t_ns, file_t_ns);
+    previous_file_t_ns = file_t_ns;
+    sample.t_ns = parser.relative_to_start(file_t_ns, start_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[4], value[5], value[6], value[7]);
     if (has_twist)
@@ -273,12 +283,14 @@ std::optional<int64_t> decimal_seconds_to_ns(std::string_view text) {
   return negative ? -total : total;
 }
 
-std::vector<TraceSample> parse_tum(const std::string& path, std::string_view bytes) {
+/// The poses of a TUM file, times relative to the first pose's (t0_ns: the
+/// first pose's time in the file, ns).
+std::vector<TraceSample> parse_tum(const std::string& path, std::string_view bytes,
+                                   int64_t& t0_ns) {
   const std::vector<std::string_view> lines = split_lines(bytes);
   RowParser parser(path);
   std::vector<TraceSample> samples;
   samples.reserve(row_capacity(lines.size(), bytes.size()));
-  int64_t t0_ns = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     parser.set_line(static_cast<int64_t>(i) + 1);
     const std::string_view line = trim(lines[i]);
@@ -300,8 +312,8 @@ std::vector<TraceSample> parse_tum(const std::string& path, std::string_view byt
     if (samples.empty()) t0_ns = absolute_ns;
     TraceSample sample;
     sample.t_ns = absolute_ns - t0_ns;
-    if (samples.empty()) parser.check_start(sample.t_ns);
-    parser.check_increasing(samples, sample.t_ns);
+    parser.check_increasing(samples.empty() ? std::nullopt : std::optional(samples.back().t_ns),
+                            sample.t_ns);
     sample.pose.p = Vec3(value[1], value[2], value[3]);
     sample.pose.q = parser.unit_quaternion(value[7], value[4], value[5], value[6]);
     samples.push_back(sample);
@@ -329,7 +341,13 @@ void read_sidecar(const std::string& path, const std::string& trace_path, TraceI
   };
   text("source", info.source);
   text("frame", info.frame);
-  text("units", info.units);
+  std::string units = info.units.text();
+  text("units", units);
+  const std::optional<TraceUnits> parsed = parse_trace_units(units);
+  if (!parsed)
+    throw InputError(path, "/units",
+                     std::string(kTraceUnitsExpected) + ", found " + in_quotes(units));
+  info.units = *parsed;
   if (json.contains("rate_hz")) {
     const auto& rate = json["rate_hz"];
     if (!rate.is_number() || !(rate.get<double>() > 0))
@@ -389,7 +407,117 @@ std::string format_csv(const Trace& trace, bool with_twist) {
   return out;
 }
 
+/// Positions and velocities from `units` to m and rad (in place).
+void convert_to_si(std::vector<TraceSample>& samples, const TraceUnits& units) {
+  if (units.is_si()) return;
+  const double metres = units.metres_per_unit(), radians = units.radians_per_unit();
+  for (TraceSample& sample : samples) {
+    sample.pose.p *= metres;
+    if (sample.twist) {
+      sample.twist->v *= metres;
+      sample.twist->w *= radians;
+    }
+  }
+}
+
+constexpr TracePlausibleLimit kTraceLimits[] = {
+    {"span of the positions along an axis", "m", 2, "desk devices reach 0.1 to 1 m"},
+    {"distance from the world's origin", "m", 10, "scenes are built in metres about the origin"},
+    {"speed between consecutive samples", "m/s", 5, "a hand moves at up to 2 to 3 m/s"},
+    {"angular velocity wx,wy,wz", "rad/s", 50, "a wrist turns at up to 20 to 30 rad/s"},
+};
+
+/// The largest value of each limit's quantity over a trace.
+std::array<double, std::size(kTraceLimits)> trace_extremes(const Trace& trace) {
+  const auto& samples = trace.samples;
+  Vec3 low = samples.front().pose.p, high = low;
+  double distance = 0, speed = 0, angular_speed = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Vec3& p = samples[i].pose.p;
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+    distance = std::max(distance, p.norm());
+    if (i > 0) {
+      const double dt_s = static_cast<double>(samples[i].t_ns - samples[i - 1].t_ns) * 1e-9;
+      speed = std::max(speed, (p - samples[i - 1].pose.p).norm() / dt_s);
+    }
+    if (samples[i].twist) angular_speed = std::max(angular_speed, samples[i].twist->w.norm());
+  }
+  return {(high - low).maxCoeff(), distance, speed, angular_speed};
+}
+
 }  // namespace
+
+double TraceUnits::metres_per_unit() const {
+  return length == "mm" ? 1e-3 : length == "cm" ? 1e-2 : 1.0;
+}
+
+double TraceUnits::radians_per_unit() const {
+  return angle == "deg" ? std::numbers::pi / 180 : 1.0;
+}
+
+std::optional<TraceUnits> parse_trace_units(std::string_view text) {
+  std::vector<std::string_view> fields = split(text, ',');
+  for (std::string_view& field : fields) field = trim(field);
+  if (fields.size() != 1 && fields.size() != 3) return std::nullopt;
+  TraceUnits units;
+  if (fields[0] != "m" && fields[0] != "cm" && fields[0] != "mm") return std::nullopt;
+  units.length = std::string(fields[0]);
+  if (fields.size() == 3) {
+    if (fields[1] != "s" || (fields[2] != "rad" && fields[2] != "deg")) return std::nullopt;
+    units.angle = std::string(fields[2]);
+  }
+  return units;
+}
+
+std::string trace_reading_note(const TraceInfo& info) {
+  std::ostringstream note;
+  note.precision(15);
+  if (!info.units.is_si())
+    note << "; " << info.units.text() << " converted to " << TraceUnits{}.text();
+  if (info.start_shift_ns != 0)
+    note << "; times shifted by " << -static_cast<double>(info.start_shift_ns) * 1e-9
+         << " s to start at 0";
+  return note.str();
+}
+
+std::span<const TracePlausibleLimit> trace_plausible_limits() { return kTraceLimits; }
+
+std::vector<std::string> trace_plausibility_warnings(const Trace& trace) {
+  std::vector<std::string> warnings;
+  if (trace.samples.empty()) return warnings;
+  const auto extremes = trace_extremes(trace);
+  const std::string declare =
+      ": declare the units (\"units\" in the trace's sidecar or at the scenario's /trace/units; "
+      "docs/limits.md)";
+  // One warning for the lengths, one for the angles, each listing every
+  // quantity past its limit and the units that would bring all within.
+  auto warn = [&](std::size_t first, std::size_t last, const std::string& guess) {
+    std::ostringstream text;
+    for (std::size_t i = first; i < last; ++i) {
+      const TracePlausibleLimit& limit = kTraceLimits[i];
+      if (!(extremes[i] > limit.high)) continue;
+      text << (text.tellp() == 0 ? "" : ", ") << limit.quantity << " " << extremes[i] << " "
+           << limit.unit << " (plausible up to " << limit.high << " " << limit.unit << ": "
+           << limit.why << ")";
+    }
+    if (text.tellp() == 0) return;
+    warnings.push_back("implausible for a desk device when read as " + trace.info.units.text() +
+                       ": " + text.str() + (guess.empty() ? "" : "; the trace may be in " + guess) +
+                       declare);
+  };
+  auto fits = [&](std::size_t first, std::size_t last, double scale) {
+    for (std::size_t i = first; i < last; ++i)
+      if (extremes[i] * scale > kTraceLimits[i].high) return false;
+    return true;
+  };
+  std::string length_guess;
+  for (const auto& [name, scale] : {std::pair{"mm", 1e-3}, std::pair{"cm", 1e-2}})
+    if (fits(0, 3, scale)) length_guess += (length_guess.empty() ? "" : " or ") + std::string(name);
+  warn(0, 3, length_guess);
+  warn(3, 4, fits(3, 4, std::numbers::pi / 180) ? "deg (its velocities wx,wy,wz in deg/s)" : "");
+  return warnings;
+}
 
 std::string sidecar_path(const std::string& trace_path) {
   return std::filesystem::path(trace_path).replace_extension(".json").string();
@@ -419,21 +547,33 @@ bool is_generated_trace(const std::string& trace_path) {
          ContentHash().add(read_file_bytes(trace_path)).hex();
 }
 
-Trace read_trace_file(const std::string& path, TraceFileFormat format) {
+Trace read_trace_file(const std::string& path, TraceFileFormat format,
+                      const std::optional<TraceUnits>& declared_units) {
   const std::string bytes = read_file_bytes(path);
   Trace trace;
   trace.info.content_hash = ContentHash().add(bytes).hex();
   if (format == TraceFileFormat::kTum) {
-    trace.samples = parse_tum(path, bytes);
+    trace.samples = parse_tum(path, bytes, trace.info.start_shift_ns);
     trace.info.source = "tum:" + path;
-    trace.info.rate_hz = average_rate_hz(trace.samples);
-    return trace;
+  } else {
+    trace.samples = parse_hapticbench_csv(path, bytes, trace.info.start_shift_ns);
+    trace.info.source = "csv:" + path;
   }
-  trace.samples = parse_hapticbench_csv(path, bytes);
-  trace.info.source = "csv:" + path;
   trace.info.rate_hz = average_rate_hz(trace.samples);
   const std::string sidecar = sidecar_path(path);
-  if (std::filesystem::exists(sidecar)) read_sidecar(sidecar, path, trace.info);
+  const bool has_sidecar =
+      format == TraceFileFormat::kHapticbenchCsv && std::filesystem::exists(sidecar);
+  if (has_sidecar) {
+    read_sidecar(sidecar, path, trace.info);
+    if (declared_units && *declared_units != trace.info.units)
+      throw InputError(sidecar, "/units",
+                       "the sidecar says the trace is in " + in_quotes(trace.info.units.text()) +
+                           " and the scenario (/trace/units) says " +
+                           in_quotes(declared_units->text()) + ": make them agree");
+  } else if (declared_units) {
+    trace.info.units = *declared_units;
+  }
+  convert_to_si(trace.samples, trace.info.units);
   return trace;
 }
 
@@ -455,7 +595,7 @@ void write_trace_file(const std::string& path, const Trace& trace) {
 
   const std::string csv = format_csv(trace, with_twist != 0);
   nlohmann::ordered_json sidecar;
-  sidecar["units"] = trace.info.units;
+  sidecar["units"] = TraceUnits{}.text();  // the samples are in m and rad
   sidecar["frame"] = trace.info.frame;
   sidecar["rate_hz"] = trace.info.rate_hz;
   sidecar["source"] = trace.info.source;

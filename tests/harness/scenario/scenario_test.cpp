@@ -398,6 +398,36 @@ TEST_CASE("a trace file with NaN is rejected naming the trace file and its line"
   CHECK(r.what.find("referenced by " + r.scenario_path + " at /trace/file") != std::string::npos);
 }
 
+TEST_CASE("a trace file in mm: read as metres it is a warning naming mm, and /trace/units converts it") {
+  ScratchDir dir;
+  // A 1 kHz press 30 mm above the box, logged in mm with an epoch clock.
+  std::string csv = "t_ns,px,py,pz,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 100; ++i)
+    csv += std::to_string(int64_t{1'700'000'000'000'000'000} + i * 1'000'000) + ",0,0," +
+           std::to_string(30 - 0.2 * i) + ",1,0,0,0\n";
+  const std::string trace = dir.write("press_mm.csv", csv);
+  Json scenario = valid_generated_scenario();
+  scenario["trace"] = Json{{"file", trace}};
+  const Scenario as_metres = load_scenario(dir.write("metres.json", scenario.dump()));
+  const auto warned = std::find_if(as_metres.warnings.begin(), as_metres.warnings.end(),
+                                   [](const std::string& w) { return w.find("/trace/file") == 0; });
+  REQUIRE(warned != as_metres.warnings.end());
+  CHECK(warned->find("the trace may be in mm") != std::string::npos);
+  CHECK(as_metres.trace_description.find("times shifted by -1700000000 s") != std::string::npos);
+
+  scenario["trace"]["units"] = "mm";
+  const Scenario converted = load_scenario(dir.write("mm.json", scenario.dump()));
+  for (const std::string& warning : converted.warnings) CHECK(warning.find("/trace") != 0);
+  CHECK(converted.trace_description.find("mm, s, rad converted to m, s, rad") != std::string::npos);
+  CHECK(converted.trajectory.at(0).pose.p.z() == Approx(0.030));
+  CHECK(converted.trajectory.at(100).pose.p.z() == Approx(0.010));
+  CHECK(converted.content_hash != as_metres.content_hash);
+
+  scenario["trace"]["units"] = "furlongs";
+  const Rejection r = rejection_of_text(scenario.dump());
+  CHECK(r.location == "/trace/units");
+}
+
 TEST_CASE("other rule violations name their field") {
   struct Case {
     const char* what_breaks;

@@ -12,6 +12,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -223,12 +224,7 @@ TEST_CASE("malformed trace CSV files name the file and the line") {
        "expected 8 comma-separated values"},
       {"long_row", kHeader + "0,0,0,0,1,0,0,0,9\n1000,0,0,0,1,0,0,0\n", "line 2", "found 9"},
       {"one_row", kHeader + "0,0,0,0,1,0,0,0\n", "line 3", "expected at least 2 samples, found 1"},
-      // Times before 0 were dropped, a late start held the first pose, and
-      // samples 1 ns apart made a one-tick run: each without a word.
-      {"negative_start", kHeader + "-5000000,0,0,0,1,0,0,0\n5000000,0,0,0,1,0,0,0\n", "line 2",
-       "expected the first sample at t_ns = 0"},
-      {"late_start", kHeader + "5000000000,0,0,0,1,0,0,0\n6000000000,0,0,0,1,0,0,0\n", "line 2",
-       "found 5000000000 ns: shift the times"},
+      // Samples 1 ns apart made a one-tick run without a word.
       {"nanosecond_steps", kHeader + "0,0,0,0,1,0,0,0\n1,0,0,0,1,0,0,0\n2,0,0,0,1,0,0,0\n",
        "line 5", "span 2 ns, less than one 1 kHz tick"},
   };
@@ -360,4 +356,132 @@ TEST_CASE("the example traces in traces/ load, with sidecars that match") {
     CHECK((tum.samples[i].pose.p - original.pose.p).norm() < 1e-9);
     CHECK((tum.samples[i].pose.q.coeffs() - original.pose.q.coeffs()).norm() < 2e-9);
   }
+}
+
+TEST_CASE("CSV times start at 0: an epoch or negative start is shifted and the shift stated") {
+  ScratchDirectory dir("shift");
+  for (const int64_t start : {int64_t{1'700'000'000'123'456'789}, int64_t{-5'000'000}}) {
+    INFO(start);
+    const std::string path = dir.file("shifted.csv");
+    write_text(path, kHeader + std::to_string(start) + ",0,0,0,1,0,0,0\n" +
+                         std::to_string(start + 2'000'000) + ",0.001,0,0,1,0,0,0\n");
+    const hb::Trace trace = hb::read_trace_file(path, hb::TraceFileFormat::kHapticbenchCsv);
+    REQUIRE(trace.samples.size() == 2);
+    CHECK(trace.samples[0].t_ns == 0);
+    CHECK(trace.samples[1].t_ns == 2'000'000);
+    CHECK(trace.info.start_shift_ns == start);
+    const std::string note = hb::trace_reading_note(trace.info);
+    CHECK(note.find("times shifted by") != std::string::npos);
+    CHECK(note.find(start > 0 ? "-1700000000.12346 s" : "0.005 s") != std::string::npos);
+  }
+}
+
+namespace {
+
+/// A 1 kHz press written in `scale` units of a metre (1000: mm), with
+/// velocities, the sidecar saying `units` (none when empty).
+std::string write_press(const ScratchDirectory& dir, double scale, const std::string& units) {
+  const std::string path = dir.file("press.csv");
+  std::string text = "t_ns,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  for (int i = 0; i <= 200; ++i) {
+    const double z = (0.03 - 0.01 * i / 200.0) * scale;  // 3 cm down to 2 cm in 0.2 s
+    text += std::to_string(i * 1'000'000) + "," + std::to_string(0.01 * scale) + "," +
+            std::to_string(0.12 * scale) + "," + std::to_string(z) + ",1,0,0,0,0,0," +
+            std::to_string(-0.05 * scale) + ",0,0,0.5\n";
+  }
+  write_text(path, text);
+  fs::remove(dir.file("press.json"));
+  if (!units.empty())
+    write_text(
+        dir.file("press.json"),
+        nlohmann::json{{"units", units}, {"content_hash", hb::file_content_hash(path)}}.dump());
+  return path;
+}
+
+std::string read_units_error(const std::string& path, const std::optional<hb::TraceUnits>& units) {
+  try {
+    hb::read_trace_file(path, hb::TraceFileFormat::kHapticbenchCsv, units);
+  } catch (const hb::InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("units: the sidecar's or the scenario's mm, cm and deg are converted to m and rad") {
+  ScratchDirectory dir("units");
+  const auto csv = hb::TraceFileFormat::kHapticbenchCsv;
+  const hb::Trace metres = hb::read_trace_file(write_press(dir, 1, ""), csv);
+  CHECK(metres.info.units.is_si());
+  CHECK(hb::trace_plausibility_warnings(metres).empty());
+  CHECK(metres.samples[200].pose.p.z() == Approx(0.02));
+
+  struct Case {
+    double scale;
+    std::string sidecar;                  // the sidecar's units ("" none)
+    std::optional<std::string> scenario;  // the scenario's /trace/units
+    double angle_scale;                   // the velocities' wz per rad/s
+  };
+  for (const Case& c : std::vector<Case>{{1000, "mm, s, rad", std::nullopt, 1},
+                                         {100, "", "cm", 1},
+                                         {1000, "mm, s, rad", "mm, s, rad", 1},
+                                         {1000, "", "mm, s, deg", 180 / std::numbers::pi}}) {
+    INFO(c.sidecar << " / " << c.scenario.value_or("-"));
+    const std::string path = write_press(dir, c.scale, c.sidecar);
+    std::optional<hb::TraceUnits> declared;
+    if (c.scenario) declared = hb::parse_trace_units(*c.scenario);
+    const hb::Trace trace = hb::read_trace_file(path, csv, declared);
+    for (int i : {0, 100, 200}) {
+      CHECK(trace.samples[i].pose.p.isApprox(metres.samples[i].pose.p, 1e-12));
+      CHECK(trace.samples[i].twist->v.isApprox(metres.samples[i].twist->v, 1e-12));
+    }
+    CHECK(trace.samples[0].twist->w.z() == Approx(0.5 / c.angle_scale));
+    CHECK(hb::trace_plausibility_warnings(trace).empty());
+    CHECK(hb::trace_reading_note(trace.info).find("converted to m, s, rad") != std::string::npos);
+  }
+}
+
+TEST_CASE("units: an unknown value or a scenario that contradicts the sidecar is refused") {
+  ScratchDirectory dir("units_bad");
+  const std::string bad = read_units_error(write_press(dir, 1000, "millimetres"), std::nullopt);
+  CHECK(bad.find(dir.file("press.json") + ": /units: expected units") == 0);
+  CHECK(bad.find("found \"millimetres\"") != std::string::npos);
+
+  const std::string conflict =
+      read_units_error(write_press(dir, 1000, "mm, s, rad"), hb::parse_trace_units("m"));
+  CHECK(conflict.find(dir.file("press.json") + ": /units: ") == 0);
+  CHECK(conflict.find("\"mm, s, rad\" and the scenario (/trace/units) says \"m, s, rad\"") !=
+        std::string::npos);
+
+  for (const char* text : {"", "inch", "mm, s", "mm, ms, rad", "m, s, grad", "MM"})
+    CHECK_FALSE(hb::parse_trace_units(text).has_value());
+  CHECK(hb::parse_trace_units(" mm , s , deg ")->text() == "mm, s, deg");
+}
+
+TEST_CASE("units: a trace in mm or deg/s read as metres and radians is a warning naming the unit") {
+  ScratchDirectory dir("units_warn");
+  const auto csv = hb::TraceFileFormat::kHapticbenchCsv;
+  const hb::Trace millimetres = hb::read_trace_file(write_press(dir, 1000, ""), csv);
+  const auto warnings = hb::trace_plausibility_warnings(millimetres);
+  REQUIRE(warnings.size() == 1);
+  INFO(warnings[0]);
+  CHECK(warnings[0].find("when read as m, s, rad") != std::string::npos);
+  CHECK(warnings[0].find("distance from the world's origin 124.097 m") != std::string::npos);
+  CHECK(warnings[0].find("speed between consecutive samples 50 m/s") != std::string::npos);
+  // 12.4 cm from the origin: in cm it would be 1.24 m away, which is plausible
+  // too; in mm only the speed (50 mm/s) and the span fit either way.
+  CHECK(warnings[0].find("the trace may be in mm or cm") != std::string::npos);
+  CHECK(warnings[0].find("/trace/units") != std::string::npos);
+
+  // Velocities in deg/s: 0.5 rad/s logged as 28.6 deg/s is still plausible,
+  // so a fast one: 60 deg/s read as rad/s.
+  std::string text = "t_ns,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  for (int i = 0; i < 3; ++i)
+    text += std::to_string(i * 1'000'000) + ",0,0,0.03,1,0,0,0,0,0,0,0,0,60\n";
+  write_text(dir.file("spin.csv"), text);
+  const auto spin = hb::trace_plausibility_warnings(hb::read_trace_file(dir.file("spin.csv"), csv));
+  REQUIRE(spin.size() == 1);
+  CHECK(spin[0].find("angular velocity wx,wy,wz 60 rad/s") != std::string::npos);
+  CHECK(spin[0].find("may be in deg") != std::string::npos);
 }
