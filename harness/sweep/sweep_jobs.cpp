@@ -45,6 +45,23 @@ std::optional<std::size_t> array_index(const std::string& token) {
   return index;
 }
 
+/// Sections a scenario may omit, their keys then taking documented
+/// defaults (docs/scenario-format.md); "*" stands for an array index.
+const std::vector<std::vector<std::string>> kDefaultedSections = {
+    {"coupling"}, {"device"}, {"reference"}, {"trace", "params"}, {"algorithms", "*", "params"}};
+
+/// Whether tokens[0..last] name a defaulted section.
+bool is_defaulted_section(const std::vector<std::string>& tokens, std::size_t last) {
+  for (const auto& section : kDefaultedSections) {
+    if (section.size() != last + 1) continue;
+    bool match = true;
+    for (std::size_t i = 0; i <= last && match; ++i)
+      match = section[i] == tokens[i] || (section[i] == "*" && array_index(tokens[i]));
+    if (match) return true;
+  }
+  return false;
+}
+
 std::string where(const std::string& pointer) {
   return pointer.empty() ? "the scenario's top level" : "\"" + pointer + "\"";
 }
@@ -59,8 +76,11 @@ std::optional<std::string> set_at_pointer(Json& document, const std::vector<std:
     const std::string& token = tokens[i];
     const bool last = i + 1 == tokens.size();
     if (current->is_object()) {
-      if (!last && !current->contains(token))
-        return where(walked) + " has no key \"" + token + "\"";
+      if (!last && !current->contains(token)) {
+        if (!is_defaulted_section(tokens, i))
+          return where(walked) + " has no key \"" + token + "\"";
+        (*current)[token] = Json::object();  // the section's other keys keep their defaults
+      }
       current = &(*current)[token];
     } else if (current->is_array()) {
       const std::optional<std::size_t> index = array_index(token);
@@ -147,7 +167,52 @@ std::string grid_key_location(const std::string& pointer) {
 
 }  // namespace
 
+void SweepErrors::add(const InputError& error) {
+  for (const Entry& entry : entries_)
+    if (entry.jobs.empty() && std::string(entry.error.what()) == error.what()) return;
+  entries_.push_back({error, {}});
+}
+
+void SweepErrors::add_for_job(const std::string& job_name, const InputError& error) {
+  for (Entry& entry : entries_)
+    if (!entry.jobs.empty() && std::string(entry.error.what()) == error.what()) {
+      entry.jobs.push_back(job_name);
+      return;
+    }
+  entries_.push_back({error, {job_name}});
+}
+
+void SweepErrors::throw_if_any() const {
+  if (entries_.empty()) return;
+  // How many job names a repeated error lists before "and N more".
+  static constexpr std::size_t kJobsNamed = 3;
+  auto job_list = [](const std::vector<std::string>& jobs) {
+    std::string text = jobs.size() == 1 ? "job " : "jobs ";
+    for (std::size_t i = 0; i < std::min(jobs.size(), kJobsNamed); ++i)
+      text += (i == 0 ? "" : ", ") + jobs[i];
+    if (jobs.size() > kJobsNamed)
+      text += " and " + std::to_string(jobs.size() - kJobsNamed) + " more";
+    return text;
+  };
+  if (entries_.size() == 1) {
+    const Entry& only = entries_.front();
+    if (only.jobs.empty()) throw only.error;
+    throw InputError(sweep_file_, job_list(only.jobs), only.error.what());
+  }
+  std::string text = std::to_string(entries_.size()) + " errors:";
+  for (const Entry& entry : entries_) {
+    // The sweep file is named once, in front of the list.
+    const InputError& error = entry.error;
+    const std::string own = error.source() == sweep_file_ && !error.location().empty()
+                                ? error.location() + ": " + error.message()
+                                : std::string(error.what());
+    text += "\n  " + (entry.jobs.empty() ? own : job_list(entry.jobs) + ": " + own);
+  }
+  throw InputError(sweep_file_, "", text);
+}
+
 std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
+  SweepErrors errors(spec.path);
   std::vector<SweepJob> jobs;
   std::vector<bool> label_used(spec.only_algorithms.size(), false);
   std::map<std::string, std::size_t> job_of_name;
@@ -156,14 +221,23 @@ std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
     try {
       document = read_scenario_document(spec.scenario_paths[s]);
     } catch (const InputError& error) {
-      throw with_reference_note(error, spec.path, "/scenarios/" + std::to_string(s));
+      errors.add(with_reference_note(error, spec.path, "/scenarios/" + std::to_string(s)));
+      continue;
     }
+    std::vector<bool> axis_failed(spec.grid.size(), false);
+    // Labels are looked for in the file's algorithms, whether or not its
+    // jobs expand (so that a bad grid key is not also reported as labels).
+    if (document.json.contains("algorithms") && document.json["algorithms"].is_array())
+      for (const Json& entry : document.json["algorithms"])
+        for (std::size_t i = 0; i < spec.only_algorithms.size(); ++i)
+          if (algorithm_label(entry) == spec.only_algorithms[i]) label_used[i] = true;
     const std::string& scenario_entry = spec.scenario_entries[s];
     const std::string scenario_named = scenario_entry == spec.scenario_paths[s]
                                            ? scenario_entry
                                            : scenario_entry + " (" + spec.scenario_paths[s] + ")";
     std::vector<std::size_t> position(spec.grid.size(), 0);
     do {
+      bool job_failed = false;
       SweepJob job;
       job.index = jobs.size();
       job.scenario_index = s;
@@ -176,19 +250,26 @@ std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
         job.grid_values.emplace_back(grid_axis.pointer, value);
         const std::optional<std::string> failure =
             set_at_pointer(job.scenario, *json_pointer_tokens(grid_axis.pointer), value);
-        if (failure)
-          throw InputError(spec.path, grid_key_location(grid_axis.pointer),
-                           "grid key \"" + grid_axis.pointer + "\" does not exist in scenario " +
-                               scenario_named + ": " + *failure +
-                               "; only the last component may be new");
+        if (failure) {
+          if (!axis_failed[axis])  // the same for every value of the key
+            errors.add(InputError(spec.path, grid_key_location(grid_axis.pointer),
+                                  "grid key \"" + grid_axis.pointer +
+                                      "\" does not exist in scenario " + scenario_named + ": " +
+                                      *failure + "; only the last component may be new"));
+          axis_failed[axis] = true;
+          job_failed = true;
+        }
       }
+      if (job_failed) continue;
 
       if (!spec.only_algorithms.empty()) {
         Json& algorithms = job.scenario["algorithms"];
-        if (!algorithms.is_array())
-          throw InputError(
+        if (!algorithms.is_array()) {
+          errors.add(InputError(
               spec.path, "/only_algorithms",
-              "scenario " + scenario_named + " has no \"algorithms\" array to choose labels from");
+              "scenario " + scenario_named + " has no \"algorithms\" array to choose labels from"));
+          continue;
+        }
         Json kept = Json::array();
         for (const Json& entry : algorithms) {
           const std::string label = algorithm_label(entry);
@@ -198,28 +279,34 @@ std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
               label_used[i] = true;
             }
         }
-        if (kept.empty())
-          throw InputError(
+        if (kept.empty()) {
+          errors.add(InputError(
               spec.path, "/only_algorithms",
               "scenario " + scenario_named +
-                  " has none of these labels (its labels: " + joined_labels(algorithms) + ")");
+                  " has none of these labels (its labels: " + joined_labels(algorithms) + ")"));
+          continue;
+        }
         algorithms = std::move(kept);
       }
 
       job.name = sweep_job_name(document.name, job.grid_values);
-      if (!is_safe_folder_name(job.name))
-        throw InputError(spec.path, "/scenarios/" + std::to_string(s),
-                         "job name \"" + job.name +
-                             "\" cannot name a folder (at most 255 letters, digits, '_', '.', "
-                             "'-' and '='); shorten the scenario name or the grid keys");
+      if (!is_safe_folder_name(job.name)) {
+        errors.add(InputError(spec.path, "/scenarios/" + std::to_string(s),
+                              "job name \"" + job.name +
+                                  "\" cannot name a folder (at most 255 letters, digits, '_', "
+                                  "'.', '-' and '='); shorten the scenario name or the grid keys"));
+        continue;
+      }
       const auto [earlier, inserted] = job_of_name.emplace(job.name, job.index);
-      if (!inserted)
-        throw InputError(spec.path, "/grid",
-                         "jobs " + std::to_string(earlier->second) + " and " +
-                             std::to_string(job.index) + " are both named \"" + job.name +
-                             "\"; their run folders would collide (grid values that differ "
-                             "only in characters a folder name drops, or two scenarios with "
-                             "one name)");
+      if (!inserted) {
+        errors.add(InputError(spec.path, "/grid",
+                              "jobs " + std::to_string(earlier->second) + " and " +
+                                  std::to_string(job.index) + " are both named \"" + job.name +
+                                  "\"; their run folders would collide (grid values that differ "
+                                  "only in characters a folder name drops, or two scenarios with "
+                                  "one name)"));
+        continue;
+      }
       job.scenario["name"] = job.name;
       make_file_paths_absolute(job.scenario, job.base_dir);
       jobs.push_back(std::move(job));
@@ -227,8 +314,10 @@ std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec) {
   }
   for (std::size_t i = 0; i < spec.only_algorithms.size(); ++i)
     if (!label_used[i])
-      throw InputError(spec.path, "/only_algorithms/" + std::to_string(i),
-                       "label \"" + spec.only_algorithms[i] + "\" is in none of the scenarios");
+      errors.add(
+          InputError(spec.path, "/only_algorithms/" + std::to_string(i),
+                     "label \"" + spec.only_algorithms[i] + "\" is in none of the scenarios"));
+  errors.throw_if_any();
   return jobs;
 }
 

@@ -31,13 +31,40 @@ struct SweepJob {
 };
 
 /// Sets `value` in `document` at the JSON pointer whose tokens are given
-/// (json_pointer_tokens). Every component but the last must exist; the last
-/// may be a new key of an existing object (a parameter the scenario leaves
-/// at its default) but not a new array element. Returns why not, or
-/// nullopt when set.
+/// (json_pointer_tokens). Every component but the last must exist, except
+/// a section whose keys have documented defaults (/coupling, /device,
+/// /reference, /trace/params, /algorithms/i/params), which is created
+/// empty; the last may be a new key of an existing object (a parameter the
+/// scenario leaves at its default) but not a new array element. Returns
+/// why not, or nullopt when set.
 std::optional<std::string> set_at_pointer(nlohmann::ordered_json& document,
                                           const std::vector<std::string>& tokens,
                                           const nlohmann::ordered_json& value);
+
+/// A sweep's errors gathered so that one check reports every one at once
+/// (a grid of 7 values with 2 bad ones names both). Errors about jobs that
+/// say the same are listed once with the jobs' names.
+class SweepErrors {
+ public:
+  explicit SweepErrors(std::string sweep_file) : sweep_file_(std::move(sweep_file)) {}
+  /// An error of the sweep as a whole (a grid key, a label), kept as it is.
+  void add(const InputError& error);
+  /// An error of one job's scenario.
+  void add_for_job(const std::string& job_name, const InputError& error);
+  bool empty() const { return entries_.empty(); }
+  /// Nothing when empty; one error as it is (a job's named "<sweep file>:
+  /// job <name>: ..."); several as one InputError on the sweep file that
+  /// lists them all, one per line.
+  void throw_if_any() const;
+
+ private:
+  struct Entry {
+    InputError error;
+    std::vector<std::string> jobs;  ///< empty for an error of the sweep as a whole
+  };
+  std::string sweep_file_;
+  std::vector<Entry> entries_;
+};
 
 /// Expands the sweep: scenarios in order, then grid keys in file order, the
 /// last key varying fastest. Reads each scenario file as JSON only (nothing
@@ -46,6 +73,7 @@ std::optional<std::string> set_at_pointer(nlohmann::ordered_json& document,
 /// the scenario), when an only_algorithms label matches nothing, or when
 /// two jobs would share a name; a scenario file that is not a JSON object
 /// with a "name" is reported against that file, noting the sweep entry.
+/// Every such error is reported at once (SweepErrors).
 std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec);
 
 /// The job's scenario as written to its run folder (scenario.json) and as

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/core/replacing_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_folder.h"
@@ -20,6 +21,7 @@
 #include "harness/sweep/sweep_jobs.h"
 #include "harness/sweep/sweep_progress.h"
 #include "harness/sweep/sweep_spec.h"
+#include "harness/sweep/sweep_table.h"
 #include "harness/sweep/worker_pool.h"
 
 namespace hb {
@@ -77,20 +79,23 @@ namespace {
 std::vector<std::string> validate_jobs(const SweepSpec& spec, const std::vector<SweepJob>& jobs) {
   std::set<std::string> checked_ground_truth;
   std::vector<std::string> hashes(jobs.size());
+  SweepErrors errors(spec.path);  // every job is checked: all errors at once
   for (const SweepJob& job : jobs) {
-    Scenario scenario = load_sweep_job_scenario(spec, job);
-    hashes[job.index] = scenario.content_hash;
-    std::string ground_truth_key;
-    for (const char* key : {"scene", "tool", "reference"})
-      ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
-    if (!checked_ground_truth.insert(ground_truth_key).second)
-      scenario.reference.switch_off_oracle();
     try {
+      Scenario scenario =
+          load_scenario_json(sweep_job_scenario_text(job), job.scenario_path, job.base_dir);
+      hashes[job.index] = scenario.content_hash;
+      std::string ground_truth_key;
+      for (const char* key : {"scene", "tool", "reference"})
+        ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
+      if (!checked_ground_truth.insert(ground_truth_key).second)
+        scenario.reference.switch_off_oracle();
       prepare_scenario(scenario, {});
     } catch (const InputError& error) {
-      throw sweep_job_error(spec, job, error);
+      errors.add_for_job(job.name, error);
     }
   }
+  errors.throw_if_any();
   return hashes;
 }
 
@@ -129,6 +134,7 @@ int run_sweep(const SweepRunSettings& args) {
   const fs::path out_dir = output_folder(args, spec);
   create_output_container(out_dir);
   require_replaceable_file(out_dir / "sweep.json", "sweep index", is_sweep_index_file);
+  require_replaceable_file(out_dir / "sweep.md", "sweep table", is_sweep_table_file);
 
   std::vector<SweepJobState> states(jobs.size());
   std::vector<std::size_t> to_run;
@@ -234,6 +240,9 @@ int run_sweep(const SweepRunSettings& args) {
   }
   progress.close();
   write_index(true);
+  const std::vector<SweepTableRow> table = sweep_table_rows(spec, jobs, states, out_dir);
+  print_sweep_table(std::cout, spec, table);
+  write_file_replacing(out_dir / "sweep.md", sweep_table_markdown(spec, table));
 
   std::size_t failed_budgets_in_shard = 0;
   for (const SweepJob& job : jobs)

@@ -146,6 +146,15 @@ TEST_CASE("a 2 x 2 sweep writes one run folder per job, named by its grid values
     CHECK(job.at("grid").at("/coupling/k_t") == kCouplingStiffness[i / 2]);
     CHECK(job.at("grid").at("/algorithms/1/params/contact_stiffness") == kContactStiffness[i % 2]);
   }
+  // The cross-job table: on the console and in sweep.md, a row per job and label.
+  CHECK(result.stdout_text.find("sweep grid, every job") != std::string::npos);
+  const std::string table = hb::test::read_text_file(work / "runs" / "sweep.md");
+  CHECK(table.find("| k_t | contact_stiffness | label |") != std::string::npos);
+  std::size_t rows = 0;
+  for (std::size_t at = table.find("\n| "); at != std::string::npos;
+       at = table.find("\n| ", at + 1))
+    ++rows;
+  CHECK(rows == 2 + 4 * 2);  // header, rule, 4 jobs x 2 labels
 }
 
 TEST_CASE("a job's scenario.json reruns with `hapticbench run` to the same ticks") {
@@ -327,7 +336,7 @@ TEST_CASE("a failed budget is reported, not gated: every job runs and the exit c
   CHECK(hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work).exit_code == 1);
 }
 
-TEST_CASE("a bad value in any job stops the sweep before anything runs") {
+TEST_CASE("a bad value in any job stops the sweep before anything runs, every bad job named") {
   const hb::test::ScratchDir work_dir("e2e_sweep_bad_job");
   const fs::path& work = work_dir.path();
   write_file(work / "scenarios" / "press.json", kPressScenario);
@@ -338,8 +347,9 @@ TEST_CASE("a bad value in any job stops the sweep before anything runs") {
   })");
   const CommandResult result = hb::test::run_hapticbench("sweep sweeps/grid.json --out runs", work);
   CHECK(result.exit_code == 2);
-  CHECK(result.stderr_text.find("sweeps/grid.json: job press__k_t=1000__contact_stiffness=-3") !=
-        std::string::npos);
+  // Both jobs with the bad value, listed in one error.
+  CHECK(result.stderr_text.find("sweeps/grid.json: jobs press__k_t=1000__contact_stiffness=-3, "
+                                "press__k_t=2000__contact_stiffness=-3: ") != std::string::npos);
   CHECK(result.stderr_text.find("/algorithms/1/params/contact_stiffness") != std::string::npos);
   CHECK_FALSE(fs::exists(work / "runs"));
 }

@@ -126,6 +126,43 @@ TEST_CASE("a missing last key of an existing object is added: a new parameter") 
   CHECK(jobs[1].name == "a__proxy_mass_kg=0.3");
 }
 
+TEST_CASE("a section with documented defaults that the scenario omits is created for a grid key") {
+  const fs::path dir = jobs_scratch("defaulted_section");
+  Json scenario = press_scenario("a");
+  scenario.erase("coupling");
+  const std::vector<hb::SweepJob> jobs = expand(
+      write_sweep(dir, {scenario},
+                  {{"name", "defaults"},
+                   {"grid", {{"/coupling/k_t", {1000, 3000}}, {"/algorithms/2/params/x", {1}}}}}));
+  REQUIRE(jobs.size() == 2);
+  CHECK(jobs[1].scenario["coupling"] == Json{{"k_t", 3000}});
+  CHECK(jobs[1].scenario["algorithms"][2]["params"] == Json{{"x", 1}});
+  // Not a section with defaults: still an error naming the missing key.
+  const std::string path = write_sweep(
+      dir, {press_scenario("b")}, {{"name", "bad"}, {"grid", {{"/closed_loop/hand/k_t", {1}}}}});
+  CHECK_THROWS_WITH(expand(path), Catch::Contains("has no key \"closed_loop\""));
+}
+
+TEST_CASE("every bad grid key and label is reported at once") {
+  const fs::path dir = jobs_scratch("all_errors");
+  const std::string path =
+      write_sweep(dir, {press_scenario("a")},
+                  {{"name", "bad"},
+                   {"grid", {{"/couplingg/k_t", {1, 2}}, {"/tool/nope/x", {1}}}},
+                   {"only_algorithms", {"soft", "missing"}}});
+  try {
+    expand(path);
+    FAIL("expected an InputError");
+  } catch (const hb::InputError& error) {
+    const std::string message = error.message();
+    INFO(message);
+    CHECK(message.find("3 errors:") == 0);
+    CHECK(message.find("/grid/~1couplingg~1k_t") != std::string::npos);
+    CHECK(message.find("/grid/~1tool~1nope~1x") != std::string::npos);
+    CHECK(message.find("/only_algorithms/1: label \"missing\"") != std::string::npos);
+  }
+}
+
 TEST_CASE("a grid key whose parent is missing names the sweep file, the key and the scenario") {
   const fs::path dir = jobs_scratch("missing_parent");
   struct Case {
@@ -140,7 +177,7 @@ TEST_CASE("a grid key whose parent is missing names the sweep file, the key and 
         Case{"/algorithms/x/params", "/grid/~1algorithms~1x~1params", "not an element index"},
         Case{"/coupling/k_t/x", "/grid/~1coupling~1k_t~1x", "is a number, not an object or array"},
         Case{"/algorithms/2/params/a/b", "/grid/~1algorithms~12~1params~1a~1b",
-             "has no key \"params\""}}) {
+             "\"/algorithms/2/params\" has no key \"a\""}}) {
     INFO(c.pointer);
     const std::string path =
         write_sweep(dir, {press_scenario("a")}, {{"name", "bad"}, {"grid", {{c.pointer, {1}}}}});
