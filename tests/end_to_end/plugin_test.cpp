@@ -27,6 +27,7 @@ using hb::test::CommandResult;
 const fs::path kPlugins = hb::test::in_own_build("tests/plugins", HAPTICBENCH_TEST_PLUGINS_DIR);
 const fs::path kExample = kSource / "examples/out_of_tree_renderer";
 const std::string kVertexPenalty = (kPlugins / "vertex_penalty.so").string();
+const std::string kOriginPenalty = (kPlugins / "origin_penalty.so").string();
 const std::string kLeavesMark = (kPlugins / "plugin_leaves_mark.so").string();
 const std::string kMisbehaving = (kPlugins / "plugin_misbehaving.so").string();
 
@@ -38,6 +39,42 @@ void write_short_example_scenario(const fs::path& path) {
   scenario["algorithms"].push_back({{"name", "penalty_analytic"}, {"label", "penalty_implicit"}});
   scenario["budgets"] = json::object();
   std::ofstream(path) << scenario.dump(2);
+}
+
+TEST_CASE(
+    "the one-page renderer of docs/plugins.md is the example's file, and its contacts check") {
+  // The page shows the whole file: what a reader copies is what CI builds.
+  const std::string source = hb::test::read_text_file(kExample / "origin_penalty.cpp");
+  CHECK(hb::test::read_text_file(kSource / "docs/plugins.md").find(source) != std::string::npos);
+
+  // Its origin pressed 1 mm into a box: the oracle finds each reported
+  // contact's depth and normal where the renderer put them, and the damper
+  // keeps the run passive (exit 0: stable).
+  const hb::test::ScratchDir work_dir("e2e_plugin_origin");
+  const fs::path& work = work_dir.path();
+  json scenario = json::parse(hb::test::read_text_file(kExample / "sphere_press_box.json"));
+  scenario["name"] = "origin_press";
+  scenario["tool"] = {{"shape", {{"type", "sphere"}, {"radius", 0.001}, {"subdivisions", 2}}},
+                      {"mass_kg", 0.01}};
+  scenario["trace"]["duration_s"] = 0.5;
+  scenario["trace"]["params"]["start"] = {0, 0, 0.002};  // the origin 2 mm above the top face
+  scenario["trace"]["params"]["surface_distance"] = 0.002;
+  scenario["trace"]["params"]["depth"] = 0.001;
+  scenario["algorithms"] = {{{"name", "origin_penalty"}, {"params", {{"stiffness", 1000}}}}};
+  scenario["reference"] = {{"oracle", "embree"}, {"exact_every", 1}, {"analytic", "none"}};
+  scenario["budgets"] = json::object();
+  std::ofstream(work / "origin.json") << scenario.dump(2);
+  const CommandResult run = hb::test::run_hapticbench(
+      "run origin.json --plugin " + kOriginPenalty + " --out runs --quiet", work);
+  INFO(run.stderr_text);
+  REQUIRE(run.exit_code == 0);
+  const json summary = json::parse(hb::test::read_text_file(work / "runs/summary.json"));
+  const json& oracle = summary.at("runs").at(0).at("oracle");
+  INFO(oracle.dump());
+  CHECK(oracle.at("contact_depth_err_max_m").get<double>() < 1e-9);
+  CHECK(oracle.at("contact_normal_err_rms_deg").get<double>() < 1e-6);
+  const json& contacts = summary.at("runs").at(0).at("contacts");
+  CHECK(contacts.at("contact_ticks").get<int>() > 100);
 }
 
 TEST_CASE("a plugin's renderer runs like a built-in one and its summary names the plugin") {
