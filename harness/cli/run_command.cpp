@@ -1,4 +1,6 @@
 // hapticbench run SCENARIO... [--algo NAME] [--out DIR]
+#include <fnmatch.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -22,11 +24,17 @@ namespace fs = std::filesystem;
 
 namespace {
 const std::string kRunUsage =
-    "usage: hapticbench run SCENARIO.json... [--algo NAME]... [--out DIR] [--repeat N]\n"
-    "                      [--instructions] [--schedule PATH] [--expect-unstable LABEL]\n"
-    "                      [--progress STYLE] [--quiet]\n"
+    "usage: hapticbench run SCENARIO.json... [--algo NAME]... [--scenario PATTERN]...\n"
+    "                      [--out DIR] [--repeat N] [--instructions] [--schedule PATH]\n"
+    "                      [--expect-unstable LABEL] [--progress STYLE] [--quiet]\n"
+    "       hapticbench run --explain\n"
     "  --algo NAME     run only the algorithms with this name or label, or a pattern\n"
     "                  over them ('vps*'); repeatable\n"
+    "  --scenario PATTERN\n"
+    "                  run only the scenario files whose name (without .json) or path\n"
+    "                  matches the shell pattern ('*press*'); repeatable\n"
+    "  --explain       print what each column of the run table means, its unit and the\n"
+    "                  summary.json field it shows, and exit\n"
     "  --out DIR       run folder (one scenario) or parent of <scenario name>/ (several);\n"
     "                  default out/<scenario name>/\n"
     "  --repeat N      N timing passes per algorithm; the summary gives the spread of\n"
@@ -45,7 +53,9 @@ constexpr int kMaxRepeat = 1000;
 
 struct RunArguments {
   std::vector<std::string> scenarios;
-  AlgorithmSelection algos;  ///< --algo NAME, each; empty: every algorithm
+  AlgorithmSelection algos;                    ///< --algo NAME, each; empty: every algorithm
+  std::vector<std::string> scenario_patterns;  ///< --scenario PATTERN, each; empty: every file
+  bool explain = false;
   std::optional<std::string> out;
   std::optional<std::string> schedule;
   bool instructions = false;
@@ -56,6 +66,13 @@ struct RunArguments {
 
 constexpr const char* kExpectedOnCommandLine = "expected on the command line (--expect-unstable)";
 
+// Whether the shell pattern matches the scenario file's stem or its path.
+bool matches_file_pattern(const std::string& pattern, const std::string& path) {
+  const std::string stem = fs::path(path).stem().string();
+  return ::fnmatch(pattern.c_str(), stem.c_str(), 0) == 0 ||
+         ::fnmatch(pattern.c_str(), path.c_str(), 0) == 0;
+}
+
 // Throws UsageError or HelpRequested.
 RunArguments parse_run_arguments(const std::vector<std::string>& args) {
   RunArguments parsed;
@@ -64,6 +81,10 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
     check_help(a);
     if (a == "--algo") {
       parsed.algos.push_back(option_value(args, i));
+    } else if (a == "--scenario") {
+      parsed.scenario_patterns.push_back(option_value(args, i));
+    } else if (a == "--explain") {
+      parsed.explain = true;
     } else if (a == "--out" || a == "--schedule" || a == "--repeat") {
       const std::string& value = option_value(args, i);
       if (a == "--repeat") {
@@ -86,7 +107,23 @@ RunArguments parse_run_arguments(const std::vector<std::string>& args) {
       parsed.scenarios.push_back(a);
     }
   }
+  if (parsed.explain) return parsed;
   if (parsed.scenarios.empty()) throw UsageError{"no scenario given"};
+  if (!parsed.scenario_patterns.empty()) {
+    std::vector<std::string> kept;
+    for (const std::string& path : parsed.scenarios)
+      for (const std::string& pattern : parsed.scenario_patterns)
+        if (matches_file_pattern(pattern, path)) {
+          kept.push_back(path);
+          break;
+        }
+    if (kept.empty())
+      throw UsageError{"--scenario: no scenario file of the " +
+                       std::to_string(parsed.scenarios.size()) +
+                       " given matches the patterns (a pattern matches a file's name without "
+                       ".json, e.g. 'sphere_*', or its path)"};
+    parsed.scenarios = std::move(kept);
+  }
   return parsed;
 }
 
@@ -110,6 +147,10 @@ int run_command(const std::vector<std::string>& args) {
   const std::optional<RunArguments> parsed =
       parse_command_line([&] { return parse_run_arguments(args); }, kRunUsage, exit_code);
   if (!parsed) return exit_code;
+  if (parsed->explain) {
+    print_run_table_legend(std::cout);
+    return kExitOk;
+  }
 
   // Load and build everything first: bad input anywhere stops the command
   // before any run folder is written.
@@ -146,6 +187,16 @@ int run_command(const std::vector<std::string>& args) {
           throw InputError(path, "/name",
                            "scenario name \"" + scenarios.back().name + "\" is also used by " +
                                scenarios[i].path + "; run folders would collide");
+    }
+    // An --expect-unstable label that no scenario has is most likely a typo.
+    for (const std::string& label : parsed->expect_unstable) {
+      bool found = label == "all";
+      for (const Scenario& scenario : scenarios)
+        for (const AlgorithmSpec& spec : scenario.algorithms) found = found || spec.label == label;
+      if (!found)
+        throw InputError(
+            "", "--expect-unstable",
+            "no scenario given has the label \"" + label + "\" (\"all\" stands for every label)");
     }
     // Plugins run in a child that this process watches (plugin_isolation.h).
     std::vector<std::string> names;
@@ -212,6 +263,8 @@ int run_command(const std::vector<std::string>& args) {
         unstable.push_back(scenario.name + " " + run.label + " (" + run_stability(run).reason +
                            ")");
   }
+  progress.print_above(std::cout,
+                       "(columns, units and summary fields: hapticbench run --explain)\n");
   if (!unstable.empty()) {
     std::ostringstream text;
     text << unstable.size() << " unstable run" << (unstable.size() == 1 ? "" : "s")

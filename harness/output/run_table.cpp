@@ -104,4 +104,41 @@ void print_run_table(std::ostream& out, const ScenarioRun& run) {
            "docs/performance.md)\n";
 }
 
+void print_run_table_legend(std::ostream& out) {
+  struct Column {
+    const char* name;
+    const char* unit;
+    const char* field;  ///< in summary.json's runs[]
+    const char* meaning;
+  };
+  constexpr Column kColumns[] = {
+      {"label", "-", "label", "the algorithm's label in the scenario"},
+      {"ticks", "ticks", "timing.ticks", "1 ms ticks replayed"},
+      {"p50_us", "µs", "timing.step_ns.p50", "median wall time of one step() (budget tick_p50_us)"},
+      {"p99_us", "µs", "timing.step_ns.p99",
+       "99th percentile of the step() wall time (budget tick_p99_us); against the 1 ms tick"},
+      {"cpu99_us", "µs", "timing.cpu_per_tick_ns.p99",
+       "99th percentile of the CPU a tick costs, slow-loop updates spread over their ticks "
+       "(budget cpu_per_tick_p99_us)"},
+      {"F_err_N", "N", "accuracy.force_err_rms_n",
+       "RMS of the displayed force minus the reference's (budget force_err_rms_n); - without a "
+       "reference"},
+      {"pen_max_mm", "mm", "accuracy.penetration_max_m",
+       "deepest penetration of the proxy's tool into the scene, analytic else Embree (budget "
+       "max_penetration_m, in m)"},
+      {"E_min_mJ", "mJ", "stability.passivity_energy_min_j",
+       "least energy the coupling has taken from the user since the start; below 0 it gave "
+       "energy (not passive; budget passivity_energy_min_j, in J)"},
+      {"nonfin", "ticks", "stability.nonfinite", "ticks whose wrench was not finite (zeroed)"},
+      {"stability", "-", "stability.verdict",
+       "stable, or the check the run failed: nonfinite, diverged, tunnelled, passivity, chatter, "
+       "limit_cycle; * where the scenario expects it"},
+      {"budgets", "-", "budgets", "budgets met of those given, pass or FAIL"},
+  };
+  out << "| column | unit | summary.json (runs[]) | meaning |\n| --- | --- | --- | --- |\n";
+  for (const Column& column : kColumns)
+    out << "| `" << column.name << "` | " << column.unit << " | `" << column.field << "` | "
+        << column.meaning << " |\n";
+}
+
 }  // namespace hb

@@ -482,4 +482,39 @@ TEST_CASE("run takes --algo more than once, and --version names the build") {
   CHECK(version.stdout_text.find(" build)") != std::string::npos);
 }
 
+TEST_CASE("run --scenario filters the files by pattern, --explain prints the columns' legend") {
+  const hb::test::ScratchDir work_dir("e2e_scenario_filter");
+  const fs::path& work = work_dir.path();
+  const std::string smoke = (kSource / "scenarios/smoke").string();
+  const std::string files = "'" + smoke + "/sphere_press_box.json' '" + smoke +
+                            "/press_drag_friction.json' '" + smoke + "/slow_contact_loop.json'";
+  const hb::test::CommandResult one = hb::test::run_hapticbench(
+      "run " + files + " --scenario '*press_box' --algo coupling_only --out one --quiet", work);
+  INFO(one.stderr_text);
+  REQUIRE(one.exit_code == 0);
+  CHECK(fs::exists(work / "one/summary.json"));  // one scenario: the folder is its run folder
+  CHECK(one.stdout_text.find("scenario sphere_press_box") != std::string::npos);
+  CHECK(one.stdout_text.find("press_drag_friction") == std::string::npos);
+  CHECK(one.stdout_text.find("hapticbench run --explain") != std::string::npos);
+  const hb::test::CommandResult none =
+      hb::test::run_hapticbench("run " + files + " --scenario 'nothing*' --quiet", work);
+  CHECK(none.exit_code == 2);
+  CHECK(none.stderr_text.find("no scenario file of the 3 given matches") != std::string::npos);
+  // A label no scenario has, given to --expect-unstable: most likely a typo.
+  const hb::test::CommandResult typo = hb::test::run_hapticbench(
+      "run '" + smoke + "/sphere_press_box.json' --expect-unstable penalty_implict --quiet", work);
+  CHECK(typo.exit_code == 2);
+  CHECK(typo.stderr_text.find("no scenario given has the label \"penalty_implict\"") !=
+        std::string::npos);
+
+  const hb::test::CommandResult legend = hb::test::run_hapticbench("run --explain", work);
+  REQUIRE(legend.exit_code == 0);
+  for (const char* column :
+       {"p50_us", "p99_us", "cpu99_us", "F_err_N", "pen_max_mm", "E_min_mJ", "nonfin", "stability"})
+    CHECK(legend.stdout_text.find(std::string("| `") + column + "` |") != std::string::npos);
+  // docs/metrics.md holds the legend as the command prints it.
+  CHECK(hb::test::read_text_file(kSource / "docs/metrics.md").find(legend.stdout_text) !=
+        std::string::npos);
+}
+
 }  // namespace
