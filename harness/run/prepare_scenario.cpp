@@ -101,7 +101,14 @@ std::vector<PreparedAlgorithm> prepare_algorithms(const Scenario& scenario,
       algorithm.preprocess.cache_hit = built.cache_hit;
       algorithm.preprocess.details = std::move(built.details);
     } catch (const InputError& error) {
-      throw InputError(with_source(error, scenario.path), error.location(), error.message());
+      // A renderer that cannot render the scene or the tool names what it
+      // cannot render; the choice to change is the algorithm's entry.
+      const std::string& location = error.location();
+      if (location.rfind("/scene", 0) == 0 || location.rfind("/tool", 0) == 0)
+        throw InputError(with_source(error, scenario.path), "/algorithms/" + std::to_string(i),
+                         spec.name + " (label " + spec.label +
+                             ") cannot run on this scenario: " + location + ": " + error.message());
+      throw InputError(with_source(error, scenario.path), location, error.message());
     }
     report_activity("idle");
     if (progress) progress->finish_task();

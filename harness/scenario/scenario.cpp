@@ -49,6 +49,16 @@ constexpr double kNotApplicable = std::numeric_limits<double>::quiet_NaN();
 /// below them a position divided by the resolution leaves the doubles.
 constexpr double kFinestEncoderM = 1e-9, kFinestEncoderRad = 1e-9;
 
+/// Whether the mesh passes the checks of a distance-only surface.
+bool is_valid_surface(const TriangleMesh& mesh, const std::string& path) {
+  try {
+    require_valid_mesh(mesh, path, MeshRequirement::kSurface);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
 std::string range_warning(const PlausibleRange& range, double value) {
   std::ostringstream text;
   text << range.pointer << ": " << value << " " << range.unit << " is outside the plausible range ["
@@ -364,12 +374,24 @@ class ScenarioReader {
     const JsonField mesh_field = entry.existing_member("mesh");
     const std::string path = existing_file(mesh_field, "mesh file");
     std::string file_hash;
+    bool read = false;
     try {
       geometry.mesh = read_mesh_file(path, scale);
+      read = true;
       require_valid_mesh(geometry.mesh, path, requirement);
       file_hash = file_content_hash(path);
     } catch (const InputError& error) {
-      throw with_reference_note(error, path_, mesh_field.pointer());
+      const InputError located = with_reference_note(error, path_, mesh_field.pointer());
+      // A scene mesh that is open or crosses itself may still be a scene:
+      // say how, when it is a surface that "distance_only" admits.
+      if (read && requirement == MeshRequirement::kClosedSolid &&
+          entry.pointer().rfind("/scene/", 0) == 0 && is_valid_surface(geometry.mesh, path))
+        throw InputError(located.source(), located.location(),
+                         located.message() + "; if the mesh is open by design, mark the object " +
+                             "\"distance_only\": true at " + entry.pointer() +
+                             " (ground truth then gives distances, no inside: "
+                             "docs/ground-truth.md)");
+      throw located;
     }
     scenario_hash_.add(file_hash);
     geometry.content_hash =

@@ -517,4 +517,23 @@ TEST_CASE("run --scenario filters the files by pattern, --explain prints the col
         std::string::npos);
 }
 
+TEST_CASE("an algorithm that cannot render the scene is an error at its /algorithms entry") {
+  const hb::test::ScratchDir work_dir("e2e_algorithm_scene");
+  const fs::path& work = work_dir.path();
+  json scenario =
+      json::parse(hb::test::read_text_file(kSource / "scenarios/smoke/sphere_press_box.json"));
+  scenario["scene"][0] = {
+      {"mesh", (kSource / "tests/harness/scenario/data/cube_2units.off").string()}, {"scale", 0.1}};
+  scenario["algorithms"] = {{{"name", "coupling_only"}},
+                            {{"name", "penalty_analytic"}, {"label", "pa"}}};
+  std::ofstream(work / "mesh_scene.json") << scenario.dump(2);
+  for (const char* command : {"validate mesh_scene.json", "run mesh_scene.json --quiet"}) {
+    const hb::test::CommandResult result = hb::test::run_hapticbench(command, work);
+    INFO(command << ": " << result.stderr_text);
+    CHECK(result.exit_code == 2);
+    CHECK(result.stderr_text.find("mesh_scene.json: /algorithms/1: penalty_analytic (label pa) "
+                                  "cannot run on this scenario: /scene/0: ") != std::string::npos);
+  }
+}
+
 }  // namespace

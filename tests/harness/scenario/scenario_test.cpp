@@ -318,11 +318,14 @@ TEST_CASE("an open mesh is rejected naming the mesh file and where it was refere
   CHECK(r.source == open_mesh);
   CHECK(r.what.find(open_mesh + ": ") == 0);
   CHECK(r.what.find("referenced by " + r.scenario_path + " at /scene/0/mesh") != std::string::npos);
+  // A scene object may be an open surface: the error says how.
+  CHECK(r.what.find("mark the object \"distance_only\": true at /scene/0") != std::string::npos);
 
   const Rejection tool = rejection_of([&](Json& s) { s["tool"] = Json{{"mesh", open_mesh}}; });
   INFO(tool.what);
   CHECK(tool.source == open_mesh);
   CHECK(tool.what.find("at /tool/mesh") != std::string::npos);
+  CHECK(tool.what.find("distance_only") == std::string::npos);  // a tool must be closed
 }
 
 TEST_CASE("an unknown algorithm is caught at load time") {
@@ -398,7 +401,8 @@ TEST_CASE("a trace file with NaN is rejected naming the trace file and its line"
   CHECK(r.what.find("referenced by " + r.scenario_path + " at /trace/file") != std::string::npos);
 }
 
-TEST_CASE("a trace file in mm: read as metres it is a warning naming mm, and /trace/units converts it") {
+TEST_CASE(
+    "a trace file in mm: read as metres it is a warning naming mm, and /trace/units converts it") {
   ScratchDir dir;
   // A 1 kHz press 30 mm above the box, logged in mm with an epoch clock.
   std::string csv = "t_ns,px,py,pz,qw,qx,qy,qz\n";
