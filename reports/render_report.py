@@ -5,9 +5,13 @@ usage: render_report.py --out REPORT.html [--template FILE] RUN_FOLDER...
 
 Each RUN_FOLDER holds a summary.json (schema_version 1) and, unless it is a
 summary-only baseline, one ticks_<label>.csv per algorithm label. The page
-has a summary table per scenario and label, error against tick time (Pareto
-front) across all runs, passivity and stiffness-sweep stability figures, and
-per scenario the displayed force and torque against time (with the analytic
+leads with a verdict card per algorithm label and the best label by accuracy
+and by cost per scenario, then has a summary table per scenario and label,
+error against tick time (Pareto front) per scenario, each sweep's jobs as a
+sweep (one panel per base scenario, metrics against the swept values, a
+table across the jobs, in numeric order), passivity and stiffness-sweep
+stability figures, and per scenario its description and parameters, the
+displayed force and torque against time (with the analytic or mesh force
 reference when there is one), penetration against time (with each oracle
 backend's column when present) and the distribution of step times.
 

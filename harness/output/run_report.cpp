@@ -360,6 +360,7 @@ json summary_json(const ScenarioRun& run) {
           {"scenario",
            {{"name", run.scenario_name},
             {"path", run.scenario_path},
+            {"description", run.scenario_description},
             {"hash", run.scenario_hash},
             {"trace", run.trace_description},
             {"scene_friction", run.scene_friction},

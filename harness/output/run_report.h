@@ -122,6 +122,7 @@ struct ScenarioRun {
   std::string scenario_path;
   std::string scenario_hash;
   std::string trace_description;
+  std::string scenario_description;  ///< the scenario's "description" ("" when absent)
   std::vector<double> scene_friction;  ///< Coulomb μ of each scene object, in scene order
   std::vector<std::string> tags;       ///< the scenario's tags
   CouplingGains coupling;              ///< the scenario's virtual coupling

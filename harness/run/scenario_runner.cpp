@@ -229,6 +229,7 @@ ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) 
   report.scenario_path = scenario.path;
   report.scenario_hash = scenario.content_hash;
   report.trace_description = scenario.trace_description;
+  report.scenario_description = scenario.description;
   for (const SceneObject& object : scenario.context.scene)
     report.scene_friction.push_back(object.friction);
   report.tags = scenario.tags;

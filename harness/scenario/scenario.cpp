@@ -207,7 +207,8 @@ class ScenarioReader {
     if (!is_file_name_safe(scenario.name))
       root.existing_member("name").fail(std::string(kSafeNameExpected) +
                                         " (it names the run folder)");
-    if (root.has("description")) root.existing_member("description").string("expected a string");
+    if (root.has("description"))
+      scenario.description = root.existing_member("description").string("expected a string");
     if (root.has("tags")) scenario.tags = read_tags(root.existing_member("tags"));
 
     // Plugins first: they add algorithm names the algorithms block may use.

@@ -54,6 +54,7 @@ struct Budget {
 struct Scenario {
   std::string name;
   std::string path;          ///< the file it came from
+  std::string description;   ///< the scenario's "description", for people ("" when absent)
   std::string content_hash;  ///< hash of the file bytes and of every file it names
   /// What kind of scenario it is, for reports: "stress" puts its runs in the
   /// stress matrix (docs/stress.md). Names of letters, digits, '_', '.', '-', '='.

@@ -1,8 +1,8 @@
 """The report's figures, each an inline PNG: force, torque and penetration
-against time, step times, the error-against-cost Pareto panels,
-passivity, the coupling-stiffness sweeps and the Z-width maps."""
+against time, step times, the error-against-cost Pareto panels (a sweep's
+jobs in one panel per scenario), passivity, the coupling-stiffness sweeps
+and the Z-width maps. Every figure draws a label in the same colour."""
 import base64
-import functools
 import io
 import json
 import math
@@ -17,7 +17,10 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
 
 from .inputs import (  # noqa: E402
-    BACKEND_PEN_SUFFIX, dig, finite_number, microseconds, read_json_or_none)
+    BACKEND_PEN_SUFFIX, REFERENCE_NAMES, dig, finite_number, is_baseline, microseconds,
+    reference_kind)
+from .sweeps import (  # noqa: E402
+    is_numeric_key, key_name, spans_more_than_a_decade, sweep_at, sweep_job, value_text)
 
 
 DPI = 80
@@ -75,9 +78,58 @@ def spans_under_two_decades(values):
     return bool(values) and max(values) < 100 * min(values)
 
 
+class LabelColours:
+    """One colour per algorithm label across every figure of the page: tab10, then the
+    lighter tab20 shades, given in the order the labels are first met."""
+
+    def __init__(self):
+        tab20 = matplotlib.colormaps["tab20"]
+        self.palette = ([matplotlib.colormaps["tab10"](i) for i in range(10)]
+                        + [tab20(i) for i in range(1, 20, 2)])
+        self.colours = {}
+
+    def reset(self, labels=()):
+        self.colours = {}
+        for label in labels:
+            self.colour(label)
+
+    def colour(self, label):
+        if label not in self.colours:
+            self.colours[label] = self.palette[len(self.colours) % len(self.palette)]
+        return self.colours[label]
+
+    def hex(self, label):
+        return matplotlib.colors.to_hex(self.colour(label))
+
+
+LABEL_COLOURS = LabelColours()
+
+
 def run_colours(runs):
-    palette = matplotlib.colormaps["tab10" if len(runs) <= 10 else "tab20"]
-    return {id(run): palette(i % palette.N) for i, run in enumerate(runs)}
+    return {id(run): LABEL_COLOURS.colour(run.label) for run in runs}
+
+
+# Units of the parameters a sweep, a stability search or a Z-width map varies,
+# by the pointer's last component (docs/scenario-format.md, docs/algorithms/README.md).
+PARAMETER_UNITS = {"k_t": "N/m", "b_t": "N·s/m", "k_r": "N·m/rad", "b_r": "N·m·s/rad",
+                   "contact_stiffness": "N/m", "point_stiffness": "N/m",
+                   "contact_damping": "N·s/m", "proxy_mass_kg": "kg", "voxel_size": "m",
+                   "pointshell_spacing": "m", "standoff": "m", "contact_distance": "m",
+                   "duration_s": "s", "max_force_n": "N", "max_torque_nm": "N·m"}
+
+
+COUPLING_NAMES = {"k_t": "coupling stiffness", "b_t": "coupling damping",
+                  "k_r": "rotational coupling stiffness", "b_r": "rotational coupling damping"}
+
+
+def parameter_label(pointer):
+    """An axis or column title for a parameter: "coupling damping b_t (N·s/m)",
+    "contact_stiffness (N/m)"."""
+    name = key_name(pointer)
+    text = ("%s %s" % (COUPLING_NAMES[name], name) if pointer.startswith("/coupling/")
+            and name in COUPLING_NAMES else name)
+    unit = PARAMETER_UNITS.get(name)
+    return "%s (%s)" % (text, unit) if unit else text
 
 
 def envelope(t, y):
@@ -134,7 +186,7 @@ def wrench_figure(runs, kind):
         t = run.ticks["t_ns"] * 1e-9
         components = [run.ticks["ref_" + n] for n in names]
         magnitude = np.sqrt(sum(c * c for c in components))
-        style = (dict(color="black", lw=1.0, ls="--", label="analytic reference")
+        style = (dict(color="black", lw=1.0, ls="--", label=reference_name(run))
                  if shared_reference else
                  dict(color=colours[id(run)], lw=0.9, ls="--", label=run.label + " reference"))
         for ax, y in zip(axes, components + [magnitude]):
@@ -153,7 +205,12 @@ def wrench_figure(runs, kind):
     axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     fig.suptitle("displayed %s against time" % kind, fontsize=11)
     fig.subplots_adjust(left=0.08, right=0.80, top=0.94, bottom=0.07, hspace=0.12)
-    return png_data_uri(fig), bool(references)
+    return png_data_uri(fig), (reference_name(references[0]) if references else None)
+
+
+def reference_name(run):
+    """"mesh force reference" or "analytic reference": what the ticks' ref_* columns hold."""
+    return REFERENCE_NAMES.get(reference_kind(run), "the reference")[len("the "):]
 
 
 def backend_names(runs):
@@ -299,9 +356,20 @@ def failure_of(run):
     return None
 
 
+# Markers that tell the labels of one sweep panel apart (colour shows the swept value).
+LABEL_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "<", ">"]
+
+
+def panel_title(run):
+    """A sweep's jobs share one panel per base scenario; any other run has its scenario's."""
+    job = sweep_job(run.folder)
+    return job.group if job else run.folder.scenario
+
+
 def pareto_panels(runs):
-    """Per scenario and error metric, the runs that can be drawn: [(scenario, metric, points)]
-    with points (cost µs, error, run, failure); and the runs left out."""
+    """Per scenario (a sweep: per base scenario) and error metric, the runs that can be
+    drawn: [(title, metric, points)] with points (cost µs, error, run, failure), a sweep's
+    in numeric order of its grid values; and the runs left out."""
     panels, left_out = {}, []
     for run in runs:
         metric, value = pareto_error(run)
@@ -309,16 +377,36 @@ def pareto_panels(runs):
         if metric is None or cost is None or cost <= 0:
             left_out.append(run)
             continue
-        panels.setdefault((run.folder.scenario, metric), []).append(
+        panels.setdefault((panel_title(run), metric), []).append(
             (cost, value, run, failure_of(run)))
-    return [(scenario, metric, points) for (scenario, metric), points in panels.items()], left_out
+    return [(title, metric, sorted(points, key=point_order(points)))
+            for (title, metric), points in panels.items()], left_out
+
+
+def point_order(points):
+    """Sort key of a panel's points: label in order of appearance, then a sweep job's grid
+    values in numeric order; other points keep their order."""
+    labels = list(dict.fromkeys(p[2].label for p in points))
+
+    def key(point):
+        job = sweep_job(point[2].folder)
+        return (labels.index(point[2].label), job.sort_key() if job else ())
+    return key
+
+
+def point_name(run):
+    """A run as the page names a point: its label, with a sweep job's grid values."""
+    job = sweep_job(run.folder)
+    return "%s (%s)" % (run.label, job.describe()) if job else run.label
 
 
 def pareto_figure(runs):
     """Error against CPU time per tick, one panel per scenario (errors of different scenarios
-    are not comparable), each with its own Pareto front over the runs that stayed stable;
-    diverged or non-finite runs are drawn hollow and never on a front.
-    Returns (uri, {scenario: front names}, left out, [(run, failure)])."""
+    are not comparable; a sweep's jobs share their base scenario's panel, coloured by the
+    swept value), each with its own Pareto front over the runs that stayed stable and render
+    contact; diverged or non-finite runs are drawn hollow, baselines that render no contact
+    grey, and neither is ever on a front.
+    Returns (uri, {panel title: front names}, left out, [(run, failure)])."""
     panels, left_out = pareto_panels(runs)
     failed = [(p[2], p[3]) for _, _, points in panels for p in points if p[3]]
     if not panels:
@@ -329,48 +417,117 @@ def pareto_figure(runs):
     axes = fig.subplots(rows, columns, squeeze=False).ravel()
     fronts = {}
     placed = []
-    for ax, (scenario, metric, points) in zip(axes, panels):
+    for ax, (title, metric, points) in zip(axes, panels):
         scale = 1.0 if metric == "force_err_rms_n" else 1e3
-        healthy = [p for p in points if not p[3]]
-        xy = [(cost, value * scale) for cost, value, _, _ in healthy]
+        ranked = [p for p in points if not p[3] and not is_baseline(p[2])]
+        xy = [(cost, value * scale) for cost, value, _, _ in ranked]
         front = pareto_front(xy) if xy else []
-        fronts.setdefault(scenario, []).extend(healthy[i][2].label for i in front)
-        if xy:
-            ax.scatter([x for x, _ in xy], [y for _, y in xy], s=22, color="#4a6fa5", zorder=3)
+        fronts.setdefault(title, []).extend(point_name(ranked[i][2]) for i in front)
+        jobs = [sweep_job(p[2].folder) for p in ranked]
+        if jobs and all(jobs):
+            draw_sweep_points(fig, ax, ranked, jobs, scale)
+        else:
+            ax.scatter([x for x, _ in xy], [y for _, y in xy], s=26, zorder=3,
+                       color=[LABEL_COLOURS.colour(p[2].label) for p in ranked])
+        if front:
             fx = [xy[i][0] for i in front]
             fy = [xy[i][1] for i in front]
             ax.step(fx, fy, where="post", color="crimson", lw=1.4, zorder=2,
                     label="Pareto front")
-            ax.scatter(fx, fy, s=40, facecolors="none", edgecolors="crimson", zorder=4)
-        bad = [(cost, value * scale) for cost, value, _, failure in points if failure]
-        if bad:
-            ax.scatter([x for x, _ in bad], [y for _, y in bad], s=40, facecolors="none",
-                       edgecolors="grey", zorder=3, label="diverged or non-finite (not ranked)")
-        every = xy + bad
-        ax.set_xscale("log")
-        sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in every]))
-        if all(y > 0 for _, y in every):
-            ax.set_yscale("log")
-            sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in every]))
-        ax.margins(x=0.15, y=0.12)
-        ax.set_title(scenario, fontsize=10)
-        ax.set_xlabel("CPU time per tick, p99 (µs): step + slow loop")
-        ax.set_ylabel("force error RMS (N)" if metric == "force_err_rms_n"
-                      else "penetration max (mm)")
-        ax.grid(True, alpha=0.3, which="both")
-        ax.legend(loc="upper right", fontsize=7)
-        placed.append((ax, healthy, front, points, scale))
+            ax.scatter(fx, fy, s=60, facecolors="none", edgecolors="crimson", zorder=4)
+        unranked = draw_unranked_points(ax, points, scale)
+        finish_pareto_axes(ax, title, metric, xy + unranked)
+        placed.append((ax, ranked, front, points, scale))
     for ax in axes[len(panels):]:
         ax.set_visible(False)
     fig.suptitle("error against CPU time per tick, per scenario: lower left is better",
                  fontsize=11)
-    fig.tight_layout()
-    for ax, healthy, front, points, scale in placed:  # labels once the axes have their place
-        on_front = {id(healthy[i][2]) for i in front}
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.4 / fig.get_figheight()))  # room for the title
+    for ax, ranked, front, points, scale in placed:  # labels once the axes have their place
+        on_front = {id(ranked[i][2]) for i in front}
         chosen = [p for p in points if len(points) <= MAX_PARETO_LABELS or id(p[2]) in on_front]
-        label_points(ax, [((p[0], p[1] * scale), p[2].label, id(p[2]) in on_front)
+        label_points(ax, [((p[0], p[1] * scale), point_text(p[2]), id(p[2]) in on_front)
                           for p in chosen])
     return png_data_uri(fig), fronts, left_out, failed
+
+
+def point_text(run):
+    """The text beside a point: a sweep job's grid values (its marker tells the label), else
+    the label."""
+    job = sweep_job(run.folder)
+    if job is None:
+        return run.label
+    keys = job.sweep.keys
+    return value_text(job.values.get(keys[0])) if len(keys) == 1 else job.describe()
+
+
+def draw_unranked_points(ax, points, scale):
+    """Baselines (grey) and diverged or non-finite runs (hollow): drawn, never ranked.
+    Returns their (x, y)."""
+    baseline = [(c, v * scale) for c, v, run, failure in points if not failure and is_baseline(run)]
+    bad = [(c, v * scale) for c, v, _, failure in points if failure]
+    if baseline:
+        ax.scatter([x for x, _ in baseline], [y for _, y in baseline], s=30, color="#b0b0b0",
+                   edgecolors="#777", zorder=3, label="baseline, renders no contact (not ranked)")
+    if bad:
+        ax.scatter([x for x, _ in bad], [y for _, y in bad], s=40, facecolors="none",
+                   edgecolors="grey", zorder=3, label="diverged or non-finite (not ranked)")
+    return baseline + bad
+
+
+def draw_sweep_points(fig, ax, points, jobs, scale):
+    """A sweep's points coloured by the first swept value (a colour bar, log when the values
+    span more than a decade), a marker per label, each label's points joined in order of the
+    value (one line per combination of the other keys' values)."""
+    key = jobs[0].sweep.keys[0]
+    numeric = is_numeric_key(jobs, key)
+    listed = jobs[0].sweep.grid.get(key, [])
+    shade = [float(job.values[key]) if numeric else listed.index(job.values.get(key))
+             if job.values.get(key) in listed else len(listed) for job in jobs]
+    norm = (matplotlib.colors.LogNorm(min(shade), max(shade))
+            if numeric and spans_more_than_a_decade(shade)
+            else matplotlib.colors.Normalize(min(shade), max(shade) if max(shade) > min(shade)
+                                             else min(shade) + 1))
+    labels = list(dict.fromkeys(p[2].label for p in points))
+    lines = {}
+    for point, job, value in zip(points, jobs, shade):
+        others = tuple(value_text(job.values.get(k)) for k in job.sweep.keys[1:])
+        lines.setdefault((point[2].label, others), []).append(
+            (job.value_sort_key(key), point[0], point[1] * scale))
+    for line in lines.values():
+        line.sort()
+        ax.plot([x for _, x, _ in line], [y for _, _, y in line], color="#bbbbbb", lw=0.8,
+                zorder=1)
+    for label in labels:
+        chosen = [i for i, p in enumerate(points) if p[2].label == label]
+        marker = LABEL_MARKERS[labels.index(label) % len(LABEL_MARKERS)]
+        mappable = ax.scatter([points[i][0] for i in chosen],
+                              [points[i][1] * scale for i in chosen],
+                              c=[shade[i] for i in chosen], cmap="viridis", norm=norm, s=34,
+                              marker=marker, edgecolors="#333", linewidths=0.4, zorder=3)
+        ax.scatter([], [], marker=marker, color="#777", label=label)
+    bar = fig.colorbar(mappable, ax=ax, pad=0.02)
+    bar.set_label(parameter_label(key), fontsize=8)
+    if not numeric:
+        bar.set_ticks(range(len(listed)))
+        bar.set_ticklabels([value_text(v, 12) for v in listed])
+    bar.ax.tick_params(labelsize=7)
+
+
+def finish_pareto_axes(ax, title, metric, every):
+    ax.set_xscale("log")
+    sparse_minor_ticks(ax.xaxis, spans_under_two_decades([x for x, _ in every]))
+    if all(y > 0 for _, y in every):
+        ax.set_yscale("log")
+        sparse_minor_ticks(ax.yaxis, spans_under_two_decades([y for _, y in every]))
+    ax.margins(x=0.15, y=0.12)
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel("CPU time per tick, p99 (µs): step + slow loop")
+    ax.set_ylabel("force error RMS (N)" if metric == "force_err_rms_n"
+                  else "max penetration (mm)")
+    ax.grid(True, alpha=0.3, which="both")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper right", fontsize=7)
 
 
 def label_points(ax, labelled):
@@ -448,15 +605,11 @@ def integrator_of(run):
     return integrator if isinstance(integrator, str) else run.label
 
 
-@functools.lru_cache(maxsize=None)
 def sweep_index(parent):
     """The sweep.json `hapticbench sweep` wrote into a folder: (its grid, {job name: job}),
     or None without one."""
-    index = read_json_or_none(os.path.join(parent, "sweep.json"))
-    if not isinstance(index, dict) or not isinstance(index.get("grid"), dict):
-        return None
-    jobs = {job.get("name"): job for job in index.get("jobs") or [] if isinstance(job, dict)}
-    return index["grid"], jobs
+    sweep = sweep_at(parent)
+    return (sweep.grid, sweep.jobs_by_name) if sweep else None
 
 
 def coupling_stiffness(folder):
@@ -524,7 +677,6 @@ def sweep_figure(by_integrator, closed_form_bound):
     """Largest proxy separation (or the divergence verdict) against k_t, one line per integrator."""
     fig = Figure(figsize=(10, 4.2))
     ax = fig.subplots()
-    palette = matplotlib.colormaps["tab10"]
     every_run = [run for runs in by_integrator.values() for _, run in runs]
     separation_of = {id(run): dig(run.summary, "stability", "max_proxy_separation_m")
                      for run in every_run}
@@ -534,8 +686,8 @@ def sweep_figure(by_integrator, closed_form_bound):
                           if has_separation and dig(run.summary, "stability", "diverged") is False]
     ceiling = max([1.0] + [10 * v for v in stable_separations])
     clipped_any = False
-    for i, (integrator, runs) in enumerate(sorted(by_integrator.items())):
-        colour = palette(i % 10)
+    for integrator, runs in sorted(by_integrator.items()):
+        colour = LABEL_COLOURS.colour(integrator)
         runs = sorted(runs, key=lambda kr: kr[0])
         ks = [k for k, _ in runs]
         if has_separation:
@@ -588,9 +740,8 @@ def zwidth_figure(scenario, results):
     (small_signal_limit: no friction, no quantisation)."""
     fig = Figure(figsize=(8, 4.2))
     ax = fig.subplots()
-    palette = matplotlib.colormaps["tab10"]
-    for i, (_, data) in enumerate(sorted(results, key=lambda r: r[1]["label"])):
-        colour = palette(i % 10)
+    for _, data in sorted(results, key=lambda r: r[1]["label"]):
+        colour = LABEL_COLOURS.colour(data["label"])
         points = sorted(data["points"], key=lambda p: p["x"])
         xs = [p["x"] for p in points if p.get("largest_stable") is not None]
         stable = [p["largest_stable"] for p in points if p.get("largest_stable") is not None]
@@ -617,10 +768,91 @@ def zwidth_figure(scenario, results):
     if values and max(values) > 10 * min(values):  # a decade or more: log scale
         ax.set_yscale("log")
         sparse_minor_ticks(ax.yaxis)
-    ax.set_xlabel(first["x_param"])
-    ax.set_ylabel("largest stable " + first["y_param"])
+    ax.set_xlabel(parameter_label(first["x_param"]))
+    ax.set_ylabel("largest stable " + parameter_label(first["y_param"]))
     ax.grid(True, alpha=0.3, which="both")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     fig.suptitle("Z-width: %s" % scenario, fontsize=11)
     fig.subplots_adjust(left=0.11, right=0.75, top=0.90, bottom=0.13)
     return png_data_uri(fig)
+
+
+# What a sweep's metric-against-parameter figure draws: (axis title, value of a run).
+SWEEP_METRICS = [
+    ("force error RMS (N)", lambda run: dig(run.summary, "accuracy", "force_err_rms_n")),
+    ("max penetration (mm)", lambda run: scaled(dig(run.summary, "accuracy",
+                                                    "penetration_max_m"), 1e3)),
+    ("step time p99 (µs)", lambda run: run.p99_us()),
+]
+
+
+def scaled(value, factor):
+    return value * factor if finite_number(value) else None
+
+
+def sweep_metric_lines(jobs, key):
+    """The runs of a sweep's jobs as lines against one grid key: {(label, the other keys'
+    values): [(x, run)]}, each line in numeric order of the key's value. x is the value,
+    or its place in the grid's list for a key whose values are not numbers."""
+    numeric = is_numeric_key(jobs, key)
+    listed = jobs[0].sweep.grid.get(key, []) if jobs else []
+    lines = {}
+    for job in jobs:
+        value = job.values.get(key)
+        x = float(value) if numeric else (listed.index(value) if value in listed
+                                          else len(listed))
+        others = job.describe([k for k in job.sweep.keys if k != key])
+        for run in job.folder.runs:
+            lines.setdefault((run.label, others), []).append((job.value_sort_key(key), x, run))
+    return {line: [(x, run) for _, x, run in sorted(points, key=lambda p: p[0])]
+            for line, points in lines.items()}
+
+
+def sweep_metrics_figure(jobs, key):
+    """Force error RMS, max penetration and step time p99 against one grid key of a sweep's
+    jobs (one base scenario): a line per label, and per combination of the other keys'
+    values (their own line style). Log x when the values span more than a decade."""
+    lines = sweep_metric_lines(jobs, key)
+    combinations = list(dict.fromkeys(others for _, others in lines))
+    styles = ["-", "--", ":", "-."]
+    fig = Figure(figsize=(12, 3.9))
+    axes = fig.subplots(1, len(SWEEP_METRICS))
+    xs = sorted({x for points in lines.values() for x, _ in points})
+    numeric = is_numeric_key(jobs, key)
+    for ax, (title, value_of) in zip(axes, SWEEP_METRICS):
+        drawn = False
+        for (label, others), points in lines.items():
+            kept = [(x, value_of(run)) for x, run in points if finite_number(value_of(run))]
+            if not kept:
+                continue
+            drawn = True
+            ax.plot([x for x, _ in kept], [y for _, y in kept], marker="o", ms=4, lw=1.3,
+                    color=LABEL_COLOURS.colour(label),
+                    ls=styles[combinations.index(others) % len(styles)],
+                    label=label + (", " + others if others else ""))
+        if not drawn:
+            ax.text(0.5, 0.5, "not measured", transform=ax.transAxes, ha="center",
+                    color="#777")
+        values = [y for line in ax.get_lines() for y in line.get_ydata()]
+        if drawn and spans_more_than_a_decade(values):
+            ax.set_yscale("log")
+            sparse_minor_ticks(ax.yaxis, spans_under_two_decades(values))
+        set_sweep_x_axis(ax, key, xs, numeric, jobs)
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, alpha=0.3, which="both")
+    axes[-1].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+    fig.suptitle("%s: against %s" % (jobs[0].group, key_name(key)), fontsize=11)
+    fig.subplots_adjust(left=0.06, right=0.80, top=0.84, bottom=0.16, wspace=0.3)
+    return png_data_uri(fig)
+
+
+def set_sweep_x_axis(ax, key, xs, numeric, jobs):
+    ax.set_xlabel(parameter_label(key), fontsize=8)
+    if numeric:
+        if spans_more_than_a_decade(xs):
+            ax.set_xscale("log")
+            sparse_minor_ticks(ax.xaxis, spans_under_two_decades(xs))
+        return
+    listed = jobs[0].sweep.grid.get(key, [])
+    ax.set_xticks(range(len(listed)))
+    ax.set_xticklabels([value_text(v, 12) for v in listed], fontsize=7, rotation=20)

@@ -197,6 +197,58 @@ def load_run_folder(path):
                                % (type(error).__name__, error))
 
 
+# Algorithms that render no contact (the proxy on the virtual coupling alone): a
+# baseline to compare with, never ranked among the algorithms that render contact.
+BASELINE_ALGORITHMS = ("coupling_only",)
+
+
+def is_baseline(run):
+    return run.summary.get("algorithm") in BASELINE_ALGORITHMS
+
+
+def reference_kind(run):
+    """What the run's force error is measured against: "mesh" (the mesh force reference,
+    summary.json's force_reference), "analytic" (the closed forms of an analytic scene,
+    accuracy.reference naming the ideal contact) or None (no force reference)."""
+    reference = dig(run.summary, "accuracy", "reference")
+    if (isinstance(run.summary.get("force_reference"), dict)
+            or isinstance(dig(run.folder.summary, "force_reference"), dict)
+            or (isinstance(reference, str) and reference.startswith("mesh reference"))):
+        return "mesh"
+    return "analytic" if isinstance(reference, str) and reference else None
+
+
+REFERENCE_NAMES = {"analytic": "the analytic reference", "mesh": "the mesh force reference"}
+
+
+def reference_wording(runs):
+    """The reference the runs' force errors are against, in words for the page."""
+    kinds = sorted({reference_kind(run) for run in runs} - {None})
+    if len(kinds) == 2:
+        return ("the analytic reference on analytic scenes, the mesh force reference on "
+                "mesh scenes")
+    return REFERENCE_NAMES[kinds[0]] if kinds else "the reference"
+
+
+def scenario_description(folder):
+    """(description, where it comes from) of the run's scenario, or None: the summary's
+    own (the scenario as it ran), else for older summaries the scenario.json a sweep
+    writes into each job's folder, else the scenario file the summary names, when it is
+    still there under the same name."""
+    summary_path = dig(folder.summary, "scenario", "path")
+    recorded = dig(folder.summary, "scenario", "description")
+    if isinstance(recorded, str) and recorded:
+        return recorded, summary_path if isinstance(summary_path, str) else "summary.json"
+    candidates = [os.path.join(str(folder.path), "scenario.json")] if folder.path else []
+    candidates += [summary_path] if isinstance(summary_path, str) else []
+    for path in candidates:
+        scenario = read_json_or_none(path)
+        if (isinstance(scenario, dict) and isinstance(scenario.get("description"), str)
+                and scenario.get("name") in (folder.scenario, None)):
+            return scenario["description"], path
+    return None
+
+
 def microseconds(ns):
     """ns / 1000, or None: divided, not multiplied by 1e-3, so that 8935 ns prints 8.94 µs
     the way C's printf("%.2f", ns / 1000.0) does."""

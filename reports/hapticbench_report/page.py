@@ -1,5 +1,6 @@
-"""The page: one section per scenario and the stability sections, put into
-the template; and the command line of render_report.py."""
+"""The page: the verdict it leads with, the summary, the error-against-cost
+figure, the sweeps, the stability sections and one section per scenario,
+put into the template; and the command line of render_report.py."""
 import argparse
 import datetime
 import json
@@ -9,14 +10,18 @@ import string
 import sys
 
 from .inputs import (
-    Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result)
+    Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result,
+    reference_wording)
 from .figures import (
-    pareto_figure, passivity_figure, penetration_figure, stiffness_limits, stiffness_sweeps,
-    stiffness_text, sweep_figure, timing_figure, wrench_figure)
+    LABEL_COLOURS, pareto_figure, parameter_label, passivity_figure, penetration_figure,
+    stiffness_limits, stiffness_sweeps, stiffness_text, sweep_figure, sweep_metrics_figure,
+    timing_figure, wrench_figure)
+from .sweeps import key_name, numeric_folder_order, sweep_jobs, value_text
 from .tables import (
     context_html, esc, figure_html, folders_html, friction_html, metric_table_html, note,
-    stability_margins_html, stress_matrix_html, summary_table, sweep_file_verdict,
-    work_counters_html, zwidth_html)
+    scenario_parameters_html, stability_margins_html, stress_matrix_html, summary_table,
+    sweep_file_verdict, sweep_table_html, work_counters_html, zwidth_html)
+from .verdicts import verdicts_html
 
 
 def scenario_section(folder):
@@ -32,6 +37,7 @@ def scenario_section(folder):
     if s.get("hash"):
         facts.append("hash <code>%s</code>" % esc(s["hash"]))
     parts.append('<p class="small">%s</p>' % "; ".join(facts))
+    parts.append(scenario_parameters_html(folder))
     missing = [run for run in runs if run.ticks is None]
     if missing:
         parts.append(note("No ticks CSV for %s (a summary-only run folder): no time series for "
@@ -43,22 +49,21 @@ def scenario_section(folder):
         for kind, shown in (("force", "Displayed force (world frame) per label"),
                             ("torque", "Displayed torque about the tool frame's origin "
                                        "(world frame)")):
-            uri, has_reference = wrench_figure(runs, kind)
             # The ticks' ref_* columns: the analytic reference where its
             # closed forms cover the scene, else the mesh force reference.
+            uri, reference = wrench_figure(runs, kind)
             parts.append(figure_html(
                 "fig-%s-%s" % (kind, folder.slug), uri, "%s against time, %s"
                 % (kind, folder.scenario),
-                shown + (", dashed: the ideal rigid contact (the analytic reference, else the "
-                         "mesh force reference)." if has_reference
-                         else "; no force reference for this scene.")))
+                shown + (", dashed: the ideal rigid contact (the %s)." % esc(reference)
+                         if reference else "; no force reference for this scene.")))
         uri = penetration_figure(runs)
         if uri:
             parts.append(figure_html(
                 "fig-penetration-" + folder.slug, uri, "penetration against time, "
                 + folder.scenario, "Penetration of the proxy's tool: <code>penetration_m</code> "
-                "(analytic, else the primary oracle), and where present each oracle backend's own "
-                "column <code>&lt;backend&gt;_pen_m</code> (in the order of the summary's "
+                "(%s), and where present each oracle backend's own " % penetration_source(runs)
+                + "column <code>&lt;backend&gt;_pen_m</code> (in the order of the summary's "
                 "<code>oracle_backends</code>: dotted, crosses, dash-dot; an exact backend on "
                 "every N-th tick only)."))
         else:
@@ -80,6 +85,15 @@ def scenario_section(folder):
     parts.append(work_counters_html(folder))
     parts.append("</section>")
     return "".join(parts)
+
+
+def penetration_source(runs):
+    """Where penetration_m comes from, by the summary's accuracy.penetration_source."""
+    sources = sorted({str(dig(run.summary, "accuracy", "penetration_source"))
+                      for run in runs if dig(run.summary, "accuracy", "penetration_source")})
+    return ("from " + " and ".join("the analytic reference" if s == "analytic"
+                                   else "the %s oracle" % esc(s) for s in sources)
+            if sources else "the analytic reference, else the primary oracle")
 
 
 def metric_description(metric_table, name):
@@ -144,11 +158,48 @@ def stability_html(folders, runs, metric_table=()):
     return "".join(parts)
 
 
+def sweeps_html(folders):
+    """Per sweep: per base scenario and grid key, the metrics against the swept value, then
+    one table across the sweep's jobs; '' without a sweep."""
+    parts = []
+    for index, jobs in enumerate(sweep_jobs(folders).values()):
+        sweep = jobs[0].sweep
+        parts.append("<h3 id='sweep-%d'>Sweep %s</h3>" % (index, esc(sweep.name)))
+        parts.append('<p class="small">Grid: %s. Jobs in numeric order of their values.</p>'
+                     % "; ".join("%s: %s" % (esc(parameter_label(key)), esc(", ".join(
+                         value_text(v) for v in sweep.grid[key]))) for key in sweep.keys))
+        bases = {}
+        for job in jobs:
+            bases.setdefault(job.base, []).append(job)
+        for base, base_jobs in bases.items():
+            for key in sweep.keys:
+                if len({value_text(job.values.get(key)) for job in base_jobs}) < 2:
+                    continue
+                parts.append(figure_html(
+                    "fig-sweep-%d-%s-%s" % (index, slug_text(base), slug_text(key_name(key))),
+                    sweep_metrics_figure(base_jobs, key),
+                    "metrics against %s, %s" % (key_name(key), base),
+                    "%s: force error RMS, max penetration and step time p99 against %s, a line "
+                    "per label%s." % (esc(base_jobs[0].group), esc(parameter_label(key)),
+                                      " and per combination of the other keys' values "
+                                      "(line style)" if len(sweep.keys) > 1 else "")))
+        parts.append(sweep_table_html(sweep, jobs))
+    if not parts:
+        return ""
+    return ('<section id="sweeps"><h2>Sweeps</h2>%s</section>' % "".join(parts))
+
+
+def slug_text(text):
+    return re.sub(r"[^A-Za-z0-9_-]+", "-", text)
+
+
 def render(folders, template, metric_table, stability_results=(), progress=Progress(),
            zwidth_results=()):
+    folders = numeric_folder_order(folders)
+    LABEL_COLOURS.reset(run.label for folder in folders for run in folder.runs)
     slugs = set()
     for folder in folders:
-        slug = "scenario-" + re.sub(r"[^A-Za-z0-9_-]+", "-", folder.scenario)
+        slug = "scenario-" + slug_text(folder.scenario)
         candidate, n = slug, 2
         while candidate in slugs:
             candidate, n = "%s-%d" % (slug, n), n + 1
@@ -167,11 +218,15 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
             context_html(folders),
             "<details%s><summary>Run folders covered (%d)</summary>%s</details></header>"
             % (" open" if len(folders) <= 12 else "", len(folders), folders_html(folders))]
-    body.append("<nav><h2>Contents</h2><ul><li><a href='#summary'>Summary</a></li>"
-                "<li><a href='#pareto'>Error against CPU time per tick</a></li>"
+    sweeps = sweeps_html(folders)
+    body.append("<nav><h2>Contents</h2><ul><li><a href='#verdicts'>Verdict</a></li>"
+                "<li><a href='#summary'>Summary</a></li>"
+                "<li><a href='#pareto'>Error against CPU time per tick</a></li>%s"
                 "<li><a href='#stability'>Stability</a></li>%s</ul></nav>"
-                % "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
-                          for f in folders))
+                % ("<li><a href='#sweeps'>Sweeps</a></li>" if sweeps else "",
+                   "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
+                           for f in folders)))
+    body.append(verdicts_html(runs))
     body.append('<section id="summary"><h2>Summary</h2>')
     problems = []
     if unstable:
@@ -201,9 +256,11 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
                 "(<code>hapticbench list --metrics</code>; hover a header for its definition). "
                 "Step times are of <code>Renderer::step</code> only; CPU per tick adds the "
                 "slow-loop work attributed to the tick. Force and direction errors are against "
-                "the analytic reference (ideal rigid contact); penetration comes from the "
-                "analytic reference, else the Embree oracle. "
-                "— : the metric does not apply to the run.</p></section>")
+                "%s (ideal rigid contact); penetration comes from the analytic reference, else "
+                "the Embree oracle. <span class='tag'>baseline</span>: renders no contact (the "
+                "coupling alone), to compare with; never ranked. "
+                "— : the metric does not apply to the run.</p></section>"
+                % reference_wording(runs))
     body.append('<section id="pareto"><h2>Error against CPU time per tick</h2>')
     progress.step("drawing the summary figures")
     uri, fronts, left_out, failed = pareto_figure(runs)
@@ -212,13 +269,17 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
                              for scenario, labels in fronts.items())
         body.append(figure_html(
             "fig-pareto", uri, "error against CPU time per tick p99, one panel per scenario",
-            "One panel per scenario (errors of different scenarios are not comparable): force "
-            "error RMS against the reference (the analytic one, else the mesh force "
-            "reference, both with the scene's Coulomb friction; without either, the maximum penetration) against the p99 CPU time per tick of both loops, the haptic step "
+            "One panel per scenario (errors of different scenarios are not comparable; a "
+            "sweep's jobs share their base scenario's panel, coloured by the swept value, a "
+            "marker per label, each label's points joined in order of the value): force "
+            "error RMS against %s (with the scene's Coulomb friction; without a reference, the "
+            "maximum penetration) against the p99 CPU time per tick of both loops, the haptic "
+            "step "
             "plus the slow-loop work attributed to the tick (timing.cpu_per_tick_ns), so that "
             "an algorithm whose work sits in its slow loop is not shown as free. The red line "
             "is each scenario's Pareto front: no other run of that scenario is both cheaper "
-            "and more accurate. On the fronts: %s." % esc(on_front)))
+            "and more accurate; a baseline that renders no contact (grey) is never on it. On "
+            "the fronts: %s." % (esc(reference_wording(runs)), esc(on_front))))
     if failed:
         body.append(note("Drawn hollow and never on a front, because their error says nothing "
                          "about the algorithm's accuracy: %s." % esc(", ".join(
@@ -226,7 +287,9 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     if left_out:
         body.append(note("Not on the figure (no force error, no penetration or no step time): "
                          "%s." % esc(", ".join(r.name for r in left_out))))
-    body.append('</section><section id="stability"><h2>Stability</h2>')
+    body.append("</section>")
+    body.append(sweeps)
+    body.append('<section id="stability"><h2>Stability</h2>')
     body.append(stress_matrix_html(folders))
     body.append(stability_margins_html(list(stability_results)))
     body.append(zwidth_html(list(zwidth_results)))

@@ -1,12 +1,16 @@
-"""The report's tables and HTML pieces: the summary and metric tables, work
-counters, the stress matrix, friction, stability margins and Z-width
-results, and the escaping and number formats they share."""
+"""The report's tables and HTML pieces: the summary and metric tables, a
+scenario's parameters, a sweep's table across its jobs, work counters, the
+stress matrix, friction, stability margins and Z-width results, and the
+escaping and number formats they share."""
 import html
 import os
 import re
 
-from .inputs import dig, finite_number, number_or_none, read_json_or_none
-from .figures import zwidth_figure
+from .inputs import (
+    dig, finite_number, is_baseline, number_or_none, read_json_or_none, reference_wording,
+    scenario_description)
+from .figures import PARAMETER_UNITS, parameter_label, zwidth_figure
+from .sweeps import key_name, missing_jobs, value_text
 
 
 def esc(value):
@@ -23,6 +27,12 @@ def fmt(value, pattern="%.3g", scale=1.0):
     # 8935 * 1e-3 = 8.934999... would print 8.93.
     scaled = value / (1.0 / scale) if 0 < scale < 1 else value * scale
     return pattern % scaled
+
+
+def name_html(text):
+    """A long name (sphere_press_box__contact_stiffness=1000) that may wrap after its
+    underscores."""
+    return esc(text).replace("_", "_<wbr>")
 
 
 def cell(value, pattern="%.3g", scale=1.0, css=""):
@@ -49,28 +59,64 @@ def stability_item(summary):
     return '<td class="text fail">✗ %s</td>' % esc(text), False
 
 
+def budget_text(budget):
+    """"tick_p99_us 3.614 ≤ 1000": a budget's value against its limit."""
+    relation = "≥" if budget.get("lower_bound") else "≤"
+    value = fmt(budget.get("value"), "%.4g")
+    return "%s %s %s %s" % (budget.get("name", "?"), value if value is not None else "n/a",
+                            relation, fmt(budget.get("limit"), "%.4g") or "?")
+
+
 def budget_items(budgets):
+    """A cell listing the failed budgets and counting the others (hover: every budget), and
+    the verdict: "pass", "fail" or "none"."""
     if not budgets:
         return '<td class="na" title="no budgets in the scenario">—</td>', "none"
-    items = []
-    for budget in budgets:
-        passed = budget.get("pass") is True
-        relation = "≥" if budget.get("lower_bound") else "≤"
-        value = fmt(budget.get("value"), "%.4g")
-        text = "%s %s %s %s" % (budget.get("name", "?"), value if value is not None else "n/a",
-                                relation, fmt(budget.get("limit"), "%.4g") or "?")
-        tip = budget.get("message") or ("within budget" if passed else "over budget")
-        items.append('<li class="%s" title="%s">%s %s</li>'
-                     % ("pass" if passed else "fail", esc(tip), "✓" if passed else "✗",
-                        esc(text)))
-    verdict = "pass" if all(b.get("pass") is True for b in budgets) else "fail"
-    return '<td class="text"><ul class="budgets">%s</ul></td>' % "".join(items), verdict
+    failed = [b for b in budgets if b.get("pass") is not True]
+    items = ['<li class="fail" title="%s">✗ %s</li>'
+             % (esc(b.get("message") or "over budget"), esc(budget_text(b))) for b in failed]
+    if len(failed) < len(budgets):
+        items.append('<li class="pass">✓ %d of %d</li>'
+                     % (len(budgets) - len(failed), len(budgets)))
+    return ('<td class="text" title="%s"><ul class="budgets">%s</ul></td>'
+            % (esc("; ".join(budget_text(b) for b in budgets)), "".join(items)),
+            "fail" if failed else "pass")
 
 
 # How the summary table shows a metric of a unit: (header unit, format, scale).
 UNIT_DISPLAY = {"ns": ("µs", "%.2f", 1e-3), "m": ("mm", "%.3f", 1e3), "N": ("N", "%.4g", 1.0),
                 "deg": ("°", "%.3g", 1.0), "J": ("J", "%.3g", 1.0), "N·m": ("N·m", "%.3g", 1.0),
                 "ticks": ("ticks", "%d", 1.0)}
+
+
+# A metric name's unit suffix, dropped from its column header (which names the unit once).
+UNIT_SUFFIXES = ("_n_per_m", "_j_per_s", "_us", "_ns", "_nm", "_deg", "_hz", "_m", "_n", "_j")
+
+
+HEADER_WORDS = {"err": "error", "rms": "RMS", "dir": "direction", "cpu": "CPU",
+                "nonfinite": "non-finite"}
+
+
+def metric_header(metric):
+    """A metric's column header in words with its unit once: max_penetration_m ->
+    "max penetration (mm)", tick_p99_us -> "tick p99 (µs)"."""
+    name = str(metric["name"])
+    suffix = next((s for s in UNIT_SUFFIXES if name.endswith(s)), "")
+    words = [HEADER_WORDS.get(w, w) for w in name[:len(name) - len(suffix)].split("_") if w]
+    unit = UNIT_DISPLAY.get(metric["unit"], (metric["unit"],))[0]
+    if not unit or unit == "flag" or words[-1:] == [unit]:
+        return " ".join(words)
+    return "%s (%s)" % (" ".join(words), unit)
+
+
+def label_html(run):
+    """A run's label, its algorithm where the label does not say it, and a baseline mark."""
+    algorithm = run.summary.get("algorithm", "?")
+    return (name_html(run.label)
+            + (' <span class="small">(%s)</span>' % name_html(algorithm) if algorithm != run.label
+               else "")
+            + (' <span class="tag" title="renders no contact: the coupling alone, to compare '
+               'with">baseline</span>' if is_baseline(run) else ""))
 
 
 def metric_cell(metric, value):
@@ -94,9 +140,9 @@ def summary_table(folders, metric_table):
     columns = [m for m in metric_table if m.get("report_column")]
     head = ("<tr><th class='text'>scenario</th><th class='text'>label (algorithm)</th>"
             "<th>ticks</th><th class='text'>stability</th>"
-            + "".join("<th title='%s'>%s (%s)</th>" % (
-                esc(m.get("description", "")), esc(m["name"]),
-                esc(UNIT_DISPLAY.get(m["unit"], (m["unit"],))[0])) for m in columns)
+            + "".join("<th title='%s: %s'>%s</th>" % (
+                esc(m["name"]), esc(m.get("description", "")), esc(metric_header(m)))
+                for m in columns)
             + "<th class='text'>pen source</th><th class='text'>budgets</th></tr>")
     rows = []
     for folder in folders:
@@ -111,9 +157,9 @@ def summary_table(folders, metric_table):
                 '<tr data-scenario="%s" data-label="%s" data-verdict="%s"%s>'
                 % (esc(folder.scenario), esc(run.label), verdict,
                    ' class="scenario-first"' if position == 0 else "")
-                + '<td class="text"><a href="#%s">%s</a></td>' % (folder.slug, esc(folder.scenario))
-                + '<td class="text">%s <span class="small">(%s)</span></td>'
-                % (esc(run.label), esc(s.get("algorithm", "?")))
+                + '<td class="text"><a href="#%s">%s</a></td>' % (folder.slug,
+                                                                   name_html(folder.scenario))
+                + '<td class="text">%s</td>' % label_html(run)
                 + cell(dig(s, "timing", "ticks"), "%d")
                 + stability
                 + "".join(metric_cell(m, at_pointer(s, m["pointer"])) for m in columns)
@@ -454,3 +500,99 @@ def zwidth_html(results):
                 "%s (%s)" % (d["label"], os.path.basename(os.path.dirname(p)) or p)
                 for p, d in scenario_results)))))
     return "".join(parts)
+
+
+def parameter_text(name, value):
+    """"contact_stiffness 1000 N/m": a parameter with its unit where it has one."""
+    unit = PARAMETER_UNITS.get(name)
+    text = value_text(value, 40)
+    return "%s %s%s" % (name, text, " " + unit if unit and finite_number(value) else "")
+
+
+def scenario_parameters_html(folder):
+    """What a scenario section says the run was: the scenario's description, the coupling
+    (summary.json scenario.coupling) and each label's parameters (runs[].params: those the
+    scenario sets; the others are the algorithm's defaults)."""
+    parts = []
+    described = scenario_description(folder)
+    if described:
+        parts.append('<p class="description">%s <span class="small">(<code>%s</code>)</span>'
+                     "</p>" % (esc(described[0]), esc(described[1])))
+    coupling = dig(folder.summary, "scenario", "coupling")
+    if isinstance(coupling, dict) and coupling:
+        order = ["k_t", "b_t", "k_r", "b_r"]
+        names = sorted(coupling, key=lambda n: (order.index(n) if n in order else len(order), n))
+        parts.append('<p class="small">Coupling: %s.</p>' % esc(", ".join(
+            parameter_text(name, coupling[name]) for name in names)))
+    rows = []
+    for run in folder.runs:
+        params = run.summary.get("params")
+        if not isinstance(params, dict):
+            continue
+        text = ", ".join(parameter_text(name, value) for name, value in params.items())
+        rows.append('<tr><td class="text">%s</td><td class="text">%s</td></tr>'
+                    % (label_html(run), esc(text) if text else
+                       '<span class="small">the algorithm\'s defaults</span>'))
+    if rows:
+        parts.append('<table class="parameters"><tr><th class="text">label (algorithm)</th>'
+                     '<th class="text">parameters the scenario sets</th></tr>%s</table>'
+                     % "".join(rows))
+    return "".join(parts)
+
+
+# The columns of a sweep's table per label: (header, cell of a run's summary).
+SWEEP_COLUMNS = [
+    ("force error RMS (N)",
+     lambda s: cell(dig(s, "accuracy", "force_err_rms_n"), "%.4g")),
+    ("max penetration (mm)",
+     lambda s: cell(dig(s, "accuracy", "penetration_max_m"), "%.3f", 1e3)),
+    ("step p50 (µs)", lambda s: cell(dig(s, "timing", "step_ns", "p50"), "%.2f", 1e-3)),
+    ("step p99 (µs)", lambda s: cell(dig(s, "timing", "step_ns", "p99"), "%.2f", 1e-3)),
+    ("stability", lambda s: stability_item(s)[0]),
+    ("budgets", lambda s: budget_items(s.get("budgets") or [])[0]),
+]
+
+
+def sweep_table_html(sweep, jobs):
+    """One table across a sweep's jobs: a row per job in numeric order of its grid values
+    (a job without a run folder shows its status), the values first, then per label the
+    force error, max penetration, step time p50 and p99, stability verdict and budgets."""
+    labels = list(dict.fromkeys(run.label for job in jobs for run in job.folder.runs))
+    several = len({job.base for job in jobs}) > 1
+    keys = sweep.keys
+    head = ("<tr>%s%s%s</tr>" % (
+        '<th class="text" rowspan="2">scenario</th>' if several else "",
+        "".join('<th rowspan="2">%s</th>' % esc(parameter_label(key)) for key in keys),
+        "".join('<th class="label" colspan="%d">%s</th>' % (len(SWEEP_COLUMNS), esc(label))
+                for label in labels))
+        + "<tr>%s</tr>" % "".join("<th>%s</th>" % esc(title) for _ in labels
+                                  for title, _ in SWEEP_COLUMNS))
+    rows = [(job.sort_key(), sweep_row(job.job, job.base, several, keys, "".join(
+        sweep_label_cells(job, label) for label in labels))) for job in jobs]
+    present = {job.job.get("name") for job in jobs}
+    for job in missing_jobs(sweep, present):
+        status = '<td class="text na" colspan="%d">no run folder: %s</td>' % (
+            len(SWEEP_COLUMNS) * max(1, len(labels)), esc(job.get("status", "?")))
+        base = os.path.splitext(os.path.basename(str(job.get("scenario"))))[0]
+        rows.append((sweep.sort_key(job), sweep_row(job, base, several, keys, status)))
+    return ('<div class="wide"><table class="summary sweep-table" data-sweep="%s">'
+            "<thead>%s</thead><tbody>%s</tbody></table></div>"
+            % (esc(sweep.name), head, "".join(row for _, row in sorted(rows,
+                                                                       key=lambda r: r[0]))))
+
+
+def sweep_row(job, base, several, keys, cells):
+    values = job.get("grid") if isinstance(job.get("grid"), dict) else {}
+    return ('<tr data-job="%s">%s%s%s</tr>'
+            % (esc(job.get("name", "")),
+               '<td class="text">%s</td>' % esc(base) if several else "",
+               "".join('<td data-key="%s">%s</td>' % (esc(key_name(key)),
+                                                      esc(value_text(values.get(key))))
+                       for key in keys), cells))
+
+
+def sweep_label_cells(job, label):
+    run = next((r for r in job.folder.runs if r.label == label), None)
+    if run is None:
+        return '<td class="na">—</td>' * len(SWEEP_COLUMNS)
+    return "".join(column(run.summary) for _, column in SWEEP_COLUMNS)

@@ -1,5 +1,6 @@
-"""Runs built from summary entries alone (no folder on disk), for the
-report's tests."""
+"""Runs built from summary entries alone (no folder on disk), a fake sweep's
+jobs and run folders written to disk, for the report's tests."""
+import json
 import os
 import sys
 
@@ -32,3 +33,43 @@ class FakeRun(inputs.Run):
         self.summary = {"label": label, "timing": timing,
                         "accuracy": {"force_err_rms_n": error},
                         "stability": {"diverged": diverged, "nonfinite": nonfinite}}
+
+
+def fake_sweep(root, key, values, labels=("penalty",), extra_jobs=()):
+    """The job folders of a sweep over one grid key and the sweep.json beside them, the jobs
+    listed in the order of `values`: force error 1000 / value N and step time p99
+    1000 + value / 100 ns, so every job is on the Pareto front. extra_jobs: sweep.json
+    entries of jobs without a run folder."""
+    jobs, folders = [], []
+    for value in values:
+        name = "press__%s=%s" % (key.split("/")[-1], value)
+        jobs.append({"name": name, "scenario": "../smoke/press.json", "grid": {key: value},
+                     "status": "ok"})
+        folder = FakeFolder(name, path=os.path.join(root, name))
+        for label in labels:
+            run = FakeRun(name, label, 1000.0 / value, 1000 + value // 100)
+            run.folder = folder
+            folder.runs.append(run)
+        folders.append(folder)
+    with open(os.path.join(root, "sweep.json"), "w") as f:
+        json.dump({"name": "stiffness", "scenarios": ["../smoke/press.json"],
+                   "grid": {key: list(values)}, "jobs": jobs + list(extra_jobs)}, f)
+    return folders
+
+
+TICKS_HEADER = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "step_ns",
+                "ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz"]
+
+
+def write_run_folder(path, summary):
+    """A run folder on disk: the summary.json given and, per run, a ticks CSV of a few
+    ticks with a force reference."""
+    os.makedirs(path, exist_ok=True)
+    with open(os.path.join(path, "summary.json"), "w", encoding="utf-8") as f:
+        json.dump(dict(summary, schema_version=1), f)
+    for run in summary["runs"]:
+        with open(os.path.join(path, "ticks_%s.csv" % run["label"]), "w") as f:
+            f.write(",".join(TICKS_HEADER) + "\n")
+            for tick in range(5):
+                f.write("%d,0,0,%g,0,0,0,,900,0,0,%g,0,0,0\n" % (tick * 1000000, tick, tick))
+    return inputs.load_run_folder(path)

@@ -45,9 +45,6 @@ class ParetoTest(unittest.TestCase):
         self.assertEqual(figures.cost_us(self.runs[4]), 20.0)
 
 
-if __name__ == "__main__":
-    unittest.main()
-
 
 class CouplingSweepTest(unittest.TestCase):
     """A coupling stiffness sweep is found by the sweep.json beside its run folders, with
@@ -84,3 +81,7 @@ class CouplingSweepTest(unittest.TestCase):
                            path=os.path.join(self.scratch.name, "elsewhere", "stability_k5000"),
                            coupling={"k_t": 5000})
         self.assertIsNone(figures.coupling_stiffness(alone))
+
+
+if __name__ == "__main__":
+    unittest.main()

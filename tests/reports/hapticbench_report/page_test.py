@@ -8,7 +8,10 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
 from hapticbench_report import page  # noqa: E402
-from fake_runs import FakeRun  # noqa: E402
+from fake_runs import FakeRun, write_run_folder  # noqa: E402
+
+TEMPLATE = os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports",
+                        "report_template.html")
 
 
 class StabilityCaptionTest(unittest.TestCase):
@@ -23,6 +26,36 @@ class StabilityCaptionTest(unittest.TestCase):
         html = page.stability_html([run.folder], [run], table)
         self.assertIn("minimum over time of the port energy: the held wrench", html)
         self.assertNotIn("Σ (F·v", html)
+
+
+
+class ReferenceWordingTest(unittest.TestCase):
+    """On a mesh scene the force reference is the mesh force reference (summary.json's
+    force_reference), never "analytic"."""
+
+    def page(self, reference, force_reference):
+        scratch = tempfile.TemporaryDirectory()
+        self.addCleanup(scratch.cleanup)
+        summary = {"scenario": {"name": "bunny", "scene_friction": [0.0]},
+                   "force_reference": force_reference,
+                   "runs": [{"label": "god_object", "algorithm": "god_object",
+                             "accuracy": {"force_err_rms_n": 0.1, "reference": reference},
+                             "timing": {"step_ns": {"p99": 1000}}}]}
+        folder = write_run_folder(os.path.join(scratch.name, "bunny"), summary)
+        with open(TEMPLATE, encoding="utf-8") as f:
+            return page.render([folder], f.read(), [])
+
+    def test_a_mesh_scene_is_against_the_mesh_force_reference(self):
+        html = self.page("mesh reference: rigid proxy ...", {"method": "rigid proxy ..."})
+        self.assertIn("dashed: the ideal rigid contact (the mesh force reference)", html)
+        self.assertIn("errors are against the mesh force reference", html)
+        self.assertNotIn("(the analytic reference)", html)
+
+    def test_an_analytic_scene_is_against_the_analytic_reference(self):
+        html = self.page("ideal rigid contact: sphere tool on box", None)
+        self.assertIn("dashed: the ideal rigid contact (the analytic reference)", html)
+        self.assertIn("errors are against the analytic reference", html)
+        self.assertNotIn("mesh force reference)", html)
 
 
 if __name__ == "__main__":
