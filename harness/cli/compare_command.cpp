@@ -20,6 +20,7 @@ const std::string kCompareUsage =
     "usage: hapticbench compare BASELINE CANDIDATE [--gate] [--out DIR] [--no-timing]\n"
     "                           [--rel-tol X] [--timing-ratio X] [--alpha X]\n"
     "                           [--timing-same-cpu] [--strict-timing] [--instructions-tol X]\n"
+    "                           [--tolerances FILE]\n"
     "                           [--progress STYLE] [--quiet]\n"
     "  BASELINE, CANDIDATE  a run folder, a summary.json, or a folder of run folders\n"
     "                       (a suite; scenarios matched by name, runs by label)\n"
@@ -34,6 +35,8 @@ const std::string kCompareUsage =
     "  --instructions-tol X  instruction counts (run --instructions) regress beyond this\n"
     "                    share (default 0.02)\n"
     "  --rel-tol X       accuracy/stability tolerance relative to the baseline (default 0.05)\n"
+    "  --tolerances FILE per-metric tolerances in place of the defaults: a JSON object\n"
+    "                    {metric: {\"rel_tol\": x, \"abs_tol\": y}} (docs/ci-gating.md)\n"
     "  --timing-ratio X  step time p50 or p99 ratio above which a significant slowdown\n"
     "                    is a regression (default 1.25)\n"
     "  --alpha X         significance level of the one-sided Mann-Whitney test (default 0.01)\n" +
@@ -46,6 +49,7 @@ struct CompareArguments {
   std::optional<std::string> out;
   CompareOptions options;
   std::optional<ProgressStyle> progress;
+  std::optional<std::string> tolerances_file;
 };
 
 // Throws UsageError or HelpRequested.
@@ -65,6 +69,8 @@ CompareArguments parse_compare_arguments(const std::vector<std::string>& args) {
       parsed.options.strict_timing = false;
     } else if (a == "--strict-timing") {
       parsed.options.strict_timing = true;
+    } else if (a == "--tolerances") {
+      parsed.tolerances_file = option_value(args, i);
     } else if (a == "--out" || a == "--rel-tol" || a == "--timing-ratio" || a == "--alpha" ||
                a == "--instructions-tol") {
       const std::string& value = option_value(args, i);
@@ -118,9 +124,12 @@ int compare_command(const std::vector<std::string>& args) {
     ProgressDisplay progress = make_progress_display(arguments.progress, 1.0);
     try {
       if (arguments.out) require_replaceable_folder(*arguments.out, OutputFolderKind::kComparison);
+      CompareOptions options = arguments.options;
+      if (arguments.tolerances_file)
+        options.tolerances = read_tolerances_file(*arguments.tolerances_file);
       const SummarySet baseline = load_summary_set(arguments.baseline);
       const SummarySet candidate = load_summary_set(arguments.candidate);
-      comparison = compare_summary_sets(baseline, candidate, arguments.options, &progress);
+      comparison = compare_summary_sets(baseline, candidate, options, &progress);
     } catch (const InputError& error) {
       progress.close();
       std::cerr << "error: " << error.what() << "\n";

@@ -1,12 +1,17 @@
 #include "harness/compare/comparison.h"
 
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/compare/run_checks.h"
+#include "harness/metrics/metric_table.h"
+#include "harness/scenario/json_fields.h"
 
 namespace hb {
 
@@ -201,6 +206,45 @@ Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& ca
     if (!baseline.find_scenario(c.scenario_name))
       comparison.rows.push_back(presence_row(c.scenario_name, "", false));
   return comparison;
+}
+
+std::map<std::string, MetricTolerance> read_tolerances_file(const std::string& path) {
+  require_regular_file(path, "a tolerances file (.json)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open the tolerances file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const nlohmann::ordered_json document = parse_json_document(text, path);
+  const JsonField root(document, path, "");
+  root.require_object("expected {metric name: {\"rel_tol\": x, \"abs_tol\": y}}");
+  std::map<std::string, MetricTolerance> tolerances;
+  for (const auto& item : document.items()) {
+    const JsonField field = root.existing_member(item.key());
+    const MetricDefinition* metric = find_metric(item.key());
+    if (metric == nullptr || (metric->compare != CompareRule::kTolerance &&
+                              metric->compare != CompareRule::kGeneratedEnergy)) {
+      std::string known;
+      for (const MetricDefinition& m : metric_table())
+        if (m.compare == CompareRule::kTolerance || m.compare == CompareRule::kGeneratedEnergy)
+          known += (known.empty() ? "" : ", ") + std::string(m.name);
+      field.fail(std::string(metric == nullptr ? "unknown metric" : "not compared by tolerance") +
+                 "; metrics compared by tolerance: " + known);
+    }
+    MetricTolerance tolerance;
+    const std::string expected = "expected a number >= 0";
+    if (item.value().is_number()) {
+      tolerance.rel_tol = field.non_negative_number(expected);
+    } else {
+      field.require_object("expected {\"rel_tol\": x, \"abs_tol\": y} or a number (rel_tol)");
+      field.reject_unknown_keys({"rel_tol", "abs_tol"});
+      if (field.has("rel_tol"))
+        tolerance.rel_tol = field.existing_member("rel_tol").non_negative_number(expected);
+      if (field.has("abs_tol"))
+        tolerance.abs_tol = field.existing_member("abs_tol").non_negative_number(
+            expected + " in the summary's unit (" + std::string(metric->unit) + ")");
+    }
+    tolerances[item.key()] = tolerance;
+  }
+  return tolerances;
 }
 
 std::string display_value(const nlohmann::json& value) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -30,6 +31,12 @@ const char* verdict_name(Verdict verdict);
 /// Regressions and failures: what makes `compare --gate` exit 1.
 bool is_failing(Verdict verdict);
 
+/// One metric's tolerance in place of the defaults (compare --tolerances).
+struct MetricTolerance {
+  std::optional<double> rel_tol;  ///< share of |baseline|; default CompareOptions::rel_tol
+  std::optional<double> abs_tol;  ///< in the summary's unit; default the metric table's
+};
+
 struct CompareOptions {
   /// Relative tolerance on accuracy and stability metrics: a candidate is
   /// worse when it exceeds the baseline by more than max(absolute
@@ -55,7 +62,17 @@ struct CompareOptions {
   /// the candidate's exceed the baseline's by more than this share, between
   /// builds of one compiler and build type.
   double instructions_rel_tol = 0.02;
+  /// Per metric (by metric-table name): tolerances that replace the
+  /// defaults for that metric's rows.
+  std::map<std::string, MetricTolerance> tolerances;
 };
+
+/// Reads a tolerances file: a JSON object {metric name: {"rel_tol": x,
+/// "abs_tol": y}} (either key may be left out; a bare number is rel_tol).
+/// Throws InputError naming the file and the key for an unknown metric, a
+/// metric compared otherwise than by tolerance (counts, flags, timing), or a
+/// value that is not a number >= 0.
+std::map<std::string, MetricTolerance> read_tolerances_file(const std::string& path);
 
 /// One compared quantity of one run (or of a scenario, with an empty label).
 struct CheckRow {

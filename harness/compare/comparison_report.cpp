@@ -106,7 +106,10 @@ void print_comparison_table(std::ostream& out, const Comparison& comparison) {
   std::array<std::string, kColumns> header;
   for (std::size_t i = 0; i < kColumns; ++i) header[i] = kHeader[i];
   table.push_back(header);
-  for (const CheckRow& row : comparison.rows) table.push_back(cells(row));
+  // Regressions and failures first, then every other row in its order.
+  for (const bool failing : {true, false})
+    for (const CheckRow& row : comparison.rows)
+      if (is_failing(row.verdict) == failing) table.push_back(cells(row));
   std::array<std::size_t, kColumns> widths{};
   for (const auto& line : table)
     for (std::size_t i = 0; i < kColumns; ++i)
@@ -181,6 +184,15 @@ std::string comparison_junit_xml(const Comparison& comparison) {
             << "</failure>";
     } else if (row.verdict == Verdict::kNotApplicable) {
       cases << "<skipped message=\"" << xml_escape(row.note) << "\"/>";
+    } else {
+      // A passing case carries its figures too: what was measured, against what.
+      cases << "<system-out>"
+            << xml_escape(std::string(verdict_name(row.verdict)) + ": baseline " +
+                          display_value(row.baseline) + ", candidate " +
+                          display_value(row.candidate) +
+                          (row.change.empty() ? "" : ", change " + row.change) +
+                          (row.note.empty() ? "" : "; " + row.note))
+            << "</system-out>";
     }
     cases << "</testcase>\n";
   }

@@ -189,14 +189,21 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
       rows.push_back(settled);
       continue;
     }
+    // The defaults, or the tolerances file's for this metric.
+    double abs_tol = metric.abs_tol, rel_tol = options.rel_tol;
+    if (const auto given = options.tolerances.find(std::string(metric.name));
+        given != options.tolerances.end()) {
+      abs_tol = given->second.abs_tol.value_or(abs_tol);
+      rel_tol = given->second.rel_tol.value_or(rel_tol);
+    }
     switch (metric.compare) {
       case CompareRule::kTolerance:
-        rows.push_back(tolerance_row(row(check), b, c, metric.abs_tol, options.rel_tol,
-                                     std::string(metric.unit), metric.better));
+        rows.push_back(tolerance_row(row(check), b, c, abs_tol, rel_tol, std::string(metric.unit),
+                                     metric.better));
         break;
       case CompareRule::kGeneratedEnergy:
-        rows.push_back(generated_energy_row(row(check), b, c, metric.abs_tol, options.rel_tol,
-                                            std::string(metric.unit)));
+        rows.push_back(
+            generated_energy_row(row(check), b, c, abs_tol, rel_tol, std::string(metric.unit)));
         break;
       case CompareRule::kCount:
         rows.push_back(count_row(row(check), static_cast<int64_t>(b.value_or(0)),

@@ -403,9 +403,23 @@ std::string junit_xml(const ScenarioRun& run) {
       ++tests;
       cases << "    <testcase classname=\"" << xml_escape(run.scenario_name + "." + r.label)
             << "\" name=\"" << xml_escape(b.name) << "\">";
+      // Every case, passing or not, says the measured value and the limit.
+      std::ostringstream figures;
+      figures.precision(6);
+      figures << b.name << " = ";
+      if (b.value)
+        figures << *b.value;
+      else
+        figures << "n/a";
+      figures << (budget_is_lower_bound(b.name) ? ", lower bound " : ", limit ") << b.limit;
       if (!b.pass) {
         ++failures;
-        cases << "<failure message=\"" << xml_escape(b.message) << "\"/>";
+        cases << "<failure message=\"" << xml_escape(b.message) << "\">"
+              << xml_escape(figures.str()) << "</failure>";
+      } else {
+        cases << "<system-out>"
+              << xml_escape(figures.str() + (b.message.empty() ? "" : "; " + b.message))
+              << "</system-out>";
       }
       cases << "</testcase>\n";
     }

@@ -159,6 +159,35 @@ TEST_CASE("a 20 percent worse force error fails the gate and the table names it"
   CHECK(hb::test::run_hapticbench("compare baseline candidate --gate --no-timing --rel-tol 0.25",
                                   work)
             .exit_code == 0);
+  // The regression is listed first, before the rows that pass.
+  const std::size_t regression = gated.stdout_text.find("REGRESSION");
+  const std::size_t first_pass = gated.stdout_text.find(" pass");
+  CHECK(regression < first_pass);
+
+  // Per-metric tolerances from a file: this metric's, the others' stay.
+  std::ofstream(work / "tolerances.json") << R"({"force_err_rms_n": {"rel_tol": 0.25}})";
+  CHECK(hb::test::run_hapticbench(
+            "compare baseline candidate --gate --no-timing --tolerances tolerances.json", work)
+            .exit_code == 0);
+  std::ofstream(work / "other.json") << R"({"max_penetration_m": 0.5})";
+  CHECK(hb::test::run_hapticbench(
+            "compare baseline candidate --gate --no-timing --tolerances other.json", work)
+            .exit_code == 1);
+  // The CI recipe's file (examples/ci/) reads, and holds force errors to 5 %.
+  CHECK(hb::test::run_hapticbench("compare baseline candidate --gate --no-timing --tolerances '" +
+                                      (kSource / "examples/ci/tolerances.json").string() + "'",
+                                  work)
+            .exit_code == 1);
+  std::ofstream(work / "typo.json") << R"({"force_error": 0.5})";
+  const CommandResult typo = hb::test::run_hapticbench(
+      "compare baseline candidate --no-timing --tolerances typo.json", work);
+  CHECK(typo.exit_code == 2);
+  CHECK(contains(typo.stderr_text, "typo.json: /force_error: unknown metric"));
+  std::ofstream(work / "count.json") << R"({"nonfinite": 0.5})";
+  CHECK(contains(hb::test::run_hapticbench(
+                     "compare baseline candidate --no-timing --tolerances count.json", work)
+                     .stderr_text,
+                 "/nonfinite: not compared by tolerance"));
 }
 
 TEST_CASE("the out folder gets compare.json and compare.md and junit.xml") {
@@ -193,6 +222,8 @@ TEST_CASE("the out folder gets compare.json and compare.md and junit.xml") {
 
   const std::string junit = hb::test::read_text_file(work / "report/junit.xml");
   CHECK(contains(junit, "failures=\"1\""));
+  // A passing case carries its figures as well.
+  CHECK(contains(junit, "<system-out>pass: baseline "));
   CHECK(contains(junit, "tests=\"" + std::to_string(report["rows"].size()) + "\""));
   // Written all at once: no staging folder left beside it.
   for (const auto& entry : fs::directory_iterator(work))
