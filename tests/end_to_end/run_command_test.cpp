@@ -444,6 +444,11 @@ TEST_CASE("runs that measure less than they seem to say so: console, summary and
       hb::test::run_hapticbench("validate far_above.json", work);
   CHECK(validated.exit_code == 0);
   CHECK(validated.stderr_text.find("renders the tool's origin only") != std::string::npos);
+  // ... and where the trace takes the tool: never near the scene.
+  CHECK(validated.stdout_text.find("clearance of the tool from the scene at the device's pose") !=
+        std::string::npos);
+  CHECK(validated.stderr_text.find("the trace never brings the tool to the scene") !=
+        std::string::npos);
   // The report lists all three.
   const hb::test::CommandResult report = hb::test::run_hapticbench("report run", work);
   REQUIRE(report.exit_code == 0);
