@@ -21,6 +21,7 @@ int ccd_command(const std::vector<std::string>& args);        ///< hapticbench c
 int export_command(const std::vector<std::string>& args);     ///< hapticbench export
 int stability_command(const std::vector<std::string>& args);  ///< hapticbench stability
 int zwidth_command(const std::vector<std::string>& args);     ///< hapticbench zwidth
+int init_command(const std::vector<std::string>& args);       ///< hapticbench init
 /// hapticbench count-instructions (internal: the child of run --instructions)
 int count_instructions_command(const std::vector<std::string>& args);
 

@@ -26,6 +26,7 @@ constexpr const char* kUsage =
     "  run SCENARIO... [--algo NAME]... [--out DIR] [--repeat N] [--instructions] [--schedule P]\n"
     "                                              replay scenarios, write run folders\n"
     "  validate FILE...                            check a scenario, mesh or trace file\n"
+    "  init FILE.json [--scene S] [--tool T]       write a scenario to start from\n"
     "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
     "  list --metrics | --generators | --params | --limits   a table of the docs (Markdown)\n"
     "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
@@ -111,6 +112,7 @@ static int run_command_line(int argc, char** argv) {
     load_plugins(command, args);
     if (command == "run") return hb::run_command(args);
     if (command == "validate") return hb::validate_command(args);
+    if (command == "init") return hb::init_command(args);
     if (command == "list") return hb::list_command(args);
     if (command == "generate") return hb::generate_command(args);
     if (command == "report") return hb::report_command(args);

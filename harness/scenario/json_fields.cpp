@@ -137,6 +137,14 @@ void check_json_depth(const std::string& text, const std::string& source) {
         in_string = false;
       continue;
     }
+    if (c == '/' && i + 1 < text.size() && (text[i + 1] == '/' || text[i + 1] == '*')) {
+      // A comment (the parser skips them): its brackets and quotes count for nothing.
+      const bool line = text[i + 1] == '/';
+      const std::size_t end = line ? text.find('\n', i + 2) : text.find("*/", i + 2);
+      if (end == std::string::npos) return;  // the parser reports an unclosed comment
+      i = line ? end : end + 1;
+      continue;
+    }
     if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
@@ -166,9 +174,14 @@ Json parse_json_document(const std::string& text, const std::string& source) {
   DuplicateKeyFinder finder;
   Json document;
   try {
-    document = Json::parse(text, [&finder](int, nlohmann::json::parse_event_t event, Json& parsed) {
-      return finder.on_event(event, parsed);
-    });
+    // Comments (// to the end of the line, /* ... */) are allowed: a
+    // scenario written by `hapticbench init` explains itself in them.
+    document = Json::parse(
+        text,
+        [&finder](int, nlohmann::json::parse_event_t event, Json& parsed) {
+          return finder.on_event(event, parsed);
+        },
+        /*allow_exceptions=*/true, /*ignore_comments=*/true);
   } catch (const Json::parse_error& error) {
     // nlohmann's text: "[json.exception.parse_error.101] parse error at line 3,
     // column 5: syntax error while parsing ...". Keep the position as the

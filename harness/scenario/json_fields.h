@@ -94,6 +94,7 @@ std::string json_value_preview(const nlohmann::ordered_json& value);
 /// InputError(source, pointer of the key, ...), since the parser would keep
 /// only one of the values silently. Nesting deeper than kMaxJsonDepth and
 /// numbers beyond a double's range throw InputError with their position.
+/// Comments (// to the end of the line, /* ... */) are skipped.
 nlohmann::ordered_json parse_json_document(const std::string& text, const std::string& source);
 
 }  // namespace hb
