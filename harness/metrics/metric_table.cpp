@@ -408,6 +408,24 @@ const MetricDefinition* find_metric(std::string_view name) {
   return nullptr;
 }
 
+namespace {
+const char* compare_rule_name(CompareRule rule) {
+  switch (rule) {
+    case CompareRule::kTolerance:
+      return "tolerance";
+    case CompareRule::kCount:
+      return "count";
+    case CompareRule::kFlag:
+      return "flag";
+    case CompareRule::kGeneratedEnergy:
+      return "generated_energy";
+    case CompareRule::kNone:
+      break;
+  }
+  return "none";
+}
+}  // namespace
+
 nlohmann::json metric_table_json() {
   nlohmann::json table = nlohmann::json::array();
   for (const MetricDefinition& metric : kMetrics)
@@ -417,6 +435,8 @@ nlohmann::json metric_table_json() {
                      {"better", metric.better == Better::kLower ? "lower" : "higher"},
                      {"budget", metric.budget},
                      {"report_column", metric.report_column},
+                     {"compare", compare_rule_name(metric.compare)},
+                     {"abs_tol", metric.abs_tol},
                      {"description", metric.description}});
   return table;
 }

@@ -73,7 +73,9 @@ std::span<const MetricDefinition> metric_table();
 const MetricDefinition* find_metric(std::string_view name);
 
 /// The table as data, for readers outside C++ (the report): name,
-/// pointer, unit, better, budget, report_column, description per metric.
+/// pointer, unit, better, budget, report_column, compare ("tolerance",
+/// "count", "flag", "generated_energy" or "none"), abs_tol, description per
+/// metric.
 nlohmann::json metric_table_json();
 
 /// The check name `compare` prints: the JSON pointer with dots
