@@ -22,6 +22,7 @@ int export_command(const std::vector<std::string>& args);     ///< hapticbench e
 int stability_command(const std::vector<std::string>& args);  ///< hapticbench stability
 int zwidth_command(const std::vector<std::string>& args);     ///< hapticbench zwidth
 int init_command(const std::vector<std::string>& args);       ///< hapticbench init
+int history_command(const std::vector<std::string>& args);    ///< hapticbench history
 /// hapticbench count-instructions (internal: the child of run --instructions)
 int count_instructions_command(const std::vector<std::string>& args);
 

@@ -32,6 +32,7 @@ constexpr const char* kUsage =
     "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
     "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
     "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
+    "  history add DIR RUN_DIR... | show DIR       runs kept by commit; where a metric moved\n"
     "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
     "  stability SCENARIO.json --label L --param PTR --range LO HI [--tolerance R] [--out DIR]\n"
     "                                              largest stable value of one parameter\n"
@@ -113,6 +114,7 @@ static int run_command_line(int argc, char** argv) {
     if (command == "run") return hb::run_command(args);
     if (command == "validate") return hb::validate_command(args);
     if (command == "init") return hb::init_command(args);
+    if (command == "history") return hb::history_command(args);
     if (command == "list") return hb::list_command(args);
     if (command == "generate") return hb::generate_command(args);
     if (command == "report") return hb::report_command(args);

@@ -27,6 +27,7 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
+#include "harness/history/history_store.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
 #include "harness/process/child_process.h"
@@ -41,11 +42,14 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kReportUsage =
-    "usage: hapticbench report RUN_DIR... [--out report.html] [--progress STYLE] [--quiet]\n"
+    "usage: hapticbench report RUN_DIR... [--history DIR] [--out report.html]\n"
+    "                          [--progress STYLE] [--quiet]\n"
     "  RUN_DIR: a run folder (with summary.json) or a folder holding run folders at any depth;\n"
     "           stability.json files beneath it (hapticbench stability) make the margin table,\n"
     "           zwidth.json files (hapticbench zwidth) the Z-width figures\n"
     "  --out FILE: the HTML page to write (default report.html in the current folder)\n"
+    "  --history DIR: runs kept by commit (hapticbench history add): each metric's trend\n"
+    "           per scenario and label, and where it first moved; RUN_DIR may then be left out\n"
     "  environment: HAPTICBENCH_PYTHON (default /usr/bin/python3, needs matplotlib),\n"
     "               HAPTICBENCH_REPORTS_DIR (where render_report.py is; default\n"
     "               ../share/hapticbench/reports from the binary's folder)\n" +
@@ -62,6 +66,7 @@ constexpr const char* kRendererScript = "render_report.py";
 struct ReportOptions {
   std::vector<fs::path> inputs;
   fs::path out = "report.html";
+  std::optional<fs::path> history;  ///< --history: a history folder
   std::optional<ProgressStyle> progress;
 };
 
@@ -72,6 +77,8 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
     check_help(arg);
     if (arg == "--out") {
       options.out = option_value(args, i);
+    } else if (arg == "--history") {
+      options.history = option_value(args, i);
     } else if (parse_progress_option(args, i, options.progress)) {
     } else if (arg.size() > 1 && arg[0] == '-') {
       throw UsageError{"unknown option " + arg};
@@ -79,7 +86,7 @@ ReportOptions parse_report_options(const std::vector<std::string>& args) {
       options.inputs.emplace_back(arg);
     }
   }
-  if (options.inputs.empty()) throw UsageError{"missing RUN_DIR"};
+  if (options.inputs.empty() && !options.history) throw UsageError{"missing RUN_DIR"};
   if (options.out.filename().empty()) throw UsageError{"--out: expected a file name"};
   return options;
 }
@@ -242,6 +249,12 @@ int report_command(const std::vector<std::string>& args) {
   const std::vector<fs::path> folders =
       run_inputs.empty() ? std::vector<fs::path>() : find_run_folders(run_inputs);
   for (const fs::path& folder : folders) read_run_summary(folder / "summary.json");
+  if (options.history) {
+    const std::vector<HistoryEntry> entries = read_history(*options.history);
+    if (entries.empty())
+      throw InputError(options.history->string(), "",
+                       "no history here: `hapticbench history add` writes one");
+  }
 
   const fs::path script = reports_dir() / kRendererScript;
   if (!fs::is_regular_file(script)) {
@@ -301,6 +314,10 @@ int report_command(const std::vector<std::string>& args) {
   for (const fs::path& file : zwidth_files) {
     command.push_back("--zwidth");
     command.push_back(file.string());
+  }
+  if (options.history) {
+    command.push_back("--history");
+    command.push_back(options.history->string());
   }
   for (const fs::path& folder : folders) command.push_back(folder.string());
   const fs::path renderer_stderr = scratch.path() / "renderer_stderr.txt";
