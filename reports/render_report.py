@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Renders hapticbench run folders into one self-contained HTML report.
 
-usage: render_report.py --out REPORT.html [--template FILE] RUN_FOLDER...
+usage: render_report.py --out REPORT.html [--template FILE] [--history DIR] RUN_FOLDER...
 
 Each RUN_FOLDER holds a summary.json (schema_version 1) and, unless it is a
 summary-only baseline, one ticks_<label>.csv per algorithm label. The page
@@ -14,6 +14,12 @@ stability figures, and per scenario its description and parameters, the
 displayed force and torque against time (with the analytic or mesh force
 reference when there is one), penetration against time (with each oracle
 backend's column when present) and the distribution of step times.
+
+With --history DIR (a history folder of `hapticbench history add`: history.json
+and the summaries of each stored commit) a History section follows the
+verdict: the first commit where each scenario's, label's and metric's value
+moved beyond its tolerance, and per scenario its metrics across the commits.
+Run folders are optional then: without them the page is the history alone.
 
 Every figure is an inline PNG, the style sheet is inline and the only script
 is a few lines that count the decoded figures: the file opens offline.

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
 
+from .history import METRICS as HISTORY_METRICS  # noqa: E402
 from .inputs import (  # noqa: E402
     BACKEND_PEN_SUFFIX, REFERENCE_NAMES, dig, finite_number, is_baseline, microseconds,
     reference_kind)
@@ -856,3 +857,65 @@ def set_sweep_x_axis(ax, key, xs, numeric, jobs):
     listed = jobs[0].sweep.grid.get(key, [])
     ax.set_xticks(range(len(listed)))
     ax.set_xticklabels([value_text(v, 12) for v in listed], fontsize=7, rotation=20)
+
+
+# The history figure labels at most this many entries on its x axis.
+MAX_HISTORY_TICKS = 24
+
+
+def history_figure(history, scenario, moves):
+    """One scenario's metrics across the history's entries: a panel per metric measured
+    (force error RMS, max penetration, step time p99, instructions per step), a line per
+    label, x the entries in commit order labelled by short commit. Red crosses: the label
+    was unstable at that entry; a black ring: the series' first move. None when the
+    scenario measured none of them."""
+    shown = [m for m in HISTORY_METRICS if m.rule != "verdict" and history.measured(scenario, m.key)]
+    if not shown:
+        return None
+    labels = history.series[scenario]
+    first = {(move.label, move.metric.key): move.entry.index for move in moves
+             if move.scenario == scenario}
+    entries = history.entries
+    legend_in = max(1.8, 0.075 * max(len(label) for label in labels) + 0.8)
+    fig = Figure(figsize=(4.3 * len(shown) + legend_in, 3.9))
+    axes = fig.subplots(1, len(shown), squeeze=False)[0]
+    every = max(1, math.ceil(len(entries) / MAX_HISTORY_TICKS))
+    for ax, metric in zip(axes, shown):
+        values = []
+        for label, metrics in labels.items():
+            points = metrics[metric.key]
+            colour = LABEL_COLOURS.colour(label)
+            ys = [p.value if p.value is not None else math.nan for p in points]
+            values += [y for y in ys if finite_number(y)]
+            ax.plot(range(len(points)), ys, marker="o", ms=3.5, lw=1.3, color=colour,
+                    label=label)
+            unstable = [(p.entry.index, p.value) for p in points
+                        if p.unstable and p.value is not None]
+            if unstable:
+                ax.plot([x for x, _ in unstable], [y for _, y in unstable], ls="none",
+                        marker="X", ms=9, color="#d62728", mec="white", mew=0.6, zorder=4)
+            index = first.get((label, metric.key))
+            if index is not None:
+                ax.plot([index], [points[index].value], ls="none", marker="o", ms=14,
+                        mfc="none", mec="black", mew=1.6, zorder=5)
+        if spans_more_than_a_decade(values):
+            ax.set_yscale("log")
+            sparse_minor_ticks(ax.yaxis, spans_under_two_decades(values))
+        ax.set_title(metric.heading(), fontsize=9)
+        ax.set_xlim(-0.5, len(entries) - 0.5)
+        ticks = list(range(0, len(entries), every))
+        ax.set_xticks(ticks)
+        ax.set_xticklabels([entries[i].short_commit for i in ticks], fontsize=7, rotation=35,
+                           ha="right")
+        ax.grid(True, alpha=0.3, which="both")
+    handles, names = axes[0].get_legend_handles_labels()
+    handles += [Line2D([], [], ls="none", marker="X", ms=8, color="#d62728"),
+                Line2D([], [], ls="none", marker="o", ms=11, mfc="none", mec="black", mew=1.6)]
+    names += ["unstable", "first move"]
+    fig.legend(handles, names, loc="upper left", bbox_to_anchor=(
+        1 - (legend_in - 0.1) / fig.get_figwidth(), 0.92), fontsize=8, frameon=False)
+    fig.suptitle("%s: across %d commit%s" % (scenario, len(entries),
+                                             "" if len(entries) == 1 else "s"), fontsize=11)
+    fig.subplots_adjust(left=0.6 / fig.get_figwidth(), right=1 - legend_in / fig.get_figwidth(),
+                        top=0.84, bottom=0.2, wspace=0.3)
+    return png_data_uri(fig)

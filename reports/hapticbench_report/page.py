@@ -13,9 +13,12 @@ from .inputs import (
     Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result,
     reference_wording)
 from .figures import (
-    LABEL_COLOURS, pareto_figure, parameter_label, passivity_figure, penetration_figure,
+    LABEL_COLOURS, history_figure, pareto_figure, parameter_label, passivity_figure, penetration_figure,
     stiffness_limits, stiffness_sweeps, stiffness_text, sweep_figure, sweep_metrics_figure,
     timing_figure, wrench_figure)
+from .history import (
+    INSTRUCTIONS_SHARE, RELATIVE_TOLERANCE, STEP_TIME_RATIO, read_history, value_text as
+    history_value_text)
 from .sweeps import key_name, numeric_folder_order, sweep_jobs, value_text
 from .tables import (
     context_html, esc, figure_html, folders_html, friction_html, metric_table_html, note,
@@ -189,14 +192,89 @@ def sweeps_html(folders):
     return ('<section id="sweeps"><h2>Sweeps</h2>%s</section>' % "".join(parts))
 
 
+def history_html(history):
+    """The history section: the first move of every series that moved (scenario, label,
+    metric, the commit where it moved, from → to, worse or better), then per scenario one
+    figure of its metrics across the entries."""
+    entries = history.entries
+    parts = ['<section id="history"><h2>History</h2>',
+             '<p class="small">History <code>%s</code>: %d commit%s%s, oldest first.</p>'
+             % (esc(history.path), len(entries), "" if len(entries) == 1 else "s",
+                " (%s … %s)" % (esc(entries[0].short_commit), esc(entries[-1].short_commit))
+                if entries else "")]
+    if not history.series:
+        parts.append(note("The history holds no results yet (<code>hapticbench history add"
+                          "</code> stores run folders in it)."))
+        parts.append("</section>")
+        return "".join(parts)
+    moves = history.first_moves()
+    if moves:
+        rows = "".join(
+            '<tr class="%s" data-scenario="%s" data-label="%s" data-metric="%s" '
+            'data-commit="%s" data-direction="%s"><td class="text">%s</td>'
+            '<td class="text">%s</td><td class="text">%s</td>'
+            '<td class="text"><code title="%s">%s</code> %s</td><td>%s → %s</td>'
+            '<td class="text %s" title="%s">%s</td></tr>'
+            % ("history-move", esc(m.scenario), esc(m.label), esc(m.metric.key),
+               esc(m.entry.commit), m.direction, esc(m.scenario), esc(m.label),
+               esc(m.metric.heading()), esc(m.entry.commit), esc(m.entry.short_commit),
+               '<span class="small">(#%d%s)</span>' % (
+                   m.entry.index + 1, ", " + esc(m.entry.date) if m.entry.date else ""),
+               esc(history_value_text(m.metric, m.before.value)),
+               esc(history_value_text(m.metric, m.after.value)),
+               "fail" if m.direction == "worse" else "pass", esc(m.why), m.direction)
+            for m in moves)
+        parts.append('<table class="history-moves"><tr><th class="text">scenario</th>'
+                     '<th class="text">label</th><th class="text">metric</th>'
+                     '<th class="text">moved at commit</th><th>from → to</th>'
+                     '<th class="text">direction</th></tr>%s</table>' % rows)
+    else:
+        parts.append('<p class="pass">No metric moved beyond its tolerance across the %d '
+                     "commits.</p>" % len(entries))
+    parts.append(
+        '<p class="small">A move: a change from the last earlier commit that measured the '
+        "metric beyond max(abs_tol, %g × |previous|) for force error RMS and max penetration "
+        "(abs_tol from the summary's metric table, as <code>hapticbench compare</code>), a "
+        "step time p99 ratio beyond ×%g either way (wall clock: noisy), instructions per step "
+        "beyond %g %%, or a change of the stability verdict. Worse or better by the metric "
+        "table's <code>better</code>. Only the first move of each scenario, label and metric "
+        "is listed.</p>" % (RELATIVE_TOLERANCE, STEP_TIME_RATIO, 100 * INSTRUCTIONS_SHARE))
+    for scenario in history.series:
+        uri = history_figure(history, scenario, moves)
+        if uri:
+            parts.append(figure_html(
+                "fig-history-" + slug_text(scenario), uri, "metrics across commits, " + scenario,
+                "%s: force error RMS, max penetration, step time p99 and, where counted, "
+                "instructions per step at each stored commit, a line per label (gaps: the "
+                "label was not run); red crosses: the run was unstable; black rings: the "
+                "first move." % esc(scenario)))
+        else:
+            parts.append(note("%s: none of the history's metrics was measured."
+                              % esc(scenario)))
+    parts.append("</section>")
+    return "".join(parts)
+
+
 def slug_text(text):
     return re.sub(r"[^A-Za-z0-9_-]+", "-", text)
 
 
 def render(folders, template, metric_table, stability_results=(), progress=Progress(),
-           zwidth_results=()):
+           zwidth_results=(), history=None):
     folders = numeric_folder_order(folders)
     LABEL_COLOURS.reset(run.label for folder in folders for run in folder.runs)
+    history_section = ""
+    if history is not None:
+        for label in history.labels():
+            LABEL_COLOURS.colour(label)
+        progress.step("drawing the history")
+        history_section = history_html(history)
+        if not folders:
+            body = ["<header><h1>hapticbench report</h1>",
+                    '<p class="small">History across commits; generated %s.</p></header>'
+                    % generated_at(), history_section]
+            return string.Template(template).substitute(title="hapticbench report",
+                                                        body="\n".join(body))
     slugs = set()
     for folder in folders:
         slug = "scenario-" + slug_text(folder.scenario)
@@ -213,20 +291,21 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     body = ["<header><h1>hapticbench report</h1>",
             '<p class="small">%d scenario%s, %d run%s; generated %s.</p>'
             % (len(folders), "" if len(folders) == 1 else "s", len(runs),
-               "" if len(runs) == 1 else "s",
-               datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")),
+               "" if len(runs) == 1 else "s", generated_at()),
             context_html(folders),
             "<details%s><summary>Run folders covered (%d)</summary>%s</details></header>"
             % (" open" if len(folders) <= 12 else "", len(folders), folders_html(folders))]
     sweeps = sweeps_html(folders)
-    body.append("<nav><h2>Contents</h2><ul><li><a href='#verdicts'>Verdict</a></li>"
+    body.append("<nav><h2>Contents</h2><ul><li><a href='#verdicts'>Verdict</a></li>%s"
                 "<li><a href='#summary'>Summary</a></li>"
                 "<li><a href='#pareto'>Error against CPU time per tick</a></li>%s"
                 "<li><a href='#stability'>Stability</a></li>%s</ul></nav>"
-                % ("<li><a href='#sweeps'>Sweeps</a></li>" if sweeps else "",
+                % ("<li><a href='#history'>History</a></li>" if history_section else "",
+                   "<li><a href='#sweeps'>Sweeps</a></li>" if sweeps else "",
                    "".join("<li><a href='#%s'>%s</a></li>" % (f.slug, esc(f.scenario))
                            for f in folders)))
     body.append(verdicts_html(runs))
+    body.append(history_section)
     body.append('<section id="summary"><h2>Summary</h2>')
     problems = []
     if unstable:
@@ -303,6 +382,10 @@ def render(folders, template, metric_table, stability_results=(), progress=Progr
     return string.Template(template).substitute(title="hapticbench report", body="\n".join(body))
 
 
+def generated_at():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
 def main():
     parser = argparse.ArgumentParser(
         description="Renders hapticbench run folders into one self-contained HTML report.")
@@ -319,10 +402,18 @@ def main():
                         "scenario's Z-width figure")
     parser.add_argument("--progress-fd", type=int, help="file descriptor for progress lines "
                         "(hapticbench report passes it; see Progress)")
+    parser.add_argument("--history", help="a history folder of `hapticbench history add` "
+                        "(history.json and the summaries it lists): each metric across the "
+                        "stored commits and the first commit where it moved; without run "
+                        "folders the page holds that view alone")
     parser.add_argument("folders", nargs="*", help="run folders (each with a summary.json)")
     args = parser.parse_args()
     progress = Progress(args.progress_fd)
     try:
+        history = None
+        if args.history:
+            progress.step("reading the history")
+            history = read_history(args.history)
         folders = []
         for done, path in enumerate(args.folders):
             progress.step("reading run folders", done, len(args.folders), "folders")
@@ -339,7 +430,7 @@ def main():
         stability_results = [(path, read_stability_result(path)) for path in args.stability]
         zwidth_results = [(path, read_zwidth_result(path)) for path in args.zwidth]
         page = render(folders, template, metric_table, stability_results, progress,
-                      zwidth_results)
+                      zwidth_results, history)
     except ReportInputError as error:
         print("error: %s" % error, file=sys.stderr)
         return 2

@@ -73,3 +73,45 @@ def write_run_folder(path, summary):
             for tick in range(5):
                 f.write("%d,0,0,%g,0,0,0,,900,0,0,%g,0,0,0\n" % (tick * 1000000, tick, tick))
     return inputs.load_run_folder(path)
+
+
+# The metric table entries a history's summaries carry (as `hapticbench run` writes them).
+HISTORY_METRIC_TABLE = [
+    {"name": "force_err_rms_n", "pointer": "/accuracy/force_err_rms_n", "unit": "N",
+     "better": "lower", "compare": "tolerance", "abs_tol": 1e-6},
+    {"name": "max_penetration_m", "pointer": "/accuracy/penetration_max_m", "unit": "m",
+     "better": "lower", "compare": "tolerance", "abs_tol": 1e-7},
+    {"name": "tick_p99_us", "pointer": "/timing/step_ns/p99", "unit": "ns", "better": "lower",
+     "compare": "none", "abs_tol": 0.0},
+]
+
+
+def history_run(label, error=0.1, penetration_m=0.002, step_p99_ns=1000, instructions=None,
+                stable=True):
+    """A summary.json run entry with the metrics a history follows."""
+    return {"label": label, "algorithm": label,
+            "accuracy": {"force_err_rms_n": error, "penetration_max_m": penetration_m},
+            "timing": {"step_ns": {"p99": step_p99_ns},
+                       "instructions": ({"step_per_tick_mean": instructions}
+                                        if instructions is not None else None)},
+            "stability": {"verdict": {"stable": stable, "pass": stable}}}
+
+
+def write_history(root, commits):
+    """A history folder as `hapticbench history add` stores it: history.json listing one
+    entry per (commit, {scenario: [summary run entries]}), oldest first, and each
+    scenario's summary.json under the entry's folder."""
+    entries = []
+    for number, (commit, scenarios) in enumerate(commits, start=1):
+        folder = "%04d-%s" % (number, commit[:7])
+        for scenario, runs in scenarios.items():
+            os.makedirs(os.path.join(root, folder, scenario), exist_ok=True)
+            with open(os.path.join(root, folder, scenario, "summary.json"), "w",
+                      encoding="utf-8") as f:
+                json.dump({"schema_version": 1, "scenario": {"name": scenario},
+                           "metric_table": HISTORY_METRIC_TABLE, "runs": list(runs)}, f)
+        entries.append({"commit": commit, "date": "2026-12-%02dT10:00:00Z" % number,
+                        "folder": folder, "scenarios": list(scenarios)})
+    with open(os.path.join(root, "history.json"), "w", encoding="utf-8") as f:
+        json.dump({"schema_version": 1, "entries": entries}, f)
+    return entries
