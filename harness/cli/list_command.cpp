@@ -41,15 +41,15 @@ const char* compare_text(CompareRule rule) {
 }
 
 void print_metric_table(std::ostream& out) {
-  out << "| metric (budget name) | summary.json, in a run | unit | better | budget | compare | "
-         "what it is |\n| --- | --- | --- | --- | --- | --- | --- |\n";
+  out << "| metric (budget name) | unit (budget, console, report) | summary.json, in a run | "
+         "its unit | better | budget | compare | what it is |\n"
+         "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const MetricDefinition& m : metric_table()) {
-    std::string budget = "-";
-    if (m.budget)
-      budget = m.budget_scale == 1 ? "yes" : m.budget_scale == 1e-3 ? "yes (µs)" : "yes (scaled)";
-    out << "| `" << m.name << "` | `" << m.json_pointer << "` | " << m.unit << " | "
-        << better_text(m.better) << " | " << budget << " | " << compare_text(m.compare)
-        << (m.compare_when_present ? " (when present)" : "") << " | " << m.description << " |\n";
+    const std::string_view unit = m.budget_unit.empty() ? m.unit : m.budget_unit;
+    out << "| `" << m.name << "` | " << unit << " | `" << m.json_pointer << "` | " << m.unit
+        << " | " << better_text(m.better) << " | " << (m.budget ? "yes" : "-") << " | "
+        << compare_text(m.compare) << (m.compare_when_present ? " (when present)" : "") << " | "
+        << m.description << " |\n";
   }
 }
 

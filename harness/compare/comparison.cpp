@@ -240,7 +240,8 @@ std::map<std::string, MetricTolerance> read_tolerances_file(const std::string& p
         tolerance.rel_tol = field.existing_member("rel_tol").non_negative_number(expected);
       if (field.has("abs_tol"))
         tolerance.abs_tol = field.existing_member("abs_tol").non_negative_number(
-            expected + " in the summary's unit (" + std::string(metric->unit) + ")");
+            expected + " in the metric's unit (" +
+            std::string(metric->budget_unit.empty() ? metric->unit : metric->budget_unit) + ")");
     }
     tolerances[item.key()] = tolerance;
   }

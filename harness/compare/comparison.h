@@ -34,7 +34,7 @@ bool is_failing(Verdict verdict);
 /// One metric's tolerance in place of the defaults (compare --tolerances).
 struct MetricTolerance {
   std::optional<double> rel_tol;  ///< share of |baseline|; default CompareOptions::rel_tol
-  std::optional<double> abs_tol;  ///< in the summary's unit; default the metric table's
+  std::optional<double> abs_tol;  ///< in the metric's unit (its name's); default the table's
 };
 
 struct CompareOptions {

@@ -193,7 +193,8 @@ std::vector<CheckRow> compare_runs(const ScenarioSummary& baseline_scenario,
     double abs_tol = metric.abs_tol, rel_tol = options.rel_tol;
     if (const auto given = options.tolerances.find(std::string(metric.name));
         given != options.tolerances.end()) {
-      abs_tol = given->second.abs_tol.value_or(abs_tol);
+      // Given in the metric's own unit (its name's), compared in the summary's.
+      if (given->second.abs_tol) abs_tol = *given->second.abs_tol / metric.budget_scale;
       rel_tol = given->second.rel_tol.value_or(rel_tol);
     }
     switch (metric.compare) {

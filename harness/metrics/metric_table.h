@@ -51,8 +51,11 @@ struct MetricDefinition {
   std::string_view unit;  ///< of the summary's value, e.g. "N", "ns", "ticks"
   ValueKind kind = ValueKind::kNumber;
   Better better = Better::kLower;
-  bool budget = true;       ///< may appear in a scenario's "budgets"
-  double budget_scale = 1;  ///< budget value = summary value × this (1e-3: ns → µs)
+  bool budget = true;  ///< may appear in a scenario's "budgets"
+  /// The unit of the metric's name, in which budgets, the console, the
+  /// report and compare's tolerances files give it; empty: `unit`.
+  std::string_view budget_unit;
+  double budget_scale = 1;  ///< value in budget_unit = summary value × this (1e-3: ns → µs)
   CompareRule compare = CompareRule::kNone;
   double abs_tol = 0;  ///< kTolerance: a change below this never regresses
   bool compare_when_present =

@@ -125,10 +125,10 @@ void print_run_table_legend(std::ostream& out) {
        "reference"},
       {"pen_max_mm", "mm", "accuracy.penetration_max_m",
        "deepest penetration of the proxy's tool into the scene, analytic else Embree (budget "
-       "max_penetration_m, in m)"},
+       "max_penetration_mm)"},
       {"E_min_mJ", "mJ", "stability.passivity_energy_min_j",
        "least energy the coupling has taken from the user since the start; below 0 it gave "
-       "energy (not passive; budget passivity_energy_min_j, in J)"},
+       "energy (not passive; budget passivity_energy_min_mj)"},
       {"nonfin", "ticks", "stability.nonfinite", "ticks whose wrench was not finite (zeroed)"},
       {"stability", "-", "stability.verdict",
        "stable, or the check the run failed: nonfinite, diverged, tunnelled, passivity, chatter, "

@@ -59,6 +59,22 @@ bool is_valid_surface(const TriangleMesh& mesh, const std::string& path) {
   }
 }
 
+/// Budgets whose name (and unit) changed: a scenario that uses the old name
+/// still loads, its limit converted, with a warning.
+struct RenamedBudget {
+  std::string_view old_name, new_name;
+  double scale;  ///< new limit = old limit × scale
+};
+constexpr RenamedBudget kRenamedBudgets[] = {
+    {"max_penetration_m", "max_penetration_mm", 1e3},
+    {"penetration_rms_m", "penetration_rms_mm", 1e3},
+    {"device_penetration_max_m", "device_penetration_max_mm", 1e3},
+    {"limit_cycle_amplitude_m", "limit_cycle_amplitude_mm", 1e3},
+    {"proxy_chatter_m", "proxy_chatter_mm", 1e3},
+    {"passivity_energy_min_j", "passivity_energy_min_mj", 1e3},
+    {"display_energy_min_j", "display_energy_min_mj", 1e3},
+};
+
 std::string range_warning(const PlausibleRange& range, double value) {
   std::ostringstream text;
   text << range.pointer << ": " << value << " " << range.unit << " is outside the plausible range ["
@@ -247,6 +263,7 @@ class ScenarioReader {
       scenario.warnings.push_back(std::move(warning));
     scenario.warnings.insert(scenario.warnings.end(), trace_warnings_.begin(),
                              trace_warnings_.end());
+    scenario.warnings.insert(scenario.warnings.end(), load_warnings_.begin(), load_warnings_.end());
     scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
                              unchecked_algorithms_.end());
     scenario.content_hash = scenario_hash_.hex();
@@ -834,15 +851,32 @@ class ScenarioReader {
     return reference;
   }
 
-  std::vector<Budget> read_budgets(const JsonField& field) const {
+  std::vector<Budget> read_budgets(const JsonField& field) {
     field.require_object("expected an object {budget name: limit}");
-    const std::vector<std::string>& names = known_budget_names();
-    field.reject_unknown_keys(std::vector<std::string_view>(names.begin(), names.end()), "budget");
+    std::vector<std::string_view> names;
+    for (const std::string& name : known_budget_names()) names.emplace_back(name);
+    for (const RenamedBudget& renamed : kRenamedBudgets) names.push_back(renamed.old_name);
+    field.reject_unknown_keys(names, "budget");
     std::vector<Budget> budgets;
     for (const auto& item : field.json().items()) {
-      const double limit =
-          field.existing_member(item.key()).number("expected the budget's limit, a finite number");
-      budgets.push_back({item.key(), limit});
+      const JsonField entry = field.existing_member(item.key());
+      double limit = entry.number("expected the budget's limit, a finite number");
+      std::string name = item.key();
+      for (const RenamedBudget& renamed : kRenamedBudgets)
+        if (name == renamed.old_name) {
+          // Read in the old unit, kept in the new one; the file should say so.
+          limit *= renamed.scale;
+          name = renamed.new_name;
+          std::ostringstream text;
+          text << entry.pointer() << ": the budget " << renamed.old_name << " is now " << name
+               << " (one unit per quantity: the console's and the report's); read as \"" << name
+               << "\": " << limit;
+          load_warnings_.push_back(text.str());
+        }
+      for (const Budget& earlier : budgets)
+        if (earlier.name == name)
+          entry.fail_with("the budget " + name + " is given twice (under its old name too)");
+      budgets.push_back({name, limit});
     }
     return budgets;
   }
@@ -897,7 +931,9 @@ class ScenarioReader {
   std::filesystem::path directory_;
   bool plugins_not_loaded_ = false;  // the plugin policy left a named plugin unloaded
   mutable std::vector<std::string> unchecked_algorithms_;  // warnings: algorithms left unchecked
-  std::vector<std::string> trace_warnings_;  // warnings: a trace implausible for a desk device
+  std::vector<std::string> trace_warnings_;
+  std::vector<std::string> load_warnings_;  // warnings: budgets under their old names  // warnings:
+                                            // a trace implausible for a desk device
   ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
 };
 

@@ -156,7 +156,7 @@ std::vector<SweepTableRow> sweep_table_rows(const SweepSpec& spec,
       row.label =
           run.contains("label") && run["label"].is_string() ? run["label"].get<std::string>() : "?";
       row.force_err_rms_n = metric_value(run, "force_err_rms_n", 1);
-      row.penetration_max_mm = metric_value(run, "max_penetration_m", 1e3);
+      row.penetration_max_mm = metric_value(run, "max_penetration_mm", 1e3);
       row.step_p50_us = metric_value(run, "tick_p50_us", 1e-3);
       row.step_p99_us = metric_value(run, "tick_p99_us", 1e-3);
       row.stability = stability_cell(run);

@@ -574,7 +574,8 @@ def passivity_figure(runs):
     if len(shown) > MAX_PASSIVITY_BARS:
         shown = sorted(shown, key=lambda r: r.summary["stability"]["passivity_energy_min_j"])
         shown = shown[:MAX_PASSIVITY_BARS]
-    energies = [run.summary["stability"]["passivity_energy_min_j"] for run in shown]
+    # In mJ, as the console and the budget passivity_energy_min_mj give it.
+    energies = [run.summary["stability"]["passivity_energy_min_j"] * 1e3 for run in shown]
     diverged = [dig(run.summary, "stability", "diverged") is True for run in shown]
     fig = Figure(figsize=(10, 1.2 + 0.24 * len(shown)))
     ax = fig.subplots()
@@ -582,7 +583,7 @@ def passivity_figure(runs):
     colours = ["#c62828" if e < 0 else "#2e7d32" for e in energies]
     ax.barh(positions, energies, color=colours, height=0.7)
     for position, energy, is_diverged in zip(positions, energies, diverged):
-        text = "%.3g J%s" % (energy, "  diverged" if is_diverged else "")
+        text = "%.3g mJ%s" % (energy, "  diverged" if is_diverged else "")
         ax.annotate(text, (0, position), textcoords="offset points",
                     xytext=(4 if energy >= 0 else -4, -3), fontsize=7,
                     ha="left" if energy >= 0 else "right")
@@ -594,7 +595,7 @@ def passivity_figure(runs):
     span = max(nonzero) if nonzero else 1e-6
     ax.set_xlim(-span * 30, span * 30)
     ax.axvline(0, color="black", lw=0.8)
-    ax.set_xlabel("passivity_energy_min_j (J), symmetric log scale; below 0 the rendering "
+    ax.set_xlabel("passivity energy min (mJ), symmetric log scale; below 0 the rendering "
                   "gave energy away")
     ax.grid(True, axis="x", alpha=0.3)
     fig.tight_layout()

@@ -90,7 +90,22 @@ UNIT_DISPLAY = {"ns": ("µs", "%.2f", 1e-3), "m": ("mm", "%.3f", 1e3), "N": ("N"
 
 
 # A metric name's unit suffix, dropped from its column header (which names the unit once).
-UNIT_SUFFIXES = ("_n_per_m", "_j_per_s", "_us", "_ns", "_nm", "_deg", "_hz", "_m", "_n", "_j")
+UNIT_SUFFIXES = ("_n_per_m", "_j_per_s", "_us", "_ns", "_nm", "_deg", "_hz", "_mm", "_mj", "_m",
+                 "_n", "_j")
+
+# How a value in a metric's own unit (its name's: budget_unit) is written.
+UNIT_PATTERNS = {"µs": "%.2f", "mm": "%.3f", "mJ": "%.3g", "N": "%.4g", "ticks": "%d"}
+
+
+def display_unit(metric):
+    """(unit shown, printf pattern, scale from the summary's value) of a metric: the unit of
+    its name, as budgets and the console give it (the metric table's budget_unit and
+    budget_scale), else the summary's unit mapped as UNIT_DISPLAY says."""
+    unit = metric.get("budget_unit")
+    scale = metric.get("budget_scale")
+    if isinstance(unit, str) and unit and isinstance(scale, (int, float)):
+        return unit, UNIT_PATTERNS.get(unit, "%.4g"), float(scale)
+    return UNIT_DISPLAY.get(metric["unit"], (metric["unit"], "%.4g", 1.0))
 
 
 HEADER_WORDS = {"err": "error", "rms": "RMS", "dir": "direction", "cpu": "CPU",
@@ -103,7 +118,7 @@ def metric_header(metric):
     name = str(metric["name"])
     suffix = next((s for s in UNIT_SUFFIXES if name.endswith(s)), "")
     words = [HEADER_WORDS.get(w, w) for w in name[:len(name) - len(suffix)].split("_") if w]
-    unit = UNIT_DISPLAY.get(metric["unit"], (metric["unit"],))[0]
+    unit = display_unit(metric)[0]
     if not unit or unit == "flag" or words[-1:] == [unit]:
         return " ".join(words)
     return "%s (%s)" % (" ".join(words), unit)
@@ -124,7 +139,7 @@ def metric_cell(metric, value):
     if metric["unit"] == "flag":
         return ('<td class="%s">%s</td>' % ("fail" if value else "pass", "yes" if value else "no")
                 if isinstance(value, bool) else '<td class="na">—</td>')
-    _, pattern, scale = UNIT_DISPLAY.get(metric["unit"], ("", "%.4g", 1.0))
+    _, pattern, scale = display_unit(metric)
     css = ""
     if finite_number(value):
         if metric["unit"] == "ticks" and value > 0:

@@ -169,7 +169,7 @@ TEST_CASE("a 20 percent worse force error fails the gate and the table names it"
   CHECK(hb::test::run_hapticbench(
             "compare baseline candidate --gate --no-timing --tolerances tolerances.json", work)
             .exit_code == 0);
-  std::ofstream(work / "other.json") << R"({"max_penetration_m": 0.5})";
+  std::ofstream(work / "other.json") << R"({"max_penetration_mm": 0.5})";
   CHECK(hb::test::run_hapticbench(
             "compare baseline candidate --gate --no-timing --tolerances other.json", work)
             .exit_code == 1);

@@ -246,9 +246,12 @@ TEST_CASE("passivity energy is the held wrench's work at the device port") {
   CHECK(m.stability.passivity_energy_final_j == Approx(-99 * 2 * 0.1e-3));
   CHECK(m.stability.passivity_energy_min_j == Approx(m.stability.passivity_energy_final_j));
   CHECK(m.stability.force_jump_max_n == 0);
-  CHECK(budget_is_lower_bound("passivity_energy_min_j"));
-  CHECK_FALSE(evaluate_budget("passivity_energy_min_j", 0.0, m).pass);
-  CHECK(evaluate_budget("passivity_energy_min_j", -1.0, m).pass);
+  CHECK(budget_is_lower_bound("passivity_energy_min_mj"));
+  // The budget is in mJ, the summary's field in J: -19.8 mJ.
+  CHECK(*evaluate_budget("passivity_energy_min_mj", 0.0, m).value == Approx(-19.8));
+  CHECK_FALSE(evaluate_budget("passivity_energy_min_mj", 0.0, m).pass);
+  CHECK_FALSE(evaluate_budget("passivity_energy_min_mj", -10.0, m).pass);
+  CHECK(evaluate_budget("passivity_energy_min_mj", -20.0, m).pass);
 }
 
 TEST_CASE("non-finite wrenches are counted and treated as zero, divergence is flagged") {

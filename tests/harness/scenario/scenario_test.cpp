@@ -224,8 +224,8 @@ TEST_CASE("a scenario with mesh files and a trace file loads, paths relative to 
   REQUIRE(scenario.budgets.size() == 4);
   CHECK(scenario.budgets[0].name == "tick_p99_us");
   CHECK(scenario.budgets[0].limit == 1000);
-  CHECK(scenario.budgets[1].name == "max_penetration_m");
-  CHECK(scenario.budgets[1].limit == 0.002);
+  CHECK(scenario.budgets[1].name == "max_penetration_mm");
+  CHECK(scenario.budgets[1].limit == 2);
   CHECK(scenario.budgets[2].name == "force_dir_err_deg");
   CHECK(scenario.budgets[3].name == "nonfinite");
 }
@@ -649,10 +649,34 @@ TEST_CASE("budget names are the documented set") {
   // ...among them the ones scenarios in the wild use.
   for (const char* name :
        {"tick_p50_us", "tick_p99_us", "tick_p999_us", "tick_max_us", "cpu_per_tick_p99_us",
-        "cpu_per_tick_mean_us", "over_budget_ticks", "max_penetration_m", "penetration_rms_m",
+        "cpu_per_tick_mean_us", "over_budget_ticks", "max_penetration_mm", "penetration_rms_mm",
         "force_err_rms_n", "force_dir_err_deg", "torque_err_rms_nm", "nonfinite",
-        "force_jump_max_n", "free_space_force_max_n", "passivity_energy_min_j", "diverged"})
+        "force_jump_max_n", "free_space_force_max_n", "passivity_energy_min_mj", "diverged"})
     CHECK(std::find(names.begin(), names.end(), name) != names.end());
+}
+
+TEST_CASE("a budget under its earlier name in m or J loads converted, with a warning") {
+  ScratchDir dir;
+  Json scenario = valid_generated_scenario();
+  scenario["budgets"] = Json{{"max_penetration_m", 0.002}, {"passivity_energy_min_j", -0.001}};
+  const Scenario loaded = load_scenario(dir.write("old_names.json", scenario.dump()));
+  REQUIRE(loaded.budgets.size() == 2);
+  CHECK(loaded.budgets[0].name == "max_penetration_mm");
+  CHECK(loaded.budgets[0].limit == Approx(2.0));
+  CHECK(loaded.budgets[1].name == "passivity_energy_min_mj");
+  CHECK(loaded.budgets[1].limit == Approx(-1.0));
+  const auto warned =
+      std::find_if(loaded.warnings.begin(), loaded.warnings.end(), [](const std::string& w) {
+        return w.find(
+                   "/budgets/max_penetration_m: the budget "
+                   "max_penetration_m is now "
+                   "max_penetration_mm") == 0;
+      });
+  CHECK(warned != loaded.warnings.end());
+  // Both spellings of one budget: which limit holds would be a guess.
+  scenario["budgets"] = Json{{"max_penetration_m", 0.002}, {"max_penetration_mm", 3}};
+  const Rejection twice = rejection_of_text(scenario.dump());
+  CHECK(twice.what.find("given twice") != std::string::npos);
 }
 
 }  // namespace
