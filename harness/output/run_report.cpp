@@ -329,6 +329,30 @@ bool ScenarioRun::all_budgets_pass() const {
   return true;
 }
 
+namespace {
+json vec3_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json outline_json(const ObjectOutline& outline) {
+  return {{"name", outline.name},
+          {"type", outline.type},
+          {"min", vec3_json(outline.min)},
+          {"max", vec3_json(outline.max)},
+          {"distance_only", outline.distance_only}};
+}
+
+// The scene's and the tool's bounds, for the report's picture; null
+// without them.
+json outline_json(const ScenarioRun& run) {
+  if (run.scene_outline.empty() || !run.tool_outline) return nullptr;
+  json scene = json::array();
+  for (const ObjectOutline& object : run.scene_outline) scene.push_back(outline_json(object));
+  json tool = outline_json(*run.tool_outline);
+  tool.erase("distance_only");
+  tool.erase("name");
+  return {{"scene", scene}, {"tool", tool}};
+}
+}  // namespace
+
 json summary_json(const ScenarioRun& run) {
   json runs = json::array();
   for (const AlgorithmRun& r : run.runs) runs.push_back(run_json(r));
@@ -361,6 +385,7 @@ json summary_json(const ScenarioRun& run) {
            {{"name", run.scenario_name},
             {"path", run.scenario_path},
             {"description", run.scenario_description},
+            {"outline", outline_json(run)},
             {"hash", run.scenario_hash},
             {"trace", run.trace_description},
             {"scene_friction", run.scene_friction},

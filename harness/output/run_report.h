@@ -117,12 +117,24 @@ struct OracleDescription {
   double build_seconds = 0;
 };
 
+/// A scene object or the tool as the report draws it: its bounds.
+struct ObjectOutline {
+  std::string name;
+  std::string type;  ///< "box", "sphere", "capsule", "box_with_hole" or "mesh"
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();  ///< m: world frame (scene), tool frame (tool)
+  bool distance_only = false;
+};
+
 struct ScenarioRun {
   std::string scenario_name;
   std::string scenario_path;
   std::string scenario_hash;
   std::string trace_description;
   std::string scenario_description;  ///< the scenario's "description" ("" when absent)
+  /// Where things are, for the report's picture of the scene: each scene
+  /// object's world-frame bounds (m), and the tool's in its own frame.
+  std::vector<ObjectOutline> scene_outline;
+  std::optional<ObjectOutline> tool_outline;
   std::vector<double> scene_friction;  ///< Coulomb μ of each scene object, in scene order
   std::vector<std::string> tags;       ///< the scenario's tags
   CouplingGains coupling;              ///< the scenario's virtual coupling

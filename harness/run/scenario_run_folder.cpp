@@ -15,6 +15,7 @@ bool write_scenario_run_folder(const std::filesystem::path& folder, const Scenar
   }
   staged.write_file("summary.json", summary_json(outcome.report).dump(2) + "\n");
   staged.write_file("junit.xml", junit_xml(outcome.report));
+  if (!outcome.intent_csv.empty()) staged.write_file("intent.csv", outcome.intent_csv);
   for (const RunFolderFile& file : extra_files) staged.write_file(file.name, file.content);
   return staged.commit();
 }

@@ -11,10 +11,12 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string_view>
 
 #include "algorithms/registry.h"
 #include "hapticbench/input_error.h"
+#include "hapticbench/shapes.h"
 #include "harness/metrics/budgets.h"
 #include "harness/metrics/spill_buffer.h"
 #include "harness/output/ticks_csv.h"
@@ -222,6 +224,21 @@ std::optional<std::string> never_reached_warning(const ScenarioRun& report) {
          "the trace may never reach the scene, so the run measured free space only";
 }
 
+// The operator's intent in closed loop (the trace), every 10th tick, for
+// the report's device-against-intent figure: "t_s,px,py,pz" (s, m, world).
+std::string intent_csv(const DeviceTrajectory& trajectory) {
+  constexpr int64_t kEvery = 10;
+  std::ostringstream out;
+  out.precision(9);
+  out << "t_s,px,py,pz\n";
+  for (int64_t tick = 0; tick < trajectory.ticks(); tick += kEvery) {
+    const DeviceSample sample = trajectory.at(tick);
+    out << static_cast<double>(sample.t_ns) * 1e-9 << "," << sample.pose.p.x() << ","
+        << sample.pose.p.y() << "," << sample.pose.p.z() << "\n";
+  }
+  return out.str();
+}
+
 // What summary.json says of the scenario and its ground truth, before any run.
 ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) {
   ScenarioRun report;
@@ -230,6 +247,19 @@ ScenarioRun scenario_report(const Scenario& scenario, const GroundTruth& truth) 
   report.scenario_hash = scenario.content_hash;
   report.trace_description = scenario.trace_description;
   report.scenario_description = scenario.description;
+  for (const SceneObject& object : scenario.context.scene) {
+    Eigen::AlignedBox3d bounds;
+    for (const Vec3& vertex : object.mesh.vertices)
+      bounds.extend(object.pose.transform_point(vertex));
+    report.scene_outline.push_back({object.name,
+                                    object.shape ? shape_type_name(object.shape->type) : "mesh",
+                                    bounds.min(), bounds.max(), object.distance_only});
+  }
+  const Tool& tool = scenario.context.tool;
+  const Eigen::AlignedBox3d tool_bounds = tool.mesh.bounds();
+  report.tool_outline =
+      ObjectOutline{"tool", tool.shape ? shape_type_name(tool.shape->type) : "mesh",
+                    tool_bounds.min(), tool_bounds.max(), false};
   for (const SceneObject& object : scenario.context.scene)
     report.scene_friction.push_back(object.friction);
   report.tags = scenario.tags;
@@ -341,6 +371,7 @@ ScenarioOutcome run_prepared(PreparedScenario& prepared, const RunOptions& optio
   GroundTruth& truth = prepared.truth;
   ScenarioOutcome outcome;
   outcome.report = scenario_report(scenario, truth);
+  if (scenario.closed_loop) outcome.intent_csv = intent_csv(scenario.trajectory);
   const MetricsSettings metrics_settings = metrics_settings_for(scenario);
   outcome.scratch = std::make_unique<ScratchFolder>("hapticbench-run");
 

@@ -102,6 +102,8 @@ struct ScenarioOutcome {
   std::unique_ptr<ScratchFolder> scratch;
   std::vector<std::filesystem::path> ticks_files;  ///< in scratch, parallel to report.runs
   std::vector<std::string> schedule_csv;           ///< parallel; empty without a slow loop
+  /// Closed loop: the operator's intent every 10th tick (intent.csv); empty otherwise.
+  std::string intent_csv;
 };
 
 /// Replays every prepared algorithm and evaluates metrics and budgets:

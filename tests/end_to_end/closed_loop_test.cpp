@@ -4,6 +4,7 @@
 // coupling damping): one axis of a sampled virtual wall. The stability
 // command finds the display's passivity limit and the exact stability
 // limit of the sampled closed loop, both computed here from the model.
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -260,6 +261,19 @@ TEST_CASE("closed loop: a run in a limit cycle fails the command unless its labe
   CHECK(unexpected.stdout_text.find("UNSTABLE: ") != std::string::npos);
   const std::string junit = hb::test::read_text_file(work / "plain/junit.xml");
   CHECK(junit.find("name=\"stability\"><failure message=\"unstable: ") != std::string::npos);
+
+  // For the report: the intent every 10th tick beside the device's ticks,
+  // and the scene's and the tool's bounds in the summary.
+  const std::string intent = hb::test::read_text_file(work / "plain/intent.csv");
+  CHECK(intent.rfind("t_s,px,py,pz\n0,", 0) == 0);
+  const std::size_t ticks = run.at("timing").at("ticks").get<std::size_t>();
+  CHECK(static_cast<std::size_t>(std::count(intent.begin(), intent.end(), '\n')) ==
+        1 + (ticks + 9) / 10);
+  const json outline = json::parse(hb::test::read_text_file(work / "plain/summary.json"))
+                           .at("scenario")
+                           .at("outline");
+  CHECK(outline.at("scene").at(0).at("type") == "box");
+  CHECK(outline.at("tool").at("max").at(2).get<double>() > 0);
 
   // Expected on the command line, or by the scenario: exit 0, still said.
   const hb::test::CommandResult flagged =
