@@ -24,22 +24,6 @@ namespace {
 
 const char* better_text(Better better) { return better == Better::kLower ? "lower" : "higher"; }
 
-const char* compare_text(CompareRule rule) {
-  switch (rule) {
-    case CompareRule::kTolerance:
-      return "tolerance";
-    case CompareRule::kCount:
-      return "any increase";
-    case CompareRule::kFlag:
-      return "false -> true";
-    case CompareRule::kGeneratedEnergy:
-      return "tolerance below zero";
-    case CompareRule::kNone:
-      break;
-  }
-  return "-";
-}
-
 void print_metric_table(std::ostream& out) {
   out << "| metric (budget name) | unit (budget, console, report) | summary.json, in a run | "
          "its unit | better | budget | compare | what it is |\n"
@@ -48,8 +32,8 @@ void print_metric_table(std::ostream& out) {
     const std::string_view unit = m.budget_unit.empty() ? m.unit : m.budget_unit;
     out << "| `" << m.name << "` | " << unit << " | `" << m.json_pointer << "` | " << m.unit
         << " | " << better_text(m.better) << " | " << (m.budget ? "yes" : "-") << " | "
-        << compare_text(m.compare) << (m.compare_when_present ? " (when present)" : "") << " | "
-        << m.description << " |\n";
+        << compare_rule_meaning(m.compare) << (m.compare_when_present ? " (when present)" : "")
+        << " | " << m.description << " |\n";
   }
 }
 

@@ -432,22 +432,28 @@ const MetricDefinition* find_metric(std::string_view name) {
 }
 
 namespace {
-const char* compare_rule_name(CompareRule rule) {
-  switch (rule) {
-    case CompareRule::kTolerance:
-      return "tolerance";
-    case CompareRule::kCount:
-      return "count";
-    case CompareRule::kFlag:
-      return "flag";
-    case CompareRule::kGeneratedEnergy:
-      return "generated_energy";
-    case CompareRule::kNone:
-      break;
-  }
-  return "none";
+/// Each rule's name for data and its meaning for people, by rule.
+struct CompareRuleText {
+  CompareRule rule;
+  const char* name;
+  const char* meaning;
+};
+constexpr CompareRuleText kCompareRuleTexts[] = {
+    {CompareRule::kNone, "none", "-"},
+    {CompareRule::kTolerance, "tolerance", "tolerance"},
+    {CompareRule::kCount, "count", "any increase"},
+    {CompareRule::kFlag, "flag", "false -> true"},
+    {CompareRule::kGeneratedEnergy, "generated_energy", "tolerance below zero"},
+};
+const CompareRuleText& compare_rule_text(CompareRule rule) {
+  for (const CompareRuleText& text : kCompareRuleTexts)
+    if (text.rule == rule) return text;
+  return kCompareRuleTexts[0];
 }
 }  // namespace
+
+const char* compare_rule_name(CompareRule rule) { return compare_rule_text(rule).name; }
+const char* compare_rule_meaning(CompareRule rule) { return compare_rule_text(rule).meaning; }
 
 nlohmann::json metric_table_json() {
   nlohmann::json table = nlohmann::json::array();

@@ -69,6 +69,11 @@ struct MetricDefinition {
   std::string_view counted_as;
 };
 
+/// A compare rule's name in data ("tolerance", "count", "flag",
+/// "generated_energy", "none") and its meaning for people ("any increase", ...).
+const char* compare_rule_name(CompareRule rule);
+const char* compare_rule_meaning(CompareRule rule);
+
 /// Every metric, in the order summaries, tables and comparisons list them.
 std::span<const MetricDefinition> metric_table();
 
