@@ -10,10 +10,13 @@ and by cost per scenario, then has a summary table per scenario and label,
 error against tick time (Pareto front) per scenario, each sweep's jobs as a
 sweep (one panel per base scenario, metrics against the swept values, a
 table across the jobs, in numeric order), passivity and stiffness-sweep
-stability figures, and per scenario its description and parameters, the
-displayed force and torque against time (with the analytic or mesh force
-reference when there is one), penetration against time (with each oracle
-backend's column when present) and the distribution of step times.
+stability figures, and per scenario its description and parameters, a
+picture of the scene with the device's path (when summary.json has
+scenario.outline), in closed loop the device against the operator's intent
+(intent.csv), the displayed force and torque against time (with the
+analytic or mesh force reference when there is one), penetration against
+time (with each oracle backend's column when present) and the distribution
+of step times.
 
 With --history DIR (a history folder of `hapticbench history add`: history.json
 and the summaries of each stored commit) a History section follows the

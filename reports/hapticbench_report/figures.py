@@ -1,7 +1,9 @@
-"""The report's figures, each an inline PNG: force, torque and penetration
-against time, step times, the error-against-cost Pareto panels (a sweep's
-jobs in one panel per scenario), passivity, the coupling-stiffness sweeps
-and the Z-width maps. Every figure draws a label in the same colour."""
+"""The report's figures, each an inline PNG: the scene with the device's
+path, in closed loop the device against the operator's intent, force,
+torque and penetration against time, step times, the error-against-cost
+Pareto panels (a sweep's jobs in one panel per scenario), passivity, the
+coupling-stiffness sweeps and the Z-width maps. Every figure draws a label
+in the same colour."""
 import base64
 import io
 import json
@@ -919,4 +921,285 @@ def history_figure(history, scenario, moves):
                                              "" if len(entries) == 1 else "s"), fontsize=11)
     fig.subplots_adjust(left=0.6 / fig.get_figwidth(), right=1 - legend_in / fig.get_figwidth(),
                         top=0.84, bottom=0.2, wspace=0.3)
+    return png_data_uri(fig)
+
+
+# The scene figure draws the device's path from at most this many points.
+MAX_PATH_POINTS = 400
+
+
+# The scene figure zooms to the motion (the path and the tool at its start and deepest
+# poses) when the scene and the motion together span more than this many times the
+# motion's own extent; the zoomed view adds this share of the motion's extent each side.
+ZOOM_RATIO = 4.0
+
+
+ZOOM_MARGIN = 0.3
+
+
+# The scene figure's panels: (title, horizontal axis, vertical axis), 0 1 2 = x y z.
+SCENE_VIEWS = (("side view (x–z)", 0, 2), ("top view (x–y)", 0, 1))
+
+
+def quaternion_matrix(w, x, y, z):
+    """The rotation matrix of a quaternion (normalised here; a zero one is the identity)."""
+    norm = math.sqrt(w * w + x * x + y * y + z * z)
+    if not math.isfinite(norm) or norm == 0:
+        return np.eye(3)
+    w, x, y, z = w / norm, x / norm, y / norm, z / norm
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def box_corners(lo, hi):
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    return np.array([[(lo, hi)[i >> k & 1][k] for k in range(3)] for i in range(8)])
+
+
+class DevicePath:
+    """The device's tool-frame origin along a run (m, world frame, from the ticks'
+    dev_p* columns) and its orientation (dev_q*, else none), with the start and the
+    deepest (lowest z) tick."""
+
+    def __init__(self, run):
+        ticks = run.ticks
+        self.run = run
+        self.position = np.column_stack([ticks["dev_px"], ticks["dev_py"], ticks["dev_pz"]])
+        finite = np.isfinite(self.position).all(axis=1)
+        self.position = self.position[finite]
+        quaternion = [ticks.get(name) for name in ("dev_qw", "dev_qx", "dev_qy", "dev_qz")]
+        self.orientation = (np.column_stack(quaternion)[finite]
+                            if all(q is not None for q in quaternion) else None)
+        self.deepest = int(np.argmin(self.position[:, 2]))
+
+    @staticmethod
+    def of(runs):
+        """The path of the first label whose ticks have the device's position, or None."""
+        for run in runs:
+            if run.ticks is not None and all(c in run.ticks for c in ("dev_px", "dev_py",
+                                                                       "dev_pz")):
+                path = DevicePath(run)
+                if len(path.position):
+                    return path
+        return None
+
+    def shown(self):
+        """At most MAX_PATH_POINTS points, evenly spaced, with the first, last and deepest."""
+        n = len(self.position)
+        keep = np.unique(np.concatenate([np.linspace(0, n - 1, min(n, MAX_PATH_POINTS))
+                                         .round().astype(int), [self.deepest]]))
+        return self.position[keep]
+
+    def rotation(self, index):
+        if self.orientation is None:
+            return np.eye(3)
+        return quaternion_matrix(*self.orientation[index])
+
+    def rotated(self, index):
+        return not np.allclose(self.rotation(index), np.eye(3), atol=1e-6)
+
+    def tool_centre(self, tool, index):
+        """The centre of the tool's bounds at the path's tick `index` (m, world frame)."""
+        centre = (np.asarray(tool["min"], dtype=float) + np.asarray(tool["max"], dtype=float)) / 2
+        return self.rotation(index) @ centre + self.position[index]
+
+    def tool_corners(self, tool, index):
+        """The corners of the tool's bounds at the path's tick `index` (m, world frame)."""
+        return (box_corners(tool["min"], tool["max"]) @ self.rotation(index).T
+                + self.position[index])
+
+
+def scene_view(outline, path):
+    """(lo, hi, zoomed): the box (m, world frame) the scene figure shows. The whole scene
+    with the motion (the path, the tool at its start and deepest poses), or, when that
+    spans more than ZOOM_RATIO times the motion's extent, the motion with a margin."""
+    boxes = [(np.asarray(o["min"], dtype=float), np.asarray(o["max"], dtype=float))
+             for o in outline["scene"]]
+    motion = None
+    if path is not None:
+        points = np.vstack([path.position, path.tool_corners(outline["tool"], 0),
+                            path.tool_corners(outline["tool"], path.deepest)])
+        motion = (points.min(axis=0), points.max(axis=0))
+        boxes.append(motion)
+    if not boxes:
+        return None
+    lo = np.min([b[0] for b in boxes], axis=0)
+    hi = np.max([b[1] for b in boxes], axis=0)
+    zoomed = False
+    if motion is not None:
+        extent = max(float(np.max(motion[1] - motion[0])), 1e-6)
+        if float(np.max(hi - lo)) > ZOOM_RATIO * extent:
+            lo, hi, zoomed = motion[0], motion[1], True
+        margin = ZOOM_MARGIN * extent if zoomed else 0.05 * float(np.max(hi - lo))
+    else:
+        margin = 0.05 * max(float(np.max(hi - lo)), 1e-6)
+    return lo - margin, hi + margin, zoomed
+
+
+def outline_patch(kind, lo, hi, **style):
+    """A scene object or the tool in one view, lo and hi its bounds there (mm): a circle
+    for a sphere, a rounded rectangle for a capsule, else the bounds' rectangle."""
+    from matplotlib.patches import Circle, FancyBboxPatch, Rectangle
+    width, height = hi[0] - lo[0], hi[1] - lo[1]
+    if kind == "sphere":
+        return Circle(((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2), max(width, height) / 2,
+                      **style)
+    if kind == "capsule" and min(width, height) > 0:
+        return FancyBboxPatch(tuple(lo), width, height, boxstyle="round,pad=0,rounding_size=%r"
+                              % (min(width, height) / 2), **style)
+    return Rectangle(tuple(lo), width, height, **style)
+
+
+def scene_figure(outline, runs):
+    """Side (x–z) and top (x–y) views of the scene in mm: each object's bounds (dashed:
+    distance only), the device's path from the first label with its ticks, and the
+    tool's bounds at the start and at the deepest point. Returns (uri, facts): facts has
+    "path_label" (None without ticks), "zoomed", "scene_extent_mm" and "rotated"
+    (the tool is turned at a pose drawn: its bounds' corners are drawn as their hull)."""
+    from matplotlib.patches import Polygon
+    path = DevicePath.of(runs)
+    view = scene_view(outline, path)
+    if view is None:
+        return None, None
+    lo, hi, zoomed = view
+    scene = outline["scene"]
+    if scene:
+        scene_lo = np.min([o["min"] for o in scene], axis=0)
+        scene_hi = np.max([o["max"] for o in scene], axis=0)
+    colour = LABEL_COLOURS.colour(path.run.label) if path is not None else "black"
+    tool = outline["tool"]
+    fig = Figure(figsize=(11, 5.0))
+    axes = fig.subplots(1, 2)
+    rotated = False
+    for ax, (title, i, j) in zip(axes, SCENE_VIEWS):
+        for o in scene:
+            dashed = o.get("distance_only") is True
+            ax.add_patch(outline_patch(
+                o["type"], 1e3 * np.array([o["min"][i], o["min"][j]]),
+                1e3 * np.array([o["max"][i], o["max"][j]]), fc="none" if dashed else "#d9dde3",
+                ec="#555", lw=1.2, ls="--" if dashed else "-", zorder=1))
+            # Its name in the lower left corner of the part in view.
+            corner = [max(o["min"][k], lo[k]) for k in (i, j)]
+            if len(scene) <= 8 and all(c < min(o["max"][k], hi[k]) for k, c
+                                       in zip((i, j), corner)):
+                pad = 0.015 * (hi[i] - lo[i])
+                ax.text(1e3 * (corner[0] + pad), 1e3 * (corner[1] + pad),
+                        "%s (%s)" % (o.get("name", "?"), o["type"]), fontsize=7, color="#444",
+                        ha="left", va="bottom", zorder=2)
+        if path is not None:
+            points = 1e3 * path.shown()
+            ax.plot(points[:, i], points[:, j], color=colour, lw=1.4, zorder=4)
+            for index, style in ((0, dict(ls=":", lw=1.3)), (path.deepest, dict(ls="-", lw=1.6))):
+                if tool["type"] == "sphere":  # turning it changes nothing
+                    centre = 1e3 * path.tool_centre(tool, index)[[i, j]]
+                    radius = 1e3 * np.max(np.subtract(tool["max"], tool["min"])) / 2
+                    ax.add_patch(outline_patch("sphere", centre - radius, centre + radius,
+                                               fc="none", ec=colour, zorder=3, **style))
+                elif not path.rotated(index):
+                    corners = path.tool_corners(tool, index)
+                    ax.add_patch(outline_patch(
+                        tool["type"], 1e3 * corners.min(axis=0)[[i, j]],
+                        1e3 * corners.max(axis=0)[[i, j]], fc="none", ec=colour, zorder=3,
+                        **style))
+                else:  # turned: the hull of its bounds' corners in this view
+                    rotated = True
+                    hull = convex_hull(1e3 * path.tool_corners(tool, index)[:, [i, j]])
+                    ax.add_patch(Polygon(hull, closed=True, fc="none", ec=colour, zorder=3,
+                                         **style))
+            start, end, deepest = (1e3 * path.position[k] for k in (0, -1, path.deepest))
+            ax.plot(start[i], start[j], ls="none", marker="o", ms=10, mfc="white", mec="black",
+                    zorder=5)
+            ax.plot(deepest[i], deepest[j], ls="none", marker="v", ms=7, color=colour,
+                    mec="black", zorder=5)
+            ax.plot(end[i], end[j], ls="none", marker="s", ms=5, color="black", zorder=6)
+        ax.set_xlim(1e3 * lo[i], 1e3 * hi[i])
+        ax.set_ylim(1e3 * lo[j], 1e3 * hi[j])
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlabel("%s (mm)" % "xyz"[i])
+        ax.set_ylabel("%s (mm)" % "xyz"[j])
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, alpha=0.3)
+    handles = [Line2D([], [], color="#555", lw=6, alpha=0.3, label="scene object (bounds)")]
+    if any(o.get("distance_only") is True for o in scene):
+        handles.append(Line2D([], [], color="#555", ls="--", label="distance only"))
+    if path is not None:
+        handles += [Line2D([], [], color=colour, lw=1.4, label="path (%s)" % path.run.label),
+                    Line2D([], [], color=colour, ls=":", label="tool at the start"),
+                    Line2D([], [], color=colour, lw=1.6, label="tool at the deepest point"),
+                    Line2D([], [], ls="none", marker="o", mfc="white", mec="black", label="start"),
+                    Line2D([], [], ls="none", marker="v", color=colour, mec="black",
+                           label="deepest (lowest z)"),
+                    Line2D([], [], ls="none", marker="s", ms=5, color="black", label="end")]
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.81, 0.9), fontsize=8,
+               frameon=False)
+    fig.suptitle("the scene and the device's path" + (" (zoomed to the motion)" if zoomed
+                                                      else ""), fontsize=11)
+    fig.subplots_adjust(left=0.07, right=0.80, top=0.88, bottom=0.1, wspace=0.3)
+    facts = {"path_label": path.run.label if path is not None else None, "zoomed": zoomed,
+             "scene_extent_mm": (1e3 * (scene_hi - scene_lo)).tolist() if scene else None,
+             "rotated": rotated}
+    return png_data_uri(fig), facts
+
+
+def convex_hull(points):
+    """The convex hull of 2-D points, counter-clockwise (Andrew's monotone chain)."""
+    points = sorted(set(map(tuple, np.round(points, 9))))
+    if len(points) <= 2:
+        return np.array(points)
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    hull = []
+    for sequence in (points, points[::-1]):
+        chain = []
+        for p in sequence:
+            while len(chain) >= 2 and cross(chain[-2], chain[-1], p) <= 0:
+                chain.pop()
+            chain.append(p)
+        hull += chain[:-1]
+    return np.array(hull)
+
+
+def intent_figure(intent, runs):
+    """Closed loop: the intent's z (the trace), each label's device z and, thin, its
+    proxy's z against time (mm), and below each device's departure from the intent
+    (device z − intent z, the intent interpolated to the ticks). None without ticks
+    holding the device's position."""
+    shown = [run for run in runs if run.ticks is not None and "dev_pz" in run.ticks]
+    order = np.argsort(intent["t_s"], kind="stable")
+    t_intent, z_intent = intent["t_s"][order], intent["pz"][order]
+    ok = np.isfinite(t_intent) & np.isfinite(z_intent)
+    t_intent, z_intent = t_intent[ok], z_intent[ok]
+    if not shown or len(t_intent) == 0:
+        return None
+    fig = Figure(figsize=(10, 5.6))
+    position, departure = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    position.plot(t_intent, 1e3 * z_intent, color="black", lw=1.6, ls="--", zorder=5)
+    for run in shown:
+        colour = LABEL_COLOURS.colour(run.label)
+        t = run.ticks["t_ns"] * 1e-9
+        z = run.ticks["dev_pz"]
+        plot_series(position, t, 1e3 * z, color=colour, lw=1.3)
+        if "proxy_pz" in run.ticks:
+            plot_series(position, t, 1e3 * run.ticks["proxy_pz"], color=colour, lw=0.6,
+                        alpha=0.8)
+        plot_series(departure, t, 1e3 * (z - np.interp(t, t_intent, z_intent)), color=colour,
+                    lw=1.1)
+    departure.axhline(0, color="black", lw=0.8, ls="--")
+    handles = [Line2D([], [], color="black", lw=1.6, ls="--", label="intent (trace)")]
+    handles += [Line2D([], [], color=LABEL_COLOURS.colour(run.label), lw=2, label=run.label)
+                for run in shown]
+    handles += [Line2D([], [], color="grey", lw=1.3, label="device"),
+                Line2D([], [], color="grey", lw=0.6, label="proxy")]
+    position.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+                    frameon=False)
+    position.set_ylabel("z (mm)")
+    departure.set_ylabel("device z − intent z (mm)")
+    departure.set_xlabel("time (s)")
+    for ax in (position, departure):
+        ax.grid(True, alpha=0.3)
+    fig.suptitle("the device against the intent", fontsize=11)
+    fig.subplots_adjust(left=0.08, right=0.80, top=0.93, bottom=0.09, hspace=0.1)
     return png_data_uri(fig)

@@ -1,5 +1,5 @@
-"""Reading what the report draws: run folders (summary.json and the ticks
-logs), stability.json and zwidth.json results; bad input is a
+"""Reading what the report draws: run folders (summary.json, the ticks
+logs and in closed loop intent.csv), stability.json and zwidth.json results; bad input is a
 ReportInputError naming the file and the place in it. Also the progress
 lines `hapticbench report` shows."""
 import json
@@ -75,6 +75,16 @@ class RunFolder:
         self.scenario = str(dig(summary, "scenario", "name") or os.path.basename(path))
         self.slug = ""
         self.runs = [Run(self, run) for run in summary["runs"]]
+        # Closed loop only: the operator's intent (the trace) every few ticks.
+        intent_path = os.path.join(path, INTENT_FILE)
+        self.intent = (read_columns(intent_path, INTENT_COLUMNS, [])
+                       if os.path.isfile(intent_path) else None)
+
+    @property
+    def outline(self):
+        """summary.json's scenario.outline (read_summary checked its shape), or None."""
+        outline = dig(self.summary, "scenario", "outline")
+        return outline if isinstance(outline, dict) else None
 
 
 def read_json_object(path):
@@ -103,20 +113,64 @@ def read_summary(folder):
     for index, run in enumerate(summary["runs"]):
         if not isinstance(run, dict) or not isinstance(run.get("label"), str):
             raise ReportInputError(path, "/runs/%d/label" % index, "expected a string")
+    check_outline(path, dig(summary, "scenario", "outline"))
     return summary
+
+
+# The shapes an outline names; another name is drawn as its bounds, as a mesh.
+OUTLINE_TYPES = ("box", "sphere", "capsule", "box_with_hole", "mesh")
+
+
+def check_outline(path, outline):
+    """scenario.outline, when there is one (null: none), as hapticbench writes it: scene
+    objects and the tool, each with a type and min <= max bounds of three numbers."""
+    if outline is None:
+        return
+    where = "/scenario/outline"
+    if not isinstance(outline, dict):
+        raise ReportInputError(path, where, "expected an object or null")
+    if not isinstance(outline.get("scene"), list):
+        raise ReportInputError(path, where + "/scene", "expected an array of scene objects")
+    objects = [("%s/scene/%d" % (where, i), o) for i, o in enumerate(outline["scene"])]
+    for place, item in objects + [(where + "/tool", outline.get("tool"))]:
+        if not isinstance(item, dict):
+            raise ReportInputError(path, place, "expected an object")
+        if not isinstance(item.get("type"), str):
+            raise ReportInputError(path, place + "/type", "expected a string")
+        for key in ("min", "max"):
+            value = item.get(key)
+            if not (isinstance(value, list) and len(value) == 3
+                    and all(finite_number(v) for v in value)):
+                raise ReportInputError(path, "%s/%s" % (place, key),
+                                       "expected an array of three numbers (m)")
+        if any(lo > hi for lo, hi in zip(item["min"], item["max"])):
+            raise ReportInputError(path, place, "expected min <= max on every axis")
+        for key, kind, name in (("name", str, "a string"),
+                                ("distance_only", bool, "true or false")):
+            if key in item and not isinstance(item[key], kind):
+                raise ReportInputError(path, "%s/%s" % (place, key), "expected " + name)
 
 
 def read_ticks(path):
     """The plotted columns of a ticks CSV as float arrays (empty field -> NaN)."""
+    return read_columns(path, REQUIRED_TICKS_COLUMNS, OPTIONAL_TICKS_COLUMNS,
+                        BACKEND_PEN_SUFFIX)
+
+
+def read_columns(path, required, optional, optional_suffix=None):
+    """The required columns of a CSV and those of the optional ones (or ending with
+    optional_suffix) it has, as float arrays (empty field -> NaN); an optional column
+    with no number at all is left out."""
     with open(path, encoding="utf-8") as f:
         header = f.readline().rstrip("\r\n").split(",")
         index = {name: i for i, name in enumerate(header)}
-        missing = [name for name in REQUIRED_TICKS_COLUMNS if name not in index]
+        missing = [name for name in required if name not in index]
         if missing:
             raise ReportInputError(path, "line 1", "expected columns %s in the header"
                                    % ", ".join(missing))
-        optional = OPTIONAL_TICKS_COLUMNS + [c for c in header if c.endswith(BACKEND_PEN_SUFFIX)]
-        wanted = REQUIRED_TICKS_COLUMNS + [c for c in optional if c in index]
+        optional = list(optional) + [c for c in header if optional_suffix
+                                     and c.endswith(optional_suffix)]
+        wanted = list(required) + [c for c in dict.fromkeys(optional) if c in index]
         positions = [index[name] for name in wanted]
         rows = []
         for line_number, line in enumerate(f, start=2):
@@ -133,7 +187,7 @@ def read_ticks(path):
                                        "expected a number, got \"%s\"" % fields[index[bad]])
     table = np.asarray(rows, dtype=float).reshape(len(rows), len(wanted))
     columns = {name: table[:, i] for i, name in enumerate(wanted)}
-    for name in wanted[len(REQUIRED_TICKS_COLUMNS):]:  # empty fields say "not measured"
+    for name in wanted[len(required):]:  # empty fields say "not measured"
         if not np.isfinite(columns[name]).any():
             del columns[name]
     return columns
@@ -275,7 +329,19 @@ class Progress:
 REQUIRED_TICKS_COLUMNS = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "step_ns"]
 
 
-OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz"]
+# The device's pose (the tool frame's origin and orientation) and the proxy's position,
+# drawn in the scene figure and, in closed loop, against the intent.
+OPTIONAL_TICKS_COLUMNS = ["ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz",
+                          "dev_px", "dev_py", "dev_pz", "dev_qw", "dev_qx", "dev_qy", "dev_qz",
+                          "proxy_px", "proxy_py", "proxy_pz"]
+
+
+# A closed-loop run folder's intent: the operator's (the trace's) position every
+# few ticks, s and m, world frame.
+INTENT_FILE = "intent.csv"
+
+
+INTENT_COLUMNS = ["t_s", "px", "py", "pz"]
 
 
 # Each oracle backend's penetration column is "<backend>_pen_m" (the backends

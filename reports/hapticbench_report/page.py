@@ -13,9 +13,9 @@ from .inputs import (
     Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result,
     reference_wording)
 from .figures import (
-    LABEL_COLOURS, history_figure, pareto_figure, parameter_label, passivity_figure, penetration_figure,
-    stiffness_limits, stiffness_sweeps, stiffness_text, sweep_figure, sweep_metrics_figure,
-    timing_figure, wrench_figure)
+    LABEL_COLOURS, history_figure, intent_figure, pareto_figure, parameter_label,
+    passivity_figure, penetration_figure, scene_figure, stiffness_limits, stiffness_sweeps,
+    stiffness_text, sweep_figure, sweep_metrics_figure, timing_figure, wrench_figure)
 from .history import (
     INSTRUCTIONS_SHARE, RELATIVE_TOLERANCE, STEP_TIME_RATIO, read_history, value_text as
     history_value_text)
@@ -41,6 +41,8 @@ def scenario_section(folder):
         facts.append("hash <code>%s</code>" % esc(s["hash"]))
     parts.append('<p class="small">%s</p>' % "; ".join(facts))
     parts.append(scenario_parameters_html(folder))
+    parts.append(scene_html(folder))
+    parts.append(intent_html(folder))
     missing = [run for run in runs if run.ticks is None]
     if missing:
         parts.append(note("No ticks CSV for %s (a summary-only run folder): no time series for "
@@ -88,6 +90,57 @@ def scenario_section(folder):
     parts.append(work_counters_html(folder))
     parts.append("</section>")
     return "".join(parts)
+
+
+def scene_html(folder):
+    """The scene figure when summary.json has scenario.outline (older summaries: none)."""
+    outline = dig(folder.summary, "scenario", "outline")
+    if not isinstance(outline, dict):
+        return ""
+    uri, facts = scene_figure(outline, folder.runs)
+    if uri is None:
+        return ""
+    caption = ["Where the trace goes: the side (x–z) and top (x–y) views of the scene in mm, "
+               "equal scales, each scene object as its world-frame bounds (a sphere as a "
+               "circle, a capsule as a rounded rectangle, a mesh or a box with a hole as its "
+               "bounding rectangle; dashed: distance only)."]
+    if facts["path_label"] is not None:
+        caption.append(
+            " The line is the device's tool-frame origin (<code>dev_p*</code> of "
+            "<code>%s</code>'s ticks), from the circle to the square; the tool's bounds are "
+            "drawn dotted at the start and solid at the deepest point (lowest z, the "
+            "triangle)%s." % (esc(facts["path_label"]),
+                              ", turned as the device holds it (the outline of its bounds' "
+                              "corners)" if facts["rotated"] else ""))
+        if getattr(folder, "intent", None) is not None:
+            caption.append(" In closed loop each label's device takes its own path (the "
+                           "next figure): this one is the first label's.")
+    else:
+        caption.append(" No ticks with the device's position: the scene alone.")
+    if facts["zoomed"]:
+        caption.append(" Zoomed to the motion with a margin: the scene spans %s mm."
+                       % " × ".join("%.0f" % v for v in facts["scene_extent_mm"]))
+    return figure_html("fig-scene-" + folder.slug, uri, "the scene and the device's path, "
+                       + folder.scenario, "".join(caption))
+
+
+def intent_html(folder):
+    """In closed loop (intent.csv in the run folder): each label's device against the
+    operator's intent."""
+    intent = getattr(folder, "intent", None)
+    if intent is None:
+        return ""
+    uri = intent_figure(intent, folder.runs)
+    if uri is None:
+        return note("Closed loop, but no ticks with the device's position "
+                    "(<code>dev_pz</code>): no figure of the device against the intent.")
+    return figure_html(
+        "fig-intent-" + folder.slug, uri, "the device against the intent, " + folder.scenario,
+        "Closed loop: the operator's intent (dashed, the trace, <code>intent.csv</code>), "
+        "each label's device (thick) and its proxy (thin) along z in mm against time; below, "
+        "how far each device departs from the intent (device z − intent z). In free space "
+        "the hand's spring–damper keeps the device near the intent; in contact the "
+        "displayed force pushes it back against the hand (<code>docs/closed-loop.md</code>).")
 
 
 def penetration_source(runs):

@@ -61,18 +61,51 @@ TICKS_HEADER = ["t_ns", "fx", "fy", "fz", "tx", "ty", "tz", "penetration_m", "st
                 "ref_fx", "ref_fy", "ref_fz", "ref_tx", "ref_ty", "ref_tz"]
 
 
-def write_run_folder(path, summary):
+# The device's and the proxy's position, as the ticks CSV of `hapticbench run` has them.
+POSE_HEADER = ["dev_px", "dev_py", "dev_pz", "proxy_px", "proxy_py", "proxy_pz"]
+
+
+def write_run_folder(path, summary, device=None, intent=None):
     """A run folder on disk: the summary.json given and, per run, a ticks CSV of a few
-    ticks with a force reference."""
+    ticks with a force reference (one tick per ms). device: the device's positions (m),
+    one (x, y, z) per tick, for every label (the proxy's 1 mm above); intent: (t_s, x, y,
+    z) rows of an intent.csv, as a closed-loop run writes it."""
     os.makedirs(path, exist_ok=True)
     with open(os.path.join(path, "summary.json"), "w", encoding="utf-8") as f:
         json.dump(dict(summary, schema_version=1), f)
+    positions = list(device) if device is not None else [None] * 5
     for run in summary["runs"]:
         with open(os.path.join(path, "ticks_%s.csv" % run["label"]), "w") as f:
-            f.write(",".join(TICKS_HEADER) + "\n")
-            for tick in range(5):
-                f.write("%d,0,0,%g,0,0,0,,900,0,0,%g,0,0,0\n" % (tick * 1000000, tick, tick))
+            f.write(",".join(TICKS_HEADER + (POSE_HEADER if device is not None else [])) + "\n")
+            for tick, p in enumerate(positions):
+                pose = ",%r,%r,%r,%r,%r,%r" % (*p, p[0], p[1], p[2] + 0.001) if p else ""
+                f.write("%d,0,0,%g,0,0,0,,900,0,0,%g,0,0,0%s\n"
+                        % (tick * 1000000, tick, tick, pose))
+    if intent is not None:
+        with open(os.path.join(path, "intent.csv"), "w") as f:
+            f.write("t_s,px,py,pz\n")
+            f.writelines("%r,%r,%r,%r\n" % tuple(row) for row in intent)
     return inputs.load_run_folder(path)
+
+
+def outline_object(kind, lo, hi, name="scene[0]", distance_only=False):
+    """A scene object of summary.json's scenario.outline: its world-frame bounds (m)."""
+    return {"name": name, "type": kind, "min": list(lo), "max": list(hi),
+            "distance_only": distance_only}
+
+
+def outline(scene, tool_half=0.01, tool_type="sphere"):
+    """summary.json's scenario.outline: the scene objects given and a tool whose bounds
+    span ± tool_half (m) about its frame's origin."""
+    return {"scene": list(scene), "tool": {"type": tool_type, "min": [-tool_half] * 3,
+                                           "max": [tool_half] * 3}}
+
+
+def press(start_z=0.03, depth=0.02, ticks=200):
+    """The device's positions of a press along -z from start_z, down by depth and back."""
+    half = ticks // 2
+    down = [start_z - depth * k / half for k in range(half)]
+    return [(0.0, 0.0, z) for z in down + down[::-1]]
 
 
 # The metric table entries a history's summaries carry (as `hapticbench run` writes them).

@@ -1,14 +1,17 @@
 """The report page: captions come from the metric table's own definitions, not from a
 second copy (the stability figure once described a same-tick observer the metric no longer
-is). Run by CTest with Debian's python3."""
+is); a scenario's section shows its scene when the summary outlines it and, in closed loop,
+the device against the intent. Run by CTest with Debian's python3."""
 import os
+import re
 import sys
 import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
 from hapticbench_report import page  # noqa: E402
-from fake_runs import FakeRun, write_run_folder  # noqa: E402
+from fake_runs import (  # noqa: E402
+    FakeRun, outline, outline_object, press, write_run_folder)
 
 TEMPLATE = os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports",
                         "report_template.html")
@@ -56,6 +59,69 @@ class ReferenceWordingTest(unittest.TestCase):
         self.assertIn("dashed: the ideal rigid contact (the analytic reference)", html)
         self.assertIn("errors are against the analytic reference", html)
         self.assertNotIn("mesh force reference)", html)
+
+
+class SceneSectionTest(unittest.TestCase):
+    """The scene figure (summary.json's scenario.outline) and the closed-loop figure
+    (intent.csv) are drawn when their data is there; a summary without them renders the
+    section as before."""
+
+    BOX = outline_object("box", [-0.2, -0.2, -0.02], [0.2, 0.2, 0.0])
+
+    def page(self, scenario_keys, intent=None, device=press()):
+        scratch = tempfile.TemporaryDirectory()
+        self.addCleanup(scratch.cleanup)
+        summary = {"scenario": dict(name="press", description="A sphere pressed into a box.",
+                                    **scenario_keys),
+                   "runs": [{"label": label, "algorithm": label,
+                             "timing": {"step_ns": {"p99": 1000}}}
+                            for label in ("god_object", "penalty")]}
+        folder = write_run_folder(os.path.join(scratch.name, "press"), summary, device, intent)
+        with open(TEMPLATE, encoding="utf-8") as f:
+            return page.render([folder], f.read(), [])
+
+    @staticmethod
+    def figures(html):
+        return re.findall(r'<img id="([^"]*)"', html)
+
+    def test_an_older_summary_renders_as_before(self):
+        for keys in ({}, {"outline": None}):
+            self.assertEqual(self.figures(self.page(keys)),
+                             ["fig-force-scenario-press", "fig-torque-scenario-press",
+                              "fig-timing-scenario-press"])
+
+    def test_an_outline_draws_the_scene_after_the_description(self):
+        html = self.page({"outline": outline([self.BOX], 0.02)})
+        self.assertEqual(self.figures(html)[0], "fig-scene-scenario-press")
+        self.assertLess(html.index("A sphere pressed into a box."),
+                        html.index('id="fig-scene-scenario-press"'))
+        self.assertIn("<code>god_object</code>'s ticks", html)
+        # A 400 mm box under a 20 mm press: zoomed, and the caption says so.
+        self.assertIn("Zoomed to the motion with a margin: the scene spans 400 × 400 × 20 mm.",
+                      html)
+        self.assertNotIn("fig-intent", html)  # open loop: no intent
+
+    def test_without_the_devices_position_the_scene_is_drawn_alone(self):
+        html = self.page({"outline": outline([self.BOX], 0.02)}, device=None)
+        self.assertIn('id="fig-scene-scenario-press"', html)
+        self.assertIn("No ticks with the device's position: the scene alone.", html)
+        self.assertNotIn("Zoomed", html)
+
+    def test_closed_loop_draws_the_device_against_the_intent(self):
+        intent = [(0.01 * k, 0.0, 0.0, 0.03 - 0.0002 * k) for k in range(20)]
+        html = self.page({"outline": outline([self.BOX], 0.02)}, intent=intent)
+        self.assertEqual(self.figures(html)[:2], ["fig-scene-scenario-press",
+                                                  "fig-intent-scenario-press"])
+        self.assertIn("device z − intent z", html)
+        self.assertIn("In closed loop each label's device takes its own path", html)
+        # The intent alone, without an outline, still draws its figure.
+        self.assertEqual(self.figures(self.page({}, intent=intent))[0],
+                         "fig-intent-scenario-press")
+
+    def test_an_intent_without_the_devices_position_is_a_note(self):
+        html = self.page({}, intent=[(0.0, 0.0, 0.0, 0.03)], device=None)
+        self.assertNotIn("fig-intent", html)
+        self.assertIn("no figure of the device against the intent", html)
 
 
 if __name__ == "__main__":
