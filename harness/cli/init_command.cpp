@@ -2,12 +2,14 @@
 // A scenario to start from: a scene object with its top face at z = 0, a
 // tool, a press aimed at the scene's top, the algorithms that can render
 // that pair, a reference and budgets, each section explained in comments.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "algorithms/core/replacing_file.h"
 #include "hapticbench/input_error.h"
@@ -39,7 +41,12 @@ struct Part {
   double centre_x = 0, centre_y = 0;  ///< middle of its extent in x and y (m)
   double press_x = 0;                 ///< where on the scene the press aims, x from the middle (m)
   bool mesh = false;
-  double extent_m = 0;  ///< largest side of its bounds (m)
+  double extent_m = 0;                  ///< largest side of its bounds (m)
+  double scale = 1;                     ///< mesh: metres per file unit chosen
+  double file_extent = 0;               ///< mesh: largest side of its bounds in file units
+  double half_x = 0, half_y = 0;        ///< half its extent in x and y (m)
+  std::optional<TriangleMesh> surface;  ///< a mesh scene, scaled: where the press lands
+  std::vector<Vec3> points;  ///< a mesh tool, scaled: up to 500 of its vertices (tool frame)
 };
 
 std::string number(double value) {
@@ -103,22 +110,41 @@ std::optional<double> top_at(const TriangleMesh& mesh, double x, double y) {
   return top;
 }
 
-Part mesh_part(const std::string& path, const fs::path& scenario_folder) {
-  const TriangleMesh mesh = read_mesh_file(path);
-  const Eigen::AlignedBox3d bounds = mesh.bounds();
+/// A mesh scene object or tool. Meshes come in any unit: one whose bounds
+/// are far from the size of such a part (a scene of 5 cm to 2 m, a tool of
+/// 5 mm to 20 cm) is scaled to `typical_m` across, and the scale is said.
+Part mesh_part(const std::string& path, const fs::path& scenario_folder, bool tool) {
+  const double typical_m = tool ? 0.03 : 0.2;
+  const double smallest_m = tool ? 0.005 : 0.05, largest_m = tool ? 0.2 : 2.0;
+  const TriangleMesh file_mesh = read_mesh_file(path);
+  const double file_extent = file_mesh.bounds().sizes().maxCoeff();
   Part part;
   part.mesh = true;
+  part.file_extent = file_extent;
+  if (file_extent > 0 && (file_extent < smallest_m || file_extent > largest_m))
+    part.scale = typical_m / file_extent;
+  const TriangleMesh mesh = read_mesh_file(path, part.scale);
+  const Eigen::AlignedBox3d bounds = mesh.bounds();
   // Relative to the scenario when the mesh is in its folder or below.
   const fs::path absolute = fs::absolute(path).lexically_normal();
   const fs::path relative = absolute.lexically_relative(fs::absolute(scenario_folder));
   const bool below = !relative.empty() && *relative.begin() != "..";
-  part.json = "\"mesh\": \"" + (below ? relative : absolute).generic_string() + "\", \"scale\": 1";
+  part.json = "\"mesh\": \"" + (below ? relative : absolute).generic_string() +
+              "\", \"scale\": " + number(part.scale);
   part.centre_x = bounds.center().x();
   part.centre_y = bounds.center().y();
   // A scene is pressed where the vertical through its middle meets it.
   part.top_m = top_at(mesh, part.centre_x, part.centre_y).value_or(bounds.max().z());
   part.low_m = -bounds.min().z();
   part.extent_m = bounds.sizes().maxCoeff();
+  part.half_x = bounds.sizes().x() / 2;
+  part.half_y = bounds.sizes().y() / 2;
+  if (!tool) part.surface = mesh;
+  constexpr std::size_t kToolPoints = 500;
+  const std::size_t stride = mesh.vertices.size() / kToolPoints + 1;
+  if (tool)
+    for (std::size_t i = 0; i < mesh.vertices.size(); i += stride)
+      part.points.push_back(mesh.vertices[i]);
   return part;
 }
 
@@ -157,7 +183,27 @@ std::string scenario_text(const std::string& name, const Part& scene, const Part
   const bool primitives = !scene.mesh && !tool.mesh;
   // The press starts 1 cm above the scene's top, goes down to touch it and
   // 2 mm past it; the tool frame sits tool.low_m above the tool's lowest point.
-  const double start_z = tool.low_m + 0.01;
+  // Over a mesh the press starts 1 cm above the first point it would touch:
+  // the least height of the tool's lowest points (its vertices, or its
+  // bottom over its footprint) above the surface under them, with the tool
+  // frame at z = 0 over the scene's middle.
+  double start_z = tool.low_m + 0.01;
+  if (scene.surface) {
+    std::vector<Vec3> points = tool.points;
+    constexpr int kSamples = 7;  // per side of a primitive tool's footprint
+    if (points.empty())
+      for (int i = 0; i < kSamples; ++i)
+        for (int j = 0; j < kSamples; ++j)
+          points.emplace_back((2.0 * i / (kSamples - 1) - 1) * tool.half_x,
+                              (2.0 * j / (kSamples - 1) - 1) * tool.half_y, -tool.low_m);
+    std::optional<double> least;
+    for (const Vec3& point : points) {
+      const std::optional<double> top =
+          top_at(*scene.surface, scene.centre_x + point.x(), scene.centre_y + point.y());
+      if (top) least = std::min(least.value_or(point.z()), point.z() - (*top - scene.top_m));
+    }
+    if (least) start_z = 0.01 - *least;
+  }
   std::ostringstream out;
   out << "// A scenario made by `hapticbench init` (" << scene_name << " scene, " << tool_name
       << " tool). Edit it, check it\n"
@@ -173,19 +219,20 @@ std::string scenario_text(const std::string& name, const Part& scene, const Part
   if (scene.mesh)
     out << " A mesh must be closed and outward\n"
         << "  // oriented (or marked \"distance_only\": true); \"scale\" is metres per file unit.";
-  if (scene.extent_m > 2)
-    out << "\n  // Its bounds span " << number(scene.extent_m)
-        << " file units: if the file is in mm, set \"scale\": 0.001\n"
-        << "  // (and the pose's p in metres).";
+  if (scene.scale != 1)
+    out << "\n  // Its bounds span " << number(scene.file_extent) << " file units: scaled to "
+        << number(scene.extent_m) << " m across; give the file's own unit\n"
+        << "  // instead (\"scale\": 0.001 for mm) and move the pose and the trace to match.";
   out << "\n  \"scene\": [\n    { " << scene.json << ",\n      \"pose\": { \"p\": ["
       << number(-scene.centre_x) << ", " << number(-scene.centre_y) << ", " << number(-scene.top_m)
       << "], \"q\": [1, 0, 0, 0] } }\n  ],\n\n"
       << "  // The tool the device holds, in its own frame (the trace moves that frame);\n"
       << "  // its mass from the density (kg/m³) or \"mass_kg\".\n"
-      << (tool.extent_m > 0.5 ? "  // Its bounds span " + number(tool.extent_m) +
-                                    " file units: a hand-held tool is a few cm; if the file is "
-                                    "in mm,\n  // set \"scale\": 0.001.\n"
-                              : std::string())
+      << (tool.scale != 1 ? "  // Its bounds span " + number(tool.file_extent) +
+                                " file units: scaled to " + number(tool.extent_m) +
+                                " m across, a hand-held tool; give the\n  // file's own "
+                                "unit instead (\"scale\": 0.001 for mm).\n"
+                          : std::string())
       << "  \"tool\": { " << tool.json << ", \"density\": 1000 },\n\n"
       << "  // The device's motion: a generator (traces/README.md; `hapticbench list`) or a\n"
       << "  // recorded file: { \"file\": \"my_log.csv\", \"units\": \"mm\" }.\n"
@@ -235,9 +282,9 @@ int init_command(const std::vector<std::string>& args) {
   if (fs::exists(fs::symlink_status(file, error)))
     throw InputError(parsed->file, "", "exists already; init never overwrites a file");
   const fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
-  const Part scene = is_mesh_path(parsed->scene) ? mesh_part(parsed->scene, folder)
+  const Part scene = is_mesh_path(parsed->scene) ? mesh_part(parsed->scene, folder, false)
                                                  : primitive(parsed->scene, /*tool=*/false);
-  const Part tool = is_mesh_path(parsed->tool) ? mesh_part(parsed->tool, folder)
+  const Part tool = is_mesh_path(parsed->tool) ? mesh_part(parsed->tool, folder, true)
                                                : primitive(parsed->tool, /*tool=*/true);
   const std::string scene_name =
       scene.mesh ? fs::path(parsed->scene).filename().string() : parsed->scene;

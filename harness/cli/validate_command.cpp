@@ -103,6 +103,10 @@ void report_clearance(const Scenario& scenario, std::ostream& report, ProgressDi
   // Vertices farther than this from the scene all along: the tool never
   // touches it (a face may come closer than its corners, by less than this
   // on any tool the scenarios use).
+  if (clearance.first.gap_m < 0)
+    std::cerr << "warning: " << scenario.path << ": the trace starts with the device's tool "
+              << -clearance.first.gap_m * 1e3
+              << " mm inside the scene: the proxy starts inside it (move the trace's start)\n";
   constexpr double kUntouchedGapM = 1e-3;
   if (clearance.closest.gap_m > kUntouchedGapM)
     std::cerr << "warning: " << scenario.path << ": the trace never brings the tool to the scene "
