@@ -16,31 +16,37 @@ namespace hb {
 namespace {
 // Read it like a collision table: one row per algorithm.
 constexpr AlgorithmEntry kAlgorithms[] = {
-    {"coupling_only", "baseline: dynamic proxy on the virtual coupling, no contacts (transparency)",
-     &create_coupling_only},
-    {"penalty_analytic",
-     "baseline: penalty contact against exact primitive shapes, explicit or implicit Euler",
-     &create_penalty_analytic},
-    {"god_object",
-     "Ortega, Redon & Coquillart 2007: massless proxy, Gauss' least constraint, screw-motion "
-     "mesh CCD on the slow loop",
-     &create_god_object, true},
-    {"god_object_3dof",
-     "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
-     &create_god_object_3dof, true},
-    {"constrained_dynamics",
-     "Duriez et al. 2006: rigid proxy with mass, hard contacts and Coulomb friction as impulses "
-     "(projected Gauss-Seidel), implicit coupling, contacts from the shared proximity "
-     "certificates",
-     &create_constrained_dynamics, true},
-    {"voxmap_pointshell",
-     "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, tangent-plane "
-     "penalty per point, dynamic proxy",
-     &create_voxmap_pointshell},
-    {"sensation_preserving",
-     "Otaduy & Lin 2003/2005: convex hierarchies refined where detail is perceptible, GJK/EPA, "
-     "k-means contact clusters, penalty proxy with implicit Euler",
-     &create_sensation_preserving},
+    {.name = "coupling_only",
+     .summary = "baseline: dynamic proxy on the virtual coupling, no contacts (transparency)",
+     .create = &create_coupling_only},
+    {.name = "penalty_analytic",
+     .summary =
+         "baseline: penalty contact against exact primitive shapes, explicit or implicit Euler",
+     .create = &create_penalty_analytic},
+    {.name = "god_object",
+     .summary = "Ortega, Redon & Coquillart 2007: massless proxy, Gauss' least constraint, "
+                "screw-motion mesh CCD on the slow loop",
+     .create = &create_god_object,
+     .renders_friction = true},
+    {.name = "god_object_3dof",
+     .summary =
+         "the god-object's 3-DOF special case: a point tool, segment-triangle CCD, force only",
+     .create = &create_god_object_3dof,
+     .renders_friction = true},
+    {.name = "constrained_dynamics",
+     .summary = "Duriez et al. 2006: rigid proxy with mass, hard contacts and Coulomb friction as "
+                "impulses (projected Gauss-Seidel), implicit coupling, contacts from the shared "
+                "proximity certificates",
+     .create = &create_constrained_dynamics,
+     .renders_friction = true},
+    {.name = "voxmap_pointshell",
+     .summary = "McNeely, Puterbaugh & Troy 1999: scene voxmap (OpenVDB), tool pointshell, "
+                "tangent-plane penalty per point, dynamic proxy",
+     .create = &create_voxmap_pointshell},
+    {.name = "sensation_preserving",
+     .summary = "Otaduy & Lin 2003/2005: convex hierarchies refined where detail is perceptible, "
+                "GJK/EPA, k-means contact clusters, penalty proxy with implicit Euler",
+     .create = &create_sensation_preserving},
 };
 
 // The table as the process sees it: the built-in rows, then registered ones

@@ -63,8 +63,9 @@ std::unique_ptr<hb::Renderer> create(const hb::RenderContext& context, const hb:
 }
 
 const hb::AlgorithmEntry kAlgorithms[] = {
-    {"origin_penalty", "example plugin: a spring on the tool's origin inside boxes, no proxy",
-     &create}};
+    {.name = "origin_penalty",
+     .summary = "example plugin: a spring on the tool's origin inside boxes, no proxy",
+     .create = &create}};
 
 }  // namespace
 

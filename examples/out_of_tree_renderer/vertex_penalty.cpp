@@ -98,9 +98,9 @@ std::unique_ptr<hb::Renderer> create_vertex_penalty(const hb::RenderContext& con
 }
 
 const hb::AlgorithmEntry kAlgorithms[] = {
-    {"vertex_penalty",
-     "example plugin: penalty proxy on the tool's vertices inside the scene's boxes",
-     &create_vertex_penalty},
+    {.name = "vertex_penalty",
+     .summary = "example plugin: penalty proxy on the tool's vertices inside the scene's boxes",
+     .create = &create_vertex_penalty},
 };
 
 }  // namespace
