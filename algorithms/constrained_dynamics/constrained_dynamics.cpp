@@ -45,11 +45,24 @@ struct ConstrainedDynamicsWork {
     kProximitySearches,
     kProximitySearchesAhead,
   };
-  static constexpr WorkCounters::Names kNames = {
-      "pairs_evaluated",         "solver_iterations",  "solver_unconverged", "active_contacts",
-      "reach_bounded",           "certificates_taken", "certificates_kept",  "start_escapes",
-      "start_escape_um",         "coulomb_violations", "skew_resolves",      "proximity_searches",
-      "proximity_searches_ahead"};
+  // Each slot beside its name, so that the two cannot drift apart.
+  static constexpr WorkCounters::Names kNames = [] {
+    WorkCounters::Names names{};
+    names[kPairsEvaluated] = "pairs_evaluated";
+    names[kSolverIterations] = "solver_iterations";
+    names[kUnconverged] = "solver_unconverged";
+    names[kActiveContacts] = "active_contacts";
+    names[kReachBounded] = "reach_bounded";
+    names[kCertificatesTaken] = "certificates_taken";
+    names[kCertificatesKept] = "certificates_kept";
+    names[kStartEscapes] = "start_escapes";
+    names[kStartEscapeUm] = "start_escape_um";
+    names[kCoulombViolations] = "coulomb_violations";
+    names[kSkewResolves] = "skew_resolves";
+    names[kProximitySearches] = "proximity_searches";
+    names[kProximitySearchesAhead] = "proximity_searches_ahead";
+    return names;
+  }();
 };
 
 class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {

@@ -40,13 +40,24 @@ struct GodObjectWork {
     kProximitySearches,
     kProximitySearchesAhead,
   };
-  static constexpr WorkCounters::Names kNames = {"ccd_bound_tests",         "ccd_primitive_queries",
-                                                 "qp_iterations",           "ccd_moves",
-                                                 "pairs_evaluated",         "ccd_budget_hits",
-                                                 "ccd_certified_moves",     "proximity_queries",
-                                                 "start_escapes",           "start_escape_um",
-                                                 "coulomb_violations",      "proximity_searches",
-                                                 "proximity_searches_ahead"};
+  // Each slot beside its name, so that the two cannot drift apart.
+  static constexpr WorkCounters::Names kNames = [] {
+    WorkCounters::Names names{};
+    names[kCcdBoundTests] = "ccd_bound_tests";
+    names[kCcdPrimitiveQueries] = "ccd_primitive_queries";
+    names[kQpIterations] = "qp_iterations";
+    names[kCcdMoves] = "ccd_moves";
+    names[kPairsEvaluated] = "pairs_evaluated";
+    names[kCcdBudgetHits] = "ccd_budget_hits";
+    names[kCcdCertifiedMoves] = "ccd_certified_moves";
+    names[kProximityQueries] = "proximity_queries";
+    names[kStartEscapes] = "start_escapes";
+    names[kStartEscapeUm] = "start_escape_um";
+    names[kCoulombViolations] = "coulomb_violations";
+    names[kProximitySearches] = "proximity_searches";
+    names[kProximitySearchesAhead] = "proximity_searches_ahead";
+    return names;
+  }();
 };
 
 class GodObjectRenderer : public Renderer, public SlowLoop {

@@ -31,8 +31,15 @@ struct PrimitiveWork {
     kPlanesEvaluated,     ///< slow-loop planes a tick used
     kNewtonSteps,         ///< quasi-static solver steps
   };
-  static constexpr WorkCounters::Names kNames = {"obstacle_bound_tests", "tool_points_tested",
-                                                 "planes_evaluated", "newton_steps"};
+  // Each slot beside its name, so that the two cannot drift apart.
+  static constexpr WorkCounters::Names kNames = [] {
+    WorkCounters::Names names{};
+    names[kObstacleBoundTests] = "obstacle_bound_tests";
+    names[kToolPointsTested] = "tool_points_tested";
+    names[kPlanesEvaluated] = "planes_evaluated";
+    names[kNewtonSteps] = "newton_steps";
+    return names;
+  }();
 };
 
 class PrimitiveContactFinder {

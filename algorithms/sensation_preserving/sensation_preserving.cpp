@@ -57,8 +57,15 @@ struct SensationPreservingWork {
     kGjkCalls,
     kAxisSeparations,
   };
-  static constexpr WorkCounters::Names kNames = {"node_pairs_tested", "piece_tests", "gjk_calls",
-                                                 "axis_separations"};
+  // Each slot beside its name, so that the two cannot drift apart.
+  static constexpr WorkCounters::Names kNames = [] {
+    WorkCounters::Names names{};
+    names[kNodePairsTested] = "node_pairs_tested";
+    names[kPieceTests] = "piece_tests";
+    names[kGjkCalls] = "gjk_calls";
+    names[kAxisSeparations] = "axis_separations";
+    return names;
+  }();
 };
 
 class SensationPreservingRenderer : public Renderer, public SlowLoop {

@@ -205,9 +205,17 @@ struct PointShellWork {
     kBudgetSkipped,   ///< points to look up that the stride left out (looked up × (stride − 1))
     kBudgetTicks,     ///< searches with a stride above 1
   };
-  static constexpr WorkCounters::Names kNames = {"sphere_tests",       "points_looked_up",
-                                                 "front_entries",      "braking_points",
-                                                 "points_over_budget", "searches_over_budget"};
+  // Each slot beside its name, so that the two cannot drift apart.
+  static constexpr WorkCounters::Names kNames = [] {
+    WorkCounters::Names names{};
+    names[kSphereTests] = "sphere_tests";
+    names[kPointsLookedUp] = "points_looked_up";
+    names[kFrontEntries] = "front_entries";
+    names[kBrakingPoints] = "braking_points";
+    names[kBudgetSkipped] = "points_over_budget";
+    names[kBudgetTicks] = "searches_over_budget";
+    return names;
+  }();
 };
 
 /// Finds the points of the shell that act at the proxy pose (x, q of
