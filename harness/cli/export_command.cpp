@@ -16,6 +16,7 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/run_folder_search.h"
+#include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
 #include "harness/scenario/json_fields.h"
 
@@ -75,6 +76,18 @@ Json benchmark_entry(const Json& summary, const Json& run, std::size_t family) {
   };
   for (const auto& [key, value] : counters)
     if (value.is_number()) entry[key] = value;
+  // The headline accuracy the metric table names (as the report's axis):
+  // the first role that applies, in the summary's unit.
+  for (const char* role : {"accuracy", "accuracy_fallback"}) {
+    const MetricDefinition* metric = headline_metric(role);
+    const Json::json_pointer pointer(metric ? std::string(metric->json_pointer) : "");
+    if (metric && run.contains(pointer) && run[pointer].is_number()) {
+      entry["headline_accuracy"] = run[pointer];
+      // Counters are numbers: 1 where the fallback (penetration) stood in.
+      entry["headline_accuracy_is_fallback"] = std::string_view(role) == "accuracy" ? 0 : 1;
+      break;
+    }
+  }
   const Json diverged = at(run, {"stability", "diverged"});
   if (diverged.is_boolean()) entry["diverged"] = diverged.get<bool>() ? 1 : 0;
   return entry;

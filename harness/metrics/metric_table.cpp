@@ -133,7 +133,8 @@ constexpr MetricDefinition kMetrics[] = {
      .description =
          "RMS over the reference's ticks of ‖F − F_ideal‖ (the analytic reference, else the mesh "
          "force reference)",
-     .report_column = true},
+     .report_column = true,
+     .headline = "accuracy"},
     {.name = "force_err_max_n",
      .json_pointer = "/accuracy/force_err_max_n",
      .unit = "N",
@@ -175,7 +176,8 @@ constexpr MetricDefinition kMetrics[] = {
      .read = [](const RunMetrics& m) { return m.accuracy.penetration_max_m; },
      .description =
          "deepest penetration of the proxy's tool into the scene (analytic, else Embree)",
-     .report_column = true},
+     .report_column = true,
+     .headline = "accuracy_fallback"},
     {.name = "penetration_rms_mm",
      .json_pointer = "/accuracy/penetration_rms_m",
      .unit = "m",
@@ -425,6 +427,12 @@ constexpr MetricDefinition kMetrics[] = {
 
 std::span<const MetricDefinition> metric_table() { return kMetrics; }
 
+const MetricDefinition* headline_metric(std::string_view role) {
+  for (const MetricDefinition& metric : kMetrics)
+    if (!role.empty() && metric.headline == role) return &metric;
+  return nullptr;
+}
+
 const MetricDefinition* find_metric(std::string_view name) {
   for (const MetricDefinition& metric : kMetrics)
     if (metric.name == name) return &metric;
@@ -468,6 +476,7 @@ nlohmann::json metric_table_json() {
                      {"report_column", metric.report_column},
                      {"compare", compare_rule_name(metric.compare)},
                      {"abs_tol", metric.abs_tol},
+                     {"headline", metric.headline},
                      {"description", metric.description}});
   return table;
 }

@@ -67,12 +67,20 @@ struct MetricDefinition {
   /// What compare's count and flag rows call it ("ticks with a non-finite
   /// wrench"); empty: the name.
   std::string_view counted_as;
+  /// The report's headline role: "accuracy" (the accuracy axis of its
+  /// figures and verdicts), "accuracy_fallback" (where that one does not
+  /// apply); empty for the others.
+  std::string_view headline;
 };
 
 /// A compare rule's name in data ("tolerance", "count", "flag",
 /// "generated_energy", "none") and its meaning for people ("any increase", ...).
 const char* compare_rule_name(CompareRule rule);
 const char* compare_rule_meaning(CompareRule rule);
+
+/// The metric whose headline role is `role` ("accuracy", "accuracy_fallback"),
+/// or nullptr.
+const MetricDefinition* headline_metric(std::string_view role);
 
 /// Every metric, in the order summaries, tables and comparisons list them.
 std::span<const MetricDefinition> metric_table();

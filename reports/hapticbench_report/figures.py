@@ -20,7 +20,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 from .history import METRICS as HISTORY_METRICS  # noqa: E402
 from .inputs import (  # noqa: E402
-    BACKEND_PEN_SUFFIX, REFERENCE_NAMES, dig, finite_number, is_baseline, microseconds,
+    BACKEND_PEN_SUFFIX, REFERENCE_NAMES, dig, finite_number, headline, is_baseline, microseconds,
     reference_kind)
 from .sweeps import (  # noqa: E402
     is_numeric_key, key_name, spans_more_than_a_decade, sweep_at, sweep_job, value_text)
@@ -322,10 +322,10 @@ def timing_figure(runs):
 
 def pareto_error(run):
     """(metric name, value): force error RMS when there is a reference, else penetration max."""
-    force = dig(run.summary, "accuracy", "force_err_rms_n")
+    force = headline(run.summary)
     if finite_number(force):
         return "force_err_rms_n", force
-    penetration = dig(run.summary, "accuracy", "penetration_max_m")
+    penetration = headline(run.summary, "accuracy_fallback")
     if finite_number(penetration):
         return "penetration_max_m", penetration
     return None, None
@@ -783,7 +783,7 @@ def zwidth_figure(scenario, results):
 
 # What a sweep's metric-against-parameter figure draws: (axis title, value of a run).
 SWEEP_METRICS = [
-    ("force error RMS (N)", lambda run: dig(run.summary, "accuracy", "force_err_rms_n")),
+    ("force error RMS (N)", lambda run: headline(run.summary)),
     ("max penetration (mm)", lambda run: scaled(dig(run.summary, "accuracy",
                                                     "penetration_max_m"), 1e3)),
     ("step time p99 (µs)", lambda run: run.p99_us()),

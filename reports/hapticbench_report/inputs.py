@@ -87,6 +87,27 @@ class RunFolder:
         return outline if isinstance(outline, dict) else None
 
 
+# The summary fields of the headline metrics, by role, as the metric table
+# names them ("headline": "accuracy", "accuracy_fallback"); these defaults
+# hold for a table without the key.
+HEADLINE_FIELDS = {"accuracy": ("accuracy", "force_err_rms_n"),
+                   "accuracy_fallback": ("accuracy", "penetration_max_m")}
+
+
+def use_headline_metrics(metric_table):
+    """Takes the headline metrics' summary fields from the metric table (each row's
+    "headline" role and "pointer"), so that every figure and table asks the same place."""
+    for metric in metric_table or []:
+        role, pointer = metric.get("headline"), metric.get("pointer")
+        if isinstance(role, str) and isinstance(pointer, str) and pointer.startswith("/"):
+            HEADLINE_FIELDS[role] = tuple(pointer[1:].split("/"))
+
+
+def headline(run_summary, role="accuracy"):
+    """A run's headline metric of this role (in the summary's unit), or None."""
+    return dig(run_summary, *HEADLINE_FIELDS[role])
+
+
 def read_json_object(path):
     """A JSON file holding an object; bad input names the file and the line."""
     try:

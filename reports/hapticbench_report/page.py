@@ -11,7 +11,7 @@ import sys
 
 from .inputs import (
     Progress, ReportInputError, dig, load_run_folder, read_stability_result, read_zwidth_result,
-    reference_wording)
+    reference_wording, use_headline_metrics)
 from .figures import (
     LABEL_COLOURS, history_figure, intent_figure, pareto_figure, parameter_label,
     passivity_figure, penetration_figure, scene_figure, stiffness_limits, stiffness_sweeps,
@@ -152,13 +152,13 @@ def penetration_source(runs):
             if sources else "the analytic reference, else the primary oracle")
 
 
-def metric_description(metric_table, name):
-    """The metric table's own definition of `name` (hapticbench list --metrics), so that
-    a caption never keeps a second, older copy of it."""
+def metric_description(metric_table, pointer):
+    """The metric table's own definition of the metric at `pointer` in a summary's run
+    (hapticbench list --metrics), so that a caption never keeps a second, older copy."""
     for metric in metric_table or []:
-        if metric.get("name") == name:
-            return metric.get("description") or name
-    return name
+        if metric.get("pointer") == pointer:
+            return metric.get("description") or pointer
+    return pointer
 
 
 def stability_html(folders, runs, metric_table=()):
@@ -167,8 +167,8 @@ def stability_html(folders, runs, metric_table=()):
     if uri:
         parts.append(figure_html(
             "fig-passivity", uri, "passivity energy minimum per run",
-            "<code>passivity_energy_min_j</code> per run: the "
-            + esc(metric_description(metric_table, "passivity_energy_min_j"))
+            "<code>passivity_energy_min_mj</code> per run: the "
+            + esc(metric_description(metric_table, "/stability/passivity_energy_min_j"))
             + " (red: below zero; diverged runs are marked)."
             + (" The %d lowest of %d runs are shown." % (len(shown), len(runs) - len(without))
                if len(shown) < len(runs) - len(without) else "")))
@@ -478,6 +478,7 @@ def main():
         else:
             metric_table = next((f.summary["metric_table"] for f in folders
                                  if isinstance(f.summary.get("metric_table"), list)), [])
+        use_headline_metrics(metric_table)
         with open(args.template, encoding="utf-8") as f:
             template = f.read()
         stability_results = [(path, read_stability_result(path)) for path in args.stability]

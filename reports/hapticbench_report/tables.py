@@ -7,7 +7,7 @@ import os
 import re
 
 from .inputs import (
-    dig, finite_number, is_baseline, number_or_none, read_json_or_none, reference_wording,
+    dig, finite_number, headline, is_baseline, number_or_none, read_json_or_none, reference_wording,
     scenario_description)
 from .figures import PARAMETER_UNITS, parameter_label, zwidth_figure
 from .sweeps import key_name, missing_jobs, value_text
@@ -377,7 +377,7 @@ def friction_html(folders):
         for run in folder.runs:
             # The algorithm's registry entry says whether it renders friction.
             renders = run.summary.get("renders_friction") is True
-            error = number_or_none(dig(run.summary, "accuracy", "force_err_rms_n"))
+            error = number_or_none(headline(run.summary))
             depth = number_or_none(dig(run.summary, "accuracy", "penetration_max_m"))
             rows.append('<tr><td class="text">%s</td><td>%s</td><td class="text">%s</td>'
                         '<td class="text" data-friction="%s">%s</td>%s%s</tr>'
@@ -558,7 +558,7 @@ def scenario_parameters_html(folder):
 # The columns of a sweep's table per label: (header, cell of a run's summary).
 SWEEP_COLUMNS = [
     ("force error RMS (N)",
-     lambda s: cell(dig(s, "accuracy", "force_err_rms_n"), "%.4g")),
+     lambda s: cell(headline(s), "%.4g")),
     ("max penetration (mm)",
      lambda s: cell(dig(s, "accuracy", "penetration_max_m"), "%.3f", 1e3)),
     ("step p50 (µs)", lambda s: cell(dig(s, "timing", "step_ns", "p50"), "%.2f", 1e-3)),

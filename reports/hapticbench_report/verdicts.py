@@ -1,7 +1,7 @@
 """The answer the page leads with: a card per algorithm label (stable or not,
 force error, penetration, step time against the 1 ms tick, failed budgets)
 and the best label by accuracy and by cost in each scenario."""
-from .inputs import dig, finite_number, is_baseline
+from .inputs import dig, finite_number, headline, is_baseline
 from .figures import LABEL_COLOURS, ONE_MS_US, verdict_stable
 from .sweeps import sweep_job
 from .tables import budget_text, esc, fmt
@@ -35,7 +35,7 @@ def worst(runs, value_of):
 
 
 def force_error(run):
-    return dig(run.summary, "accuracy", "force_err_rms_n")
+    return headline(run.summary)
 
 
 def penetration_mm(run):

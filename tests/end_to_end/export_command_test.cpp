@@ -55,6 +55,9 @@ TEST_CASE("export --format gbench follows Google Benchmark's JSON field rules") 
       if (key != "name" && key != "run_name" && key != "run_type" && key != "time_unit")
         CHECK(value.is_number());
     CHECK(b.at("step_p99_ns").get<double>() > 0);
+    // The headline accuracy: the force error here (every smoke scenario has a reference).
+    CHECK(b.at("headline_accuracy") == b.at("force_err_rms_n"));
+    CHECK(b.at("headline_accuracy_is_fallback") == 0);
   }
   CHECK(names.count("sphere_press_box/penalty_implicit") == 1);
   CHECK(names.count("box_press_box/god_object") == 1);

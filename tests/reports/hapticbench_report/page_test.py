@@ -10,6 +10,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "..", "reports"))
 from hapticbench_report import page  # noqa: E402
+from hapticbench_report.inputs import headline, use_headline_metrics  # noqa: E402
 from fake_runs import (  # noqa: E402
     FakeRun, outline, outline_object, press, write_run_folder)
 
@@ -24,11 +25,22 @@ class StabilityCaptionTest(unittest.TestCase):
         folder = tempfile.TemporaryDirectory()
         self.addCleanup(folder.cleanup)
         run.folder.path = folder.name
-        table = [{"name": "passivity_energy_min_j",
+        table = [{"name": "passivity_energy_min_mj", "pointer": "/stability/passivity_energy_min_j",
                   "description": "minimum over time of the port energy: the held wrench's work"}]
         html = page.stability_html([run.folder], [run], table)
         self.assertIn("minimum over time of the port energy: the held wrench", html)
         self.assertNotIn("Σ (F·v", html)
+
+    def test_the_headline_accuracy_is_the_one_the_metric_table_names(self):
+        run = FakeRun("press", "god_object", 0.1, 1000)
+        self.assertEqual(0.1, headline(run.summary))
+        use_headline_metrics([{"name": "other", "pointer": "/accuracy/other_n",
+                               "headline": "accuracy"}])
+        self.addCleanup(use_headline_metrics, [{"name": "force_err_rms_n",
+                                                "pointer": "/accuracy/force_err_rms_n",
+                                                "headline": "accuracy"}])
+        run.summary["accuracy"]["other_n"] = 7.5
+        self.assertEqual(7.5, headline(run.summary))
 
 
 
