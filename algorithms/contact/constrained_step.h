@@ -11,36 +11,8 @@
 // quasi-static Coulomb law for a massless proxy (λ in N); for constrained
 // dynamics M is the step's effective mass and λ are impulses (N·s).
 //
-// Constraints that repeat exactly (every number and μ equal bit for bit:
-// the corner four tiles share, a vertex–face pair and an edge–edge pair
-// that meet at one point) are solved once (distinct_constraints.h); the
-// first of them carries the impulse, the others none.
-//
-// Frictionless contacts go to Gauss' least constraint, an exact active-set
-// QP (gauss_least_constraint.h), which converges in a few steps however
-// stiff or redundant the contacts; with friction the frictional contact
-// solver (frictional_contact_solver.h, projected Gauss–Seidel with the exact
-// circular cone) runs, warm-started from the given impulses or, without
-// them, from the frictionless QP's normal multipliers (contacts at one point
-// with one normal are solved once, and a planar contact of more than eight
-// keeps the vertices of its convex hull, reduce_coplanar_rows: the wrenches
-// a point inside the hull can carry, normal and tangential, are convex
-// combinations of those its vertices can carry). The QP then runs once
-// more with the sweeps' friction held as given forces, so that
-// non-penetration holds exactly however far the sweeps got (one step of
-// staggered projections). Its normal forces are exact for that friction;
-// shared within a planar contact in the sweeps' proportions, they are the
-// normal forces the residual below measures the friction against. When the
-// sweeps stopped at their limit, their friction is scaled down, all rows
-// alike, until it is at most μ times the QP's normal force in total, and
-// the QP solved again, at most kConePasses times: such a step is feasible,
-// never a freeze, and its residual says how far it is from Coulomb's law.
-// `coulomb_residual` reports how far the returned step is from Coulomb's
-// law: the largest |λ_t − Π_{|λ|≤μλ_n}(λ_t − ρ u_t)| over the contacts
-// (λ_t the friction force, u_t the contact point's slip, ρ the inverse of
-// the contact's mean tangential response), as a fraction of the total
-// normal force; it is 0 exactly when every contact sticks inside its cone
-// or slides with μ λ_n against its slip.
+// How it is solved (repeated constraints, the exact QP, the frictional
+// sweeps, the cone passes, the Coulomb residual): docs/algorithms/constrained-step.md.
 #pragma once
 
 #include <span>

@@ -33,13 +33,8 @@ struct ContactSettings {
   /// At most this many pairs are listed (the nearest); the band shrinks to
   /// the nearest pair left out. A query lists kFirstListedPairs first and
   /// this many only when those leave less reach than the band asks for
-  /// (ProximityCertifier::certify): where more pairs than 256 rest at the
-  /// standoff (a face on many tiles) the band shrinks to the standoff and
-  /// the proxy cannot move (256 held a 10 cm box face still on the 121
-  /// tiles of box_rest_144_tiles, up to 1,836 pairs within the band), while
-  /// listing 2,048 wherever they lie in the band made the haptic step
-  /// measure them all (god-object step p99 0.39 -> 4.2 ms on
-  /// fandisk_press_armadillo).
+  /// (ProximityCertifier::certify; why both numbers: docs/performance.md,
+  /// "How many pairs a certificate lists").
   int haptic_max_pairs = 2048;
 };
 
