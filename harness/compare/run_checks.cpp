@@ -9,7 +9,7 @@
 
 #include "harness/compare/timing_checks.h"
 #include "harness/metrics/metric_table.h"
-#include "harness/output/formatted_number.h"
+#include "harness/metrics/formatted_number.h"
 
 namespace hb {
 

@@ -7,7 +7,7 @@
 
 #include "harness/compare/mann_whitney.h"
 #include "harness/compare/step_times.h"
-#include "harness/output/formatted_number.h"
+#include "harness/metrics/formatted_number.h"
 
 namespace hb {
 

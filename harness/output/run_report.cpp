@@ -6,7 +6,7 @@
 
 #include "harness/metrics/metric_table.h"
 #include "harness/output/xml_text.h"
-#include "harness/stability/stability_verdict.h"
+#include "harness/metrics/stability_verdict.h"
 
 namespace hb {
 

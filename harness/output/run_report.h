@@ -14,7 +14,7 @@
 #include "harness/metrics/run_metrics.h"
 #include "harness/output/run_context.h"
 #include "harness/replay/noise_floor.h"
-#include "harness/stability/stability_verdict.h"
+#include "harness/metrics/stability_verdict.h"
 
 namespace hb {
 

@@ -15,7 +15,7 @@
 
 #include "harness/progress/progress_display.h"
 #include "harness/stability/small_signal.h"
-#include "harness/stability/stability_verdict.h"
+#include "harness/metrics/stability_verdict.h"
 
 namespace hb {
 

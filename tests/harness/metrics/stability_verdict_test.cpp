@@ -1,7 +1,7 @@
 // The one stability verdict: each check fails a run with its figure, in
 // order, the criterion picks passivity or oscillation, closed loop judges
 // the energy the hand put in and the device's limit cycles.
-#include "harness/stability/stability_verdict.h"
+#include "harness/metrics/stability_verdict.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
-#include "harness/stability/stability_verdict.h"
+#include "harness/metrics/stability_verdict.h"
 
-#include "harness/output/formatted_number.h"
+#include "harness/metrics/formatted_number.h"
 
 namespace hb {
 
