@@ -25,6 +25,7 @@
 #include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
 #include "harness/output/run_folder.h"
+#include "harness/scenario/json_pointer.h"
 #include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 

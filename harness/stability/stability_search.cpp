@@ -11,6 +11,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/json_fields.h"
+#include "harness/scenario/json_pointer.h"
 #include "harness/scenario/scenario.h"
 #include "harness/sweep/sweep_jobs.h"
 #include "harness/sweep/sweep_spec.h"

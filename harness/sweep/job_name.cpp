@@ -1,5 +1,6 @@
 #include "harness/sweep/job_name.h"
 
+#include "harness/scenario/json_pointer.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace hb {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hapticbench/input_error.h"
+#include "harness/scenario/json_pointer.h"
 #include "harness/scenario/scenario.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -29,17 +30,6 @@ struct SweepJob {
   /// (so the JSON runs from anywhere, e.g. `hapticbench run scenario.json`).
   nlohmann::ordered_json scenario;
 };
-
-/// Sets `value` in `document` at the JSON pointer whose tokens are given
-/// (json_pointer_tokens). Every component but the last must exist, except
-/// a section whose keys have documented defaults (/coupling, /device,
-/// /reference, /trace/params, /algorithms/i/params), which is created
-/// empty; the last may be a new key of an existing object (a parameter the
-/// scenario leaves at its default) but not a new array element. Returns
-/// why not, or nullopt when set.
-std::optional<std::string> set_at_pointer(nlohmann::ordered_json& document,
-                                          const std::vector<std::string>& tokens,
-                                          const nlohmann::ordered_json& value);
 
 /// A sweep's errors gathered so that one check reports every one at once
 /// (a grid of 7 values with 2 bad ones names both). Errors about jobs that

@@ -6,6 +6,7 @@
 
 #include "hapticbench/input_error.h"
 #include "harness/scenario/json_fields.h"
+#include "harness/scenario/json_pointer.h"
 #include "harness/sweep/job_name.h"
 
 namespace hb {
@@ -102,26 +103,6 @@ void read_only_algorithms(const JsonField& field, SweepSpec& spec) {
 }
 
 }  // namespace
-
-std::optional<std::vector<std::string>> json_pointer_tokens(const std::string& pointer) {
-  if (pointer.empty() || pointer.front() != '/') return std::nullopt;
-  std::vector<std::string> tokens;
-  std::string token;
-  for (std::size_t i = 1; i <= pointer.size(); ++i) {
-    if (i == pointer.size() || pointer[i] == '/') {
-      tokens.push_back(token);
-      token.clear();
-    } else if (pointer[i] == '~') {
-      if (i + 1 >= pointer.size() || (pointer[i + 1] != '0' && pointer[i + 1] != '1'))
-        return std::nullopt;
-      token += pointer[i + 1] == '0' ? '~' : '/';
-      ++i;
-    } else {
-      token += pointer[i];
-    }
-  }
-  return tokens;
-}
 
 // Most jobs one sweep may have (each is a run folder; the index lists all).
 constexpr double kMaxSweepJobs = 100'000;

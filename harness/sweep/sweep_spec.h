@@ -36,9 +36,4 @@ SweepSpec load_sweep_spec(const std::string& path);
 /// scenario paths.
 SweepSpec parse_sweep_spec(const std::string& json_text, const std::string& path);
 
-/// The reference tokens of a JSON pointer, unescaped ("/a~1b/0" -> {"a/b",
-/// "0"}); nullopt when the text is not a pointer ("" or not starting with
-/// '/', or a '~' not followed by 0 or 1).
-std::optional<std::vector<std::string>> json_pointer_tokens(const std::string& pointer);
-
 }  // namespace hb

@@ -116,16 +116,3 @@ TEST_CASE("a missing sweep file is named") {
     CHECK(error.source() == "/nonexistent/sweep.json");
   }
 }
-
-TEST_CASE("JSON pointers split into unescaped tokens (RFC 6901)") {
-  using Tokens = std::vector<std::string>;
-  CHECK(hb::json_pointer_tokens("/a~1b/0") == Tokens{"a/b", "0"});
-  CHECK(hb::json_pointer_tokens("/m~0n") == Tokens{"m~n"});
-  CHECK(hb::json_pointer_tokens("/~01") == Tokens{"~1"});  // ~0 first, then a literal 1
-  CHECK(hb::json_pointer_tokens("/") == Tokens{""});
-  CHECK(hb::json_pointer_tokens("/a//b") == Tokens{"a", "", "b"});
-  CHECK_FALSE(hb::json_pointer_tokens(""));
-  CHECK_FALSE(hb::json_pointer_tokens("a/b"));
-  CHECK_FALSE(hb::json_pointer_tokens("/a~"));
-  CHECK_FALSE(hb::json_pointer_tokens("/a~2"));
-}
