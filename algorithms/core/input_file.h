@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <system_error>
 
@@ -21,6 +23,17 @@ inline void require_regular_file(const std::filesystem::path& path, const std::s
   if (status.type() != std::filesystem::file_type::regular)
     throw InputError(path.string(), "",
                      "is not a regular file (a folder, FIFO or device); expected " + what);
+}
+
+/// The bytes of an input file, after require_regular_file (what: "a
+/// summary.json", ...); InputError at `path` when it cannot be read.
+inline std::string read_regular_file(const std::filesystem::path& path, const std::string& what) {
+  require_regular_file(path, what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "", "cannot open " + what);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(path.string(), "", "cannot read " + what);
+  return bytes;
 }
 
 }  // namespace hb

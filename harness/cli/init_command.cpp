@@ -116,14 +116,15 @@ std::optional<double> top_at(const TriangleMesh& mesh, double x, double y) {
 Part mesh_part(const std::string& path, const fs::path& scenario_folder, bool tool) {
   const double typical_m = tool ? 0.03 : 0.2;
   const double smallest_m = tool ? 0.005 : 0.05, largest_m = tool ? 0.2 : 2.0;
-  const TriangleMesh file_mesh = read_mesh_file(path);
-  const double file_extent = file_mesh.bounds().sizes().maxCoeff();
+  TriangleMesh mesh = read_mesh_file(path);
+  const double file_extent = mesh.bounds().sizes().maxCoeff();
   Part part;
   part.mesh = true;
   part.file_extent = file_extent;
-  if (file_extent > 0 && (file_extent < smallest_m || file_extent > largest_m))
+  if (file_extent > 0 && (file_extent < smallest_m || file_extent > largest_m)) {
     part.scale = typical_m / file_extent;
-  const TriangleMesh mesh = read_mesh_file(path, part.scale);
+    for (Vec3& vertex : mesh.vertices) vertex = part.scale * vertex;  // as the reader scales
+  }
   const Eigen::AlignedBox3d bounds = mesh.bounds();
   // Relative to the scenario when the mesh is in its folder or below.
   const fs::path absolute = fs::absolute(path).lexically_normal();

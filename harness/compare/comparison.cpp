@@ -1,8 +1,6 @@
 #include "harness/compare/comparison.h"
 
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -209,11 +207,8 @@ Comparison compare_summary_sets(const SummarySet& baseline, const SummarySet& ca
 }
 
 std::map<std::string, MetricTolerance> read_tolerances_file(const std::string& path) {
-  require_regular_file(path, "a tolerances file (.json)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open the tolerances file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const nlohmann::ordered_json document = parse_json_document(text, path);
+  const nlohmann::ordered_json document =
+      parse_json_document(read_regular_file(path, "a tolerances file (.json)"), path);
   const JsonField root(document, path, "");
   root.require_object("expected {metric name: {\"rel_tol\": x, \"abs_tol\": y}}");
   std::map<std::string, MetricTolerance> tolerances;

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <tuple>
@@ -24,13 +22,6 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr const char* kIndexName = "history.json";
-
-std::string read_bytes(const fs::path& path, const std::string& what) {
-  require_regular_file(path, what);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "", "cannot open " + what);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 /// A commit as a folder name's part: letters, digits, '-', '_', '.'.
 std::string folder_safe(const std::string& text) {
@@ -72,7 +63,7 @@ std::vector<HistoryEntry> read_history(const fs::path& history_dir) {
     return {};
   }
   const std::string source = index.string();
-  const Json document = parse_json_document(read_bytes(index, "history.json"), source);
+  const Json document = parse_json_document(read_regular_file(index, "history.json"), source);
   const JsonField root(document, source, "");
   root.require_object("expected {\"schema_version\": 1, \"entries\": [...]}");
   if (root.member("schema_version", "1").integer(1, 1, "expected 1") != 1) return {};
@@ -112,7 +103,7 @@ HistoryEntry add_to_history(const fs::path& history_dir, const std::vector<fs::p
   for (const fs::path& run_dir : run_dirs) {
     const SummarySet set = load_summary_set(run_dir);
     for (const ScenarioSummary& summary : set.scenarios) {
-      Stored item{summary.scenario_name, read_bytes(summary.source, "a summary.json"), ""};
+      Stored item{summary.scenario_name, read_regular_file(summary.source, "a summary.json"), ""};
       const Json parsed = parse_json_document(item.bytes, summary.source);
       const Json::json_pointer date("/context/date");
       if (parsed.contains(date) && parsed[date].is_string()) item.date = parsed[date];
@@ -148,6 +139,12 @@ HistoryEntry add_to_history(const fs::path& history_dir, const std::vector<fs::p
                                       : entries.size() + 1);
   entry.folder = std::string(number) + "-" + folder_safe(entry.commit);
 
+  // A folder of that name that history.json does not list is not ours.
+  std::error_code error;
+  if (same == entries.end() && fs::exists(history_dir / entry.folder, error))
+    throw InputError((history_dir / entry.folder).string(), "",
+                     "is in the history folder but history.json does not list it; nothing "
+                     "was written (move it away)");
   // The entry's folder, written whole under a staging name, then swapped in.
   fs::create_directories(history_dir);
   const fs::path staging = staging_path(history_dir, entry.folder);

@@ -261,8 +261,6 @@ class ScenarioReader {
     scenario.warnings = plausibility_warnings(scenario);
     for (std::string& warning : measurement_warnings(root, scenario))
       scenario.warnings.push_back(std::move(warning));
-    scenario.warnings.insert(scenario.warnings.end(), trace_warnings_.begin(),
-                             trace_warnings_.end());
     scenario.warnings.insert(scenario.warnings.end(), load_warnings_.begin(), load_warnings_.end());
     scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
                              unchecked_algorithms_.end());
@@ -690,7 +688,7 @@ class ScenarioReader {
         scenario.trace_description =
             "file " + path + " (" + format + trace_reading_note(trace.info) + ")";
         for (const std::string& warning : trace_plausibility_warnings(trace))
-          trace_warnings_.push_back(file_field.pointer() + ": " + path + ": " + warning);
+          load_warnings_.push_back(file_field.pointer() + ": " + path + ": " + warning);
         scenario.trajectory = DeviceTrajectory::of_trace(std::move(trace), ticks);
         scenario_hash_.add(file_content_hash(path));
       } catch (const InputError& error) {
@@ -931,9 +929,8 @@ class ScenarioReader {
   std::filesystem::path directory_;
   bool plugins_not_loaded_ = false;  // the plugin policy left a named plugin unloaded
   mutable std::vector<std::string> unchecked_algorithms_;  // warnings: algorithms left unchecked
-  std::vector<std::string> trace_warnings_;
-  std::vector<std::string> load_warnings_;  // warnings: budgets under their old names  // warnings:
-                                            // a trace implausible for a desk device
+  // warnings: budgets under their old names, a trace implausible for a desk device
+  std::vector<std::string> load_warnings_;
   ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
 };
 

@@ -1,10 +1,10 @@
 #include "harness/sweep/sweep_table.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "harness/metrics/formatted_number.h"
 #include "harness/metrics/metric_table.h"
 
 namespace hb {
@@ -80,11 +80,8 @@ bool job_less(const SweepJob& a, const SweepJob& b) {
   return a.index < b.index;
 }
 
-std::string fixed(const std::optional<double>& value, int decimals) {
-  if (!value) return "-";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*f", decimals, *value);
-  return text;
+std::string fixed(const std::optional<double>& value, const char* format) {
+  return value ? formatted(format, *value) : "-";
 }
 
 /// The table's columns after the grid's: header, and cell of a row.
@@ -95,10 +92,10 @@ struct Column {
 
 constexpr Column kColumns[] = {
     {"label", [](const SweepTableRow& r) { return r.label.empty() ? r.status : r.label; }},
-    {"F_err_N", [](const SweepTableRow& r) { return fixed(r.force_err_rms_n, 4); }},
-    {"pen_max_mm", [](const SweepTableRow& r) { return fixed(r.penetration_max_mm, 3); }},
-    {"p50_us", [](const SweepTableRow& r) { return fixed(r.step_p50_us, 2); }},
-    {"p99_us", [](const SweepTableRow& r) { return fixed(r.step_p99_us, 2); }},
+    {"F_err_N", [](const SweepTableRow& r) { return fixed(r.force_err_rms_n, "%.4f"); }},
+    {"pen_max_mm", [](const SweepTableRow& r) { return fixed(r.penetration_max_mm, "%.3f"); }},
+    {"p50_us", [](const SweepTableRow& r) { return fixed(r.step_p50_us, "%.2f"); }},
+    {"p99_us", [](const SweepTableRow& r) { return fixed(r.step_p99_us, "%.2f"); }},
     {"stability", [](const SweepTableRow& r) { return r.stability; }},
     {"budgets", [](const SweepTableRow& r) { return r.budgets; }},
 };

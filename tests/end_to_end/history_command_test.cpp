@@ -73,6 +73,14 @@ TEST_CASE("history keeps runs by commit and finds the commit where a metric firs
   CHECK(foreign.exit_code == 2);
   CHECK(foreign.stderr_text.find("not a history folder") != std::string::npos);
   CHECK_FALSE(fs::exists(work / "notes/history.json"));
+  // Nor over a folder in it that history.json does not list.
+  fs::create_directories(work / "store/0004-c4");
+  const hb::test::CommandResult unlisted =
+      hb::test::run_hapticbench("history add store c1 --commit c4", work);
+  CHECK(unlisted.exit_code == 2);
+  CHECK(unlisted.stderr_text.find("history.json does not list it") != std::string::npos);
+  CHECK(json::parse(hb::test::read_text_file(work / "store/history.json")).at("entries").size() ==
+        3);
 
   // The report draws the history alone.
   const hb::test::CommandResult report =
