@@ -14,6 +14,7 @@
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_table.h"
 #include "harness/run/instruction_counting.h"
+#include "harness/run/run_request.h"
 #include "harness/run/scenario_run_folder.h"
 #include "harness/run/scenario_runner.h"
 #include "harness/scenario/scenario.h"
@@ -152,11 +153,20 @@ int run_command(const std::vector<std::string>& args) {
     return kExitOk;
   }
 
-  // Load and build everything first: bad input anywhere stops the command
+  // Read and build everything first: bad input anywhere stops the command
   // before any run folder is written.
+  ProgressDisplay progress = make_progress_display(parsed->progress);
+  std::vector<RunRequest> requests;
+  for (const std::string& path : parsed->scenarios) {
+    RunRequest& request = requests.emplace_back();
+    request.scenario = ScenarioSource::file(path);
+    request.algorithms = parsed->algos;
+    request.schedule = parsed->schedule;
+    request.options = parsed->options;
+    request.options.progress = &progress;
+  }
   std::vector<Scenario> scenarios;
   std::vector<PreparedScenario> prepared;
-  ProgressDisplay progress = make_progress_display(parsed->progress);
   // Scenario warnings wait until it is known whether a child process runs
   // the scenarios (plugins: it says them itself); an error says them first.
   std::vector<std::string> warnings;
@@ -174,11 +184,12 @@ int run_command(const std::vector<std::string>& args) {
     progress.set_prefix(prefix.str());
   };
   try {
-    for (const std::string& path : parsed->scenarios) {
+    for (const RunRequest& request : requests) {
+      const std::string& path = request.scenario.path;
       show_scenario(scenarios.size());
       progress.task(path);
       progress.phase("loading");
-      scenarios.push_back(load_scenario(path));
+      scenarios.push_back(read_scenario(request));
       progress.finish_task();
       for (const std::string& warning : scenarios.back().warnings)
         warnings.push_back("warning: " + path + ": " + warning + "\n");
@@ -216,15 +227,12 @@ int run_command(const std::vector<std::string>& args) {
       require_replaceable_folder(run_folder_for(*parsed, scenario), OutputFolderKind::kRun);
     for (std::size_t s = 0; s < scenarios.size(); ++s) {
       show_scenario(s);
-      prepared.push_back(prepare_scenario(scenarios[s], parsed->algos, &progress));
-      if (parsed->schedule) use_recorded_schedules(prepared.back(), *parsed->schedule);
+      prepared.push_back(prepare_request(scenarios[s], requests[s]));
     }
   } catch (const InputError& error) {
     return report_error(error);
   }
 
-  RunOptions options = parsed->options;
-  options.progress = &progress;
   bool all_pass = true;
   std::vector<std::string> unstable;  // "scenario label (reason)" of runs that fail stability
   for (std::size_t s = 0; s < scenarios.size(); ++s) {
@@ -232,7 +240,7 @@ int run_command(const std::vector<std::string>& args) {
     show_scenario(s);
     ScenarioOutcome outcome;
     try {
-      outcome = run_prepared(prepared[s], options);
+      outcome = run_prepared(prepared[s], requests[s].options);
       if (parsed->instructions) {
         progress.task(scenario.name);
         progress.phase("instruction count under callgrind");

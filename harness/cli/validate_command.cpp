@@ -25,7 +25,7 @@
 #include "harness/process/interrupt.h"
 #include "harness/process/memory_limit.h"
 #include "harness/reference/trace_clearance.h"
-#include "harness/run/scenario_runner.h"
+#include "harness/run/run_request.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/scenario.h"
 #include "harness/trace/device_trajectory.h"
@@ -115,14 +115,17 @@ void report_clearance(const Scenario& scenario, std::ostream& report, ProgressDi
 }
 
 void validate_scenario(const std::string& path, std::ostream& report, ProgressDisplay& progress) {
-  const Scenario scenario = load_scenario(path);
+  RunRequest request;
+  request.scenario = ScenarioSource::file(path);
+  request.options.progress = &progress;
+  const Scenario scenario = read_scenario(request);
   for (const std::string& warning : scenario.warnings)
     std::cerr << "warning: " << path << ": " << warning << "\n";
   // Everything `run` builds before it replays: the renderers (which reject
   // bad or unknown algorithm parameters) and the ground truth (whose oracles
   // reject open or self-intersecting scene meshes).
   try {
-    prepare_scenario(scenario, {}, &progress);
+    prepare_request(scenario, request);
   } catch (const InputError& error) {
     throw with_default_source(error, scenario.path);
   }

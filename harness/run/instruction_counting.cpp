@@ -15,6 +15,7 @@
 #include "harness/process/child_process.h"
 #include "harness/process/scratch_folder.h"
 #include "harness/replay/instruction_count.h"
+#include "harness/run/run_request.h"
 #include "harness/scenario/scenario.h"
 
 namespace hb {
@@ -118,10 +119,13 @@ void count_instructions(const std::string& scenario_path, const AlgorithmSelecti
 void count_instructions_here(const std::string& scenario_path, const AlgorithmSelection& only,
                              const std::string& schedule_dir, const std::string& out,
                              ProgressDisplay* progress) {
-  Scenario scenario = load_scenario(scenario_path);
-  scenario.reference.switch_off_oracle();  // no ground truth is counted, so none is built
-  PreparedScenario prepared = prepare_scenario(scenario, only);
-  use_recorded_schedules(prepared, schedule_dir);
+  RunRequest request;
+  request.scenario = ScenarioSource::file(scenario_path);
+  request.algorithms = only;
+  request.ground_truth = false;  // no ground truth is counted, so none is built
+  request.schedule = schedule_dir;
+  const Scenario scenario = read_scenario(request);
+  PreparedScenario prepared = prepare_request(scenario, request);
 
   start_instrumentation();
   nlohmann::json counts = nlohmann::json::object();

@@ -17,7 +17,6 @@
 #include <tuple>
 
 #include "algorithms/core/input_file.h"
-#include "algorithms/registry.h"
 #include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/mass_properties.h"
@@ -26,7 +25,6 @@
 #include "harness/closed_loop/closed_loop_device.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/metrics/metric_table.h"
-#include "harness/plugins/plugin_loader.h"
 #include "harness/reference/oracle.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
@@ -175,14 +173,6 @@ bool is_file_name_safe(const std::string& name) {
 const char* const kSafeNameExpected =
     "expected a non-empty string of letters, digits, '_', '.', '-' and '='";
 
-std::string read_file_bytes(const std::string& path) {
-  // "file not found", or what it is instead (a folder, a FIFO, a device).
-  require_regular_file(path, "a scenario file (.json)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open scenario file");
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // A shape's parameters as text: the shape's identity for caches.
 std::string shape_hash(const Shape& shape) {
   ContentHash hash;
@@ -227,8 +217,7 @@ class ScenarioReader {
       scenario.description = root.existing_member("description").string("expected a string");
     if (root.has("tags")) scenario.tags = read_tags(root.existing_member("tags"));
 
-    // Plugins first: they add algorithm names the algorithms block may use.
-    if (root.has("plugins")) read_plugins(root.existing_member("plugins"));
+    if (root.has("plugins")) scenario.plugins = read_plugins(root.existing_member("plugins"));
     // Cheap checks first, so that a typo is reported before meshes load.
     scenario.algorithms = read_algorithms(
         root.member("algorithms", "a non-empty array of {\"name\", \"label\", \"params\"}"));
@@ -262,8 +251,6 @@ class ScenarioReader {
     for (std::string& warning : measurement_warnings(root, scenario))
       scenario.warnings.push_back(std::move(warning));
     scenario.warnings.insert(scenario.warnings.end(), load_warnings_.begin(), load_warnings_.end());
-    scenario.warnings.insert(scenario.warnings.begin(), unchecked_algorithms_.begin(),
-                             unchecked_algorithms_.end());
     scenario.content_hash = scenario_hash_.hex();
     return scenario;
   }
@@ -515,25 +502,20 @@ class ScenarioReader {
     return tool;
   }
 
-  // Each plugin file, relative to the scenario, is loaded (once per process,
-  // and only as the plugin policy allows: plugin_loader.h) and hashed with
-  // the scenario.
-  void read_plugins(const JsonField& field) {
+  // Each plugin file, relative to the scenario, must exist; it is hashed
+  // with the scenario and returned as a path (a run loads it, as the plugin
+  // policy allows).
+  std::vector<ScenarioPlugin> read_plugins(const JsonField& field) {
     const std::size_t count =
         field.array_size("expected an array of plugin file paths (shared libraries)");
+    std::vector<ScenarioPlugin> plugins;
     for (std::size_t i = 0; i < count; ++i) {
       const JsonField entry = field.element(i);
       const std::string path = existing_file(entry, "plugin");
-      // Refused by policy: the scenario's field is at fault, not the file.
-      if (const std::optional<std::string> refused = scenario_plugin_refusal(path))
-        entry.fail_with(*refused);
-      try {
-        if (!load_scenario_plugin(path, entry.pointer())) plugins_not_loaded_ = true;
-      } catch (const InputError& error) {
-        throw with_reference_note(error, path_, entry.pointer());
-      }
       scenario_hash_.add(file_content_hash(path));
+      plugins.push_back({path, entry.pointer()});
     }
+    return plugins;
   }
 
   static std::vector<std::string> read_tags(const JsonField& field) {
@@ -729,10 +711,6 @@ class ScenarioReader {
     const std::string expected = "expected a non-empty array of {\"name\", \"label\", \"params\"}";
     const std::size_t count = field.array_size(expected);
     if (count == 0) field.fail(expected);
-    std::string known;
-    for (const AlgorithmEntry& entry : algorithm_table())
-      known += (known.empty() ? "" : ", ") + std::string(entry.name);
-
     std::vector<AlgorithmSpec> specs;
     std::map<std::string, std::string> label_owner;  // label -> JSON pointer of its entry
     for (std::size_t i = 0; i < count; ++i) {
@@ -740,21 +718,10 @@ class ScenarioReader {
       entry.require_object("expected {\"name\", \"label\", \"params\"}");
       entry.reject_unknown_keys({"name", "label", "params"});
       AlgorithmSpec spec;
-      const JsonField name = entry.member("name", "an algorithm name (known: " + known + ")");
-      spec.name = name.string("expected an algorithm name (known: " + known + ")");
-      bool registered = false;
-      for (const AlgorithmEntry& row : algorithm_table()) registered |= row.name == spec.name;
-      if (!registered && plugins_not_loaded_) {
-        unchecked_algorithms_.push_back(
-            name.pointer() + ": algorithm \"" + spec.name +
-            "\" is not checked: it is not built in, and the scenario's plugins, "
-            "which may register it, are not loaded here (they would run code)");
-        continue;
-      }
-      if (!registered)
-        name.fail_with("unknown algorithm \"" + spec.name + "\" (known: " + known +
-                       "; a renderer built outside hapticbench loads with --plugin PATH.so, "
-                       "docs/plugins.md)");
+      spec.pointer = entry.pointer();
+      const JsonField name = entry.member("name", "an algorithm name (hapticbench list)");
+      spec.name = name.string("expected an algorithm name (hapticbench list names them)");
+      if (spec.name.empty()) name.fail("expected an algorithm name (hapticbench list names them)");
 
       spec.label = spec.name;
       std::string label_pointer = name.pointer();
@@ -927,8 +894,6 @@ class ScenarioReader {
 
   std::string path_;
   std::filesystem::path directory_;
-  bool plugins_not_loaded_ = false;  // the plugin policy left a named plugin unloaded
-  mutable std::vector<std::string> unchecked_algorithms_;  // warnings: algorithms left unchecked
   // warnings: budgets under their old names, a trace implausible for a desk device
   std::vector<std::string> load_warnings_;
   ContentHash scenario_hash_;  // scenario bytes, then every named file's hash in reading order
@@ -947,7 +912,8 @@ const std::vector<std::string>& known_budget_names() {
 }
 
 Scenario load_scenario(const std::string& path) {
-  return load_scenario_json(read_file_bytes(path), path, std::filesystem::path(path).parent_path());
+  return load_scenario_json(read_regular_file(path, "a scenario file (.json)"), path,
+                            std::filesystem::path(path).parent_path());
 }
 
 Scenario load_scenario_json(const std::string& json_text, const std::string& source_path,

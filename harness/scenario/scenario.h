@@ -20,7 +20,8 @@
 namespace hb {
 
 struct AlgorithmSpec {
-  std::string name;         ///< registry name
+  std::string name;         ///< registry name (checked against the registry when a run reads it)
+  std::string pointer;      ///< its entry in the scenario, "/algorithms/<i>"
   std::string label;        ///< unique in the scenario; defaults to name
   ParamSet params;          ///< prefix "/algorithms/<i>/params"
   std::string params_json;  ///< the params object as written (compact JSON), for summaries
@@ -51,6 +52,14 @@ struct Budget {
   double limit = 0;
 };
 
+/// A plugin file a scenario names ("plugins"): read as data; whether it
+/// loads is the plugin policy's to say when a run reads the scenario
+/// (harness/run/run_request.h).
+struct ScenarioPlugin {
+  std::string path;     ///< resolved against the scenario's folder
+  std::string pointer;  ///< "/plugins/<i>"
+};
+
 struct Scenario {
   std::string name;
   std::string path;          ///< the file it came from
@@ -62,6 +71,7 @@ struct Scenario {
   RenderContext context;          ///< scene, tool (with mass properties), coupling, device, gravity
   DeviceTrajectory trajectory;    ///< the trace on the 1 kHz clock, computed on demand
   std::string trace_description;  ///< "generator press (seed 1)" or the trace file path
+  std::vector<ScenarioPlugin> plugins;  ///< in the order named
   std::vector<AlgorithmSpec> algorithms;
   ReferenceSpec reference;
   std::vector<Budget> budgets;
@@ -100,6 +110,10 @@ const std::vector<std::string>& known_budget_names();
 /// validated, shapes meshed, mass properties computed, the trace read or
 /// generated and resampled to 1 kHz. Throws InputError naming the file, the
 /// JSON path of the field (e.g. "/tool/density") and what was expected.
+/// Reading runs no code the file names: plugins are returned as paths, and
+/// algorithm names are checked against the registry by the run request
+/// (read_scenario in harness/run/run_request.h), after the plugins the
+/// policy allows are loaded.
 /// Same as load_scenario_json on the file's bytes with its own folder as
 /// base_dir.
 Scenario load_scenario(const std::string& path);

@@ -1,20 +1,14 @@
 #include "harness/stability/stability_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <iterator>
 #include <sstream>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
-#include "harness/run/scenario_runner.h"
-#include "harness/scenario/json_fields.h"
-#include "harness/scenario/json_pointer.h"
+#include "harness/run/run_request.h"
 #include "harness/scenario/scenario.h"
-#include "harness/sweep/sweep_jobs.h"
-#include "harness/sweep/sweep_spec.h"
 
 namespace hb {
 
@@ -46,67 +40,49 @@ Json probe_json(const StabilityProbe& p) {
   return json;
 }
 
-struct ScenarioProber::Loaded {
-  Scenario scenario;
-};
-
 ScenarioProber::ScenarioProber(std::string scenario_path, std::string label,
                                StabilityCriterion criterion, double epsilon_j,
                                ProgressDisplay& progress)
-    : path_(std::move(scenario_path)),
+    : source_(ScenarioSource::read_now(scenario_path)),
       label_(std::move(label)),
       criterion_(criterion),
       epsilon_j_(epsilon_j),
-      progress_(progress) {
-  // The reader every scenario goes through: a regular file only (a FIFO
-  // would block), nesting and duplicate keys checked before parsing.
-  require_regular_file(path_, "a scenario file (.json)");
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) throw InputError(path_, "", "cannot open scenario file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  document_ = parse_json_document(text, path_);
-  base_dir_ = std::filesystem::absolute(path_).parent_path().string();
+      progress_(progress) {}
+
+RunRequest ScenarioProber::request(const std::vector<std::pair<std::string, double>>& settings) {
+  RunRequest request;
+  request.scenario = source_;
+  for (const auto& [pointer, value] : settings) request.edits.push_back({pointer, value});
+  request.algorithms = {label_};
+  request.options.progress = &progress_;
+  return request;
 }
 
-ScenarioProber::Loaded ScenarioProber::load(
-    const std::vector<std::pair<std::string, double>>& settings) {
-  Json document = document_;
-  for (const auto& [pointer, value] : settings) {
-    const std::optional<std::vector<std::string>> tokens = json_pointer_tokens(pointer);
-    const std::optional<std::string> failure =
-        tokens ? set_at_pointer(document, *tokens, Json(value))
-               : std::optional<std::string>("not a JSON pointer");
-    if (failure) throw InputError(path_, pointer, "cannot set it: " + *failure);
-  }
+Scenario ScenarioProber::load(const RunRequest& request) {
+  Scenario scenario = read_scenario(request);
   // Only the algorithm asked for: the label must name one.
-  const Json& algorithms = document["algorithms"];
-  bool found = false;
-  if (algorithms.is_array())
-    for (const Json& a : algorithms)
-      if (a.is_object() && (a.value("label", "") == label_ || a.value("name", "") == label_)) {
-        found = true;
-        algorithm_ = a.value("name", "");
-        const Json params = a.value("params", Json::object());
-        integrator_ =
-            params.is_object() && params.contains("integrator") && params["integrator"].is_string()
-                ? params["integrator"].get<std::string>()
-                : "";
-      }
-  if (!found)
-    throw InputError(path_, "/algorithms", "no algorithm labelled or named \"" + label_ + "\"");
-  Loaded loaded{load_scenario_json(document.dump(), path_, base_dir_)};
-  name_ = loaded.scenario.name;
-  return loaded;
+  const auto spec =
+      std::find_if(scenario.algorithms.begin(), scenario.algorithms.end(),
+                   [&](const AlgorithmSpec& a) { return a.label == label_ || a.name == label_; });
+  if (spec == scenario.algorithms.end())
+    throw InputError(source_.path, "/algorithms",
+                     "no algorithm labelled or named \"" + label_ + "\"");
+  algorithm_ = spec->name;
+  const Json params = Json::parse(spec->params_json);
+  integrator_ = params.contains("integrator") && params["integrator"].is_string()
+                    ? params["integrator"].get<std::string>()
+                    : "";
+  name_ = scenario.name;
+  return scenario;
 }
 
 void ScenarioProber::check(const std::vector<std::pair<std::string, double>>& settings) {
-  load(settings);
+  load(request(settings));
 }
 
 SmallSignalLimit ScenarioProber::small_signal(
     const std::vector<std::pair<std::string, double>>& settings) {
-  const Loaded loaded = load(settings);
-  const Scenario& scenario = loaded.scenario;
+  const Scenario scenario = load(request(settings));
   if (!scenario.closed_loop)
     return {std::nullopt, "open loop: there is no hand and device whose loop to linearise"};
   return small_signal_k_t_limit(*scenario.closed_loop, scenario.context.coupling.b_t,
@@ -114,15 +90,14 @@ SmallSignalLimit ScenarioProber::small_signal(
 }
 
 StabilityProbe ScenarioProber::probe(const std::vector<std::pair<std::string, double>>& settings) {
-  const Loaded loaded = load(settings);
+  const RunRequest run = request(settings);
+  const Scenario scenario = load(run);
   std::ostringstream prefix;
   prefix << "run " << ++runs_;
   for (const auto& [pointer, value] : settings) prefix << ", " << pointer << " = " << value;
   progress_.set_prefix(prefix.str() + ": ");
-  PreparedScenario prepared = prepare_scenario(loaded.scenario, {label_}, &progress_);
-  RunOptions options;
-  options.progress = &progress_;
-  const ScenarioOutcome outcome = run_prepared(prepared, options);
+  PreparedScenario prepared = prepare_request(scenario, run);
+  const ScenarioOutcome outcome = run_prepared(prepared, run.options);
   const RunMetrics& m = outcome.report.runs.front().metrics;
   StabilityProbe p;
   p.settings = settings;

@@ -13,9 +13,10 @@
 #include <utility>
 #include <vector>
 
-#include "harness/progress/progress_display.h"
-#include "harness/stability/small_signal.h"
 #include "harness/metrics/stability_verdict.h"
+#include "harness/progress/progress_display.h"
+#include "harness/run/run_request.h"
+#include "harness/stability/small_signal.h"
 
 namespace hb {
 
@@ -68,15 +69,16 @@ class ScenarioProber {
   const std::string& integrator() const { return integrator_; }
 
  private:
-  struct Loaded;
-  Loaded load(const std::vector<std::pair<std::string, double>>& settings);
+  /// A run of the labelled algorithm with `settings` made.
+  RunRequest request(const std::vector<std::pair<std::string, double>>& settings);
+  /// The request's scenario; notes the algorithm's name and integrator.
+  Scenario load(const RunRequest& request);
 
-  std::string path_, label_;
+  ScenarioSource source_;  ///< the file, read once
+  std::string label_;
   StabilityCriterion criterion_;
   double epsilon_j_;
   ProgressDisplay& progress_;
-  nlohmann::ordered_json document_;
-  std::string base_dir_;
   std::string name_, algorithm_, integrator_;
   int runs_ = 0;
 };

@@ -255,12 +255,4 @@ InputError sweep_job_error(const SweepSpec& spec, const SweepJob& job, const Inp
   return InputError(spec.path, "job " + job.name, error.what());
 }
 
-Scenario load_sweep_job_scenario(const SweepSpec& spec, const SweepJob& job) {
-  try {
-    return load_scenario_json(sweep_job_scenario_text(job), job.scenario_path, job.base_dir);
-  } catch (const InputError& error) {
-    throw sweep_job_error(spec, job, error);
-  }
-}
-
 }  // namespace hb

@@ -70,12 +70,6 @@ std::vector<SweepJob> expand_sweep_jobs(const SweepSpec& spec);
 /// loaded: the text a job's content hash covers.
 std::string sweep_job_scenario_text(const SweepJob& job);
 
-/// Loads and validates the job's scenario with load_scenario_json (errors
-/// name the original scenario file). Throws InputError(sweep file, "job
-/// <name>", the scenario's error) so that a message names the sweep, the
-/// job, the scenario and the field.
-Scenario load_sweep_job_scenario(const SweepSpec& spec, const SweepJob& job);
-
 /// An InputError about a job, re-anchored on the sweep file:
 /// "<sweep file>: job <name>: <original message with its file and field>".
 InputError sweep_job_error(const SweepSpec& spec, const SweepJob& job, const InputError& error);

@@ -15,8 +15,8 @@
 #include "harness/output/run_folder.h"
 #include "harness/output/run_table.h"
 #include "harness/process/scratch_folder.h"
+#include "harness/run/run_request.h"
 #include "harness/run/scenario_run_folder.h"
-#include "harness/run/scenario_runner.h"
 #include "harness/sweep/sweep_index.h"
 #include "harness/sweep/sweep_jobs.h"
 #include "harness/sweep/sweep_progress.h"
@@ -29,6 +29,15 @@ namespace hb {
 namespace fs = std::filesystem;
 
 namespace {
+
+// A job's run: its scenario with the grid's values set, every algorithm.
+RunRequest sweep_job_request(const SweepJob& job) {
+  RunRequest request;
+  request.scenario.path = job.scenario_path;
+  request.scenario.document = sweep_job_scenario_text(job);
+  request.scenario.base_dir = job.base_dir;
+  return request;
+}
 
 // Exit codes of a sweep and its workers (harness/cli/commands.h has the list).
 constexpr int kSweepOk = 0, kSweepBudgetFailed = 1, kSweepFailed = 2, kSweepCrashed = 3;
@@ -48,14 +57,16 @@ int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
                          std::to_string(jobs.size()) + " jobs (0 to " +
                          std::to_string(jobs.size() - 1) + ")");
   const SweepJob& job = jobs[job_index];
-  const Scenario scenario = load_sweep_job_scenario(spec, job);
+  const RunRequest request = sweep_job_request(job);
+  Scenario scenario;
   PreparedScenario prepared;
   try {
-    prepared = prepare_scenario(scenario, {});
+    scenario = read_scenario(request);
+    prepared = prepare_request(scenario, request);
   } catch (const InputError& error) {
     throw sweep_job_error(spec, job, error);
   }
-  const ScenarioOutcome outcome = run_prepared(prepared);
+  const ScenarioOutcome outcome = run_prepared(prepared, request.options);
   const fs::path folder = output_folder(args, spec) / job.name;
   write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}},
                             /*sweep_job=*/true);
@@ -82,15 +93,15 @@ std::vector<std::string> validate_jobs(const SweepSpec& spec, const std::vector<
   SweepErrors errors(spec.path);  // every job is checked: all errors at once
   for (const SweepJob& job : jobs) {
     try {
-      Scenario scenario =
-          load_scenario_json(sweep_job_scenario_text(job), job.scenario_path, job.base_dir);
+      const RunRequest request = sweep_job_request(job);
+      Scenario scenario = read_scenario(request);
       hashes[job.index] = scenario.content_hash;
       std::string ground_truth_key;
       for (const char* key : {"scene", "tool", "reference"})
         ground_truth_key += job.scenario.contains(key) ? job.scenario[key].dump() : "-";
       if (!checked_ground_truth.insert(ground_truth_key).second)
         scenario.reference.switch_off_oracle();
-      prepare_scenario(scenario, {});
+      prepare_request(scenario, request);
     } catch (const InputError& error) {
       errors.add_for_job(job.name, error);
     }

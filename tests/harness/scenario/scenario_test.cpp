@@ -328,16 +328,6 @@ TEST_CASE("an open mesh is rejected naming the mesh file and where it was refere
   CHECK(tool.what.find("distance_only") == std::string::npos);  // a tool must be closed
 }
 
-TEST_CASE("an unknown algorithm is caught at load time") {
-  const Rejection r =
-      rejection_of([](Json& s) { s["algorithms"][0]["name"] = "no_such_algorithm"; });
-  INFO(r.what);
-  CHECK(r.what.find(r.scenario_path +
-                    ": /algorithms/0/name: unknown algorithm \"no_such_algorithm\" (known: ") == 0);
-  CHECK(r.what.find("coupling_only") != std::string::npos);
-  CHECK(r.what.find("loads with --plugin PATH.so") != std::string::npos);
-}
-
 TEST_CASE("an unknown generator names /trace/generator") {
   const Rejection r = rejection_of([](Json& s) { s["trace"]["generator"] = "no_such_motion"; });
   INFO(r.what);

@@ -69,6 +69,16 @@ std::vector<hb::SweepJob> expand(const std::string& path) {
 
 }  // namespace
 
+// A job's scenario as a sweep reads it, errors re-anchored on the sweep file.
+hb::Scenario job_scenario(const hb::SweepSpec& spec, const hb::SweepJob& job) {
+  try {
+    return hb::load_scenario_json(hb::sweep_job_scenario_text(job), job.scenario_path,
+                                  job.base_dir);
+  } catch (const hb::InputError& error) {
+    throw hb::sweep_job_error(spec, job, error);
+  }
+}
+
 TEST_CASE("jobs are scenarios x grid values, scenarios first, the last grid key fastest") {
   const fs::path dir = jobs_scratch("order");
   const std::vector<int> k_t = {1000, 2000};
@@ -278,7 +288,7 @@ TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's
   CHECK(loaded.name == "meshes");
   CHECK(loaded.path == "elsewhere.json");
   CHECK(loaded.trajectory.ticks() == 50);
-  CHECK(hb::load_sweep_job_scenario(spec, jobs[0]).content_hash == loaded.content_hash);
+  CHECK(job_scenario(spec, jobs[0]).content_hash == loaded.content_hash);
 }
 
 TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors name source_path") {
@@ -314,9 +324,9 @@ TEST_CASE("a job whose values the scenario rejects names the sweep, the job and 
   const hb::SweepSpec spec = hb::load_sweep_spec(path);
   const std::vector<hb::SweepJob> jobs = hb::expand_sweep_jobs(spec);
   REQUIRE(jobs.size() == 2);
-  CHECK(hb::load_sweep_job_scenario(spec, jobs[0]).context.coupling.k_t == 1000);
+  CHECK(job_scenario(spec, jobs[0]).context.coupling.k_t == 1000);
   try {
-    hb::load_sweep_job_scenario(spec, jobs[1]);
+    job_scenario(spec, jobs[1]);
     FAIL("expected an InputError");
   } catch (const hb::InputError& error) {
     CHECK(error.source() == path);
