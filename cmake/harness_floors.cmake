@@ -14,8 +14,9 @@ endif()
 
 # Read it from the ground up: processes and files, traces, the closed-loop
 # device; meshes, ground truth, replay; metrics and the stability verdict;
-# scenarios and run folders; the run pipeline and comparison; sweeps and
-# history; the stability searches; the command line.
+# scenarios and run folders; the run pipeline, comparison and sweep jobs;
+# history; the drivers over the run request (a sweep's jobs, the stability
+# searches); the command line.
 set(HB_HARNESS_FLOOR_process 0)
 set(HB_HARNESS_FLOOR_progress 0)
 set(HB_HARNESS_FLOOR_plugins 0)
@@ -29,9 +30,9 @@ set(HB_HARNESS_FLOOR_scenario 3)
 set(HB_HARNESS_FLOOR_output 3)
 set(HB_HARNESS_FLOOR_run 4)
 set(HB_HARNESS_FLOOR_compare 4)
-set(HB_HARNESS_FLOOR_sweep 5)
+set(HB_HARNESS_FLOOR_sweep 4)
 set(HB_HARNESS_FLOOR_history 5)
-set(HB_HARNESS_FLOOR_stability 6)
+set(HB_HARNESS_FLOOR_drivers 6)
 set(HB_HARNESS_FLOOR_cli 7)
 
 # hb_check_harness_floors(DIR): stops with FATAL_ERROR naming every

@@ -24,9 +24,9 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
+#include "harness/drivers/stability_search.h"
 #include "harness/output/run_folder.h"
 #include "harness/scenario/json_pointer.h"
-#include "harness/stability/stability_search.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace hb {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "harness/drivers/stability_search.h"
 #include "harness/output/run_folder.h"
 #include "harness/progress/progress_display.h"
-#include "harness/stability/stability_search.h"
 
 namespace hb {
 

@@ -1,5 +1,5 @@
 // hapticbench sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]: the
-// command line of harness/sweep/sweep_runner.h.
+// command line of harness/drivers/sweep_runner.h.
 #include <iostream>
 #include <optional>
 #include <string>
@@ -8,7 +8,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
-#include "harness/sweep/sweep_runner.h"
+#include "harness/drivers/sweep_runner.h"
 #include "harness/sweep/sweep_shard.h"
 
 namespace hb {

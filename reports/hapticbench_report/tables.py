@@ -310,7 +310,7 @@ def is_stress_folder(folder):
 
 def stress_verdict(run):
     """(passed, text) from the run's stability verdict, which hapticbench
-    computes (summary.json stability.verdict; harness/stability/
+    computes (summary.json stability.verdict; harness/metrics/
     stability_verdict.h): the first failed check with its figure, or the
     figure behind a pass. (None, "no verdict") for a summary without one."""
     verdict = dig(run.summary, "stability", "verdict")

@@ -4,7 +4,8 @@
 #include "harness/scenario/scenario.h"
 #include "tests/fuzz/fuzz_support.h"
 
-// A fuzzed scenario may name any file as a plugin: none is opened.
+// Reading a scenario opens no plugin it names (a run request decides that);
+// should a reader ever try, the loader refuses every plugin here.
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   hb::refuse_plugins("plugins are not loaded while fuzzing");
   return 0;

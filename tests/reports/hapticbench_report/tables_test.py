@@ -49,7 +49,7 @@ class StressRun:
 class StressMatrixTest(unittest.TestCase):
     def test_a_cell_is_the_runs_verdict(self):
         # The checks and their order are hapticbench's
-        # (tests/harness/stability/stability_verdict_test.cpp); the report
+        # (tests/harness/metrics/stability_verdict_test.cpp); the report
         # shows what the summary says.
         verdict = tables.stress_verdict
         self.assertEqual(verdict(StressRun("a", False, "tunnelled 9×", "tunnelled")),

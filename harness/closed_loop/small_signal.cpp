@@ -1,4 +1,4 @@
-#include "harness/stability/small_signal.h"
+#include "harness/closed_loop/small_signal.h"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

@@ -1,10 +1,10 @@
-// Tests for harness/stability/small_signal.cpp against the closed-loop
+// Tests for harness/closed_loop/small_signal.cpp against the closed-loop
 // device itself (harness/closed_loop/closed_loop_device.cpp): a device
 // held pressed against a rigid wall rendered as −k y − b v̂ from what it
 // reports, friction and quantisation off, on three devices (light, the
 // default desk device, heavy; filtered velocity on and off): a small
 // disturbance dies out 2 % below the small-signal limit and grows 2 % above.
-#include "harness/stability/small_signal.h"
+#include "harness/closed_loop/small_signal.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

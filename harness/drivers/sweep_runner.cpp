@@ -1,4 +1,4 @@
-#include "harness/sweep/sweep_runner.h"
+#include "harness/drivers/sweep_runner.h"
 
 #include <unistd.h>
 
@@ -57,16 +57,14 @@ int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
                          std::to_string(jobs.size()) + " jobs (0 to " +
                          std::to_string(jobs.size() - 1) + ")");
   const SweepJob& job = jobs[job_index];
-  const RunRequest request = sweep_job_request(job);
-  Scenario scenario;
-  PreparedScenario prepared;
+  RunResult run;
   try {
-    scenario = read_scenario(request);
-    prepared = prepare_request(scenario, request);
+    run = run_request(sweep_job_request(job));
   } catch (const InputError& error) {
     throw sweep_job_error(spec, job, error);
   }
-  const ScenarioOutcome outcome = run_prepared(prepared, request.options);
+  const Scenario& scenario = run.scenario;
+  const ScenarioOutcome& outcome = run.outcome;
   const fs::path folder = output_folder(args, spec) / job.name;
   write_scenario_run_folder(folder, outcome, {{"scenario.json", sweep_job_scenario_text(job)}},
                             /*sweep_job=*/true);

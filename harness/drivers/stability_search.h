@@ -13,10 +13,10 @@
 #include <utility>
 #include <vector>
 
+#include "harness/closed_loop/small_signal.h"
 #include "harness/metrics/stability_verdict.h"
 #include "harness/progress/progress_display.h"
 #include "harness/run/run_request.h"
-#include "harness/stability/small_signal.h"
 
 namespace hb {
 

@@ -1,4 +1,4 @@
-#include "harness/stability/stability_search.h"
+#include "harness/drivers/stability_search.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
-// Tests for search_largest_stable (harness/stability/stability_search.cpp)
+// Tests for search_largest_stable (harness/drivers/stability_search.cpp)
 // on verdicts made up here: a single threshold is bracketed within the
 // tolerance; a verdict that changes more than once is reported as such,
 // with no bracket, instead of a wrong one.
-#include "harness/stability/stability_search.h"
+#include "harness/drivers/stability_search.h"
 
 #include <catch2/catch.hpp>
 #include <functional>
