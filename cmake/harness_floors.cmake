@@ -12,28 +12,28 @@ if(CMAKE_SCRIPT_MODE_FILE STREQUAL CMAKE_CURRENT_LIST_FILE)
   cmake_minimum_required(VERSION 3.25)  # the project's policies (IN_LIST)
 endif()
 
-# Read it from the ground up: processes and files, traces, the closed-loop
-# device; meshes, ground truth, replay; metrics and the stability verdict;
-# scenarios and run folders; the run pipeline, comparison and sweep jobs;
-# history; the drivers over the run request (a sweep's jobs, the stability
-# searches); the command line.
+# Read it from the ground up: processes, input files and progress; traces
+# and the closed-loop device; meshes, ground truth, replay; metrics and the
+# stability verdict; scenarios and run folders; the run pipeline,
+# comparison and sweep jobs; history; the drivers over the run request (a
+# sweep's jobs, the stability searches); the command line.
 set(HB_HARNESS_FLOOR_process 0)
 set(HB_HARNESS_FLOOR_progress 0)
 set(HB_HARNESS_FLOOR_plugins 0)
-set(HB_HARNESS_FLOOR_trace 0)
-set(HB_HARNESS_FLOOR_closed_loop 0)
-set(HB_HARNESS_FLOOR_mesh_io 1)
-set(HB_HARNESS_FLOOR_reference 1)
-set(HB_HARNESS_FLOOR_replay 1)
-set(HB_HARNESS_FLOOR_metrics 2)
-set(HB_HARNESS_FLOOR_scenario 3)
-set(HB_HARNESS_FLOOR_output 3)
-set(HB_HARNESS_FLOOR_run 4)
-set(HB_HARNESS_FLOOR_compare 4)
-set(HB_HARNESS_FLOOR_sweep 4)
-set(HB_HARNESS_FLOOR_history 5)
-set(HB_HARNESS_FLOOR_drivers 6)
-set(HB_HARNESS_FLOOR_cli 7)
+set(HB_HARNESS_FLOOR_trace 1)
+set(HB_HARNESS_FLOOR_closed_loop 1)
+set(HB_HARNESS_FLOOR_mesh_io 2)
+set(HB_HARNESS_FLOOR_reference 2)
+set(HB_HARNESS_FLOOR_replay 2)
+set(HB_HARNESS_FLOOR_metrics 3)
+set(HB_HARNESS_FLOOR_scenario 4)
+set(HB_HARNESS_FLOOR_output 4)
+set(HB_HARNESS_FLOOR_run 5)
+set(HB_HARNESS_FLOOR_compare 5)
+set(HB_HARNESS_FLOOR_sweep 5)
+set(HB_HARNESS_FLOOR_history 6)
+set(HB_HARNESS_FLOOR_drivers 7)
+set(HB_HARNESS_FLOOR_cli 8)
 
 # hb_check_harness_floors(DIR): stops with FATAL_ERROR naming every
 # `#include "harness/<folder>/..."` in a source of DIR/<name>/ whose folder

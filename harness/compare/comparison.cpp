@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/compare/run_checks.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/process/input_file.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {

@@ -7,9 +7,9 @@
 #include <limits>
 #include <set>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/process/input_file.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {

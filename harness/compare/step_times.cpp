@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/input_file.h"
 #include "harness/process/interrupt.h"
 
 namespace hb {

@@ -8,10 +8,10 @@
 #include <set>
 #include <tuple>
 
-#include "algorithms/core/input_file.h"
 #include "algorithms/core/replacing_file.h"
 #include "hapticbench/input_error.h"
 #include "harness/compare/summary_set.h"
+#include "harness/process/input_file.h"
 #include "harness/scenario/json_fields.h"
 
 namespace hb {

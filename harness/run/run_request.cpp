@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
-#include "algorithms/core/input_file.h"
 #include "algorithms/registry.h"
 #include "hapticbench/input_error.h"
 #include "harness/plugins/plugin_loader.h"
+#include "harness/process/input_file.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
 #include "harness/scenario/json_pointer.h"

@@ -16,7 +16,6 @@
 #include <sstream>
 #include <tuple>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
 #include "hapticbench/mass_properties.h"
@@ -25,6 +24,7 @@
 #include "harness/closed_loop/closed_loop_device.h"
 #include "harness/mesh_io/mesh_io.h"
 #include "harness/metrics/metric_table.h"
+#include "harness/process/input_file.h"
 #include "harness/reference/oracle.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"

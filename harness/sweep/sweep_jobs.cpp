@@ -5,8 +5,8 @@
 #include <map>
 #include <optional>
 
-#include "algorithms/core/input_file.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/input_file.h"
 #include "harness/scenario/input_error_context.h"
 #include "harness/scenario/json_fields.h"
 #include "harness/sweep/job_name.h"

@@ -17,10 +17,10 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "algorithms/core/input_file.h"
 #include "algorithms/core/replacing_file.h"
 #include "hapticbench/content_hash.h"
 #include "hapticbench/input_error.h"
+#include "harness/process/input_file.h"
 #include "harness/trace/trace.h"
 
 namespace hb {
