@@ -16,12 +16,9 @@ PenetrationResult penetration_of_inside_points(const Oracle& oracle, std::span<c
   result.inside = static_cast<int64_t>(inside_points.size());
   if (inside_points.empty()) return result;
 
-  PointQueryRequest request;
-  request.points = inside_points;
-  request.want_inside = false;
-  request.want_closest = true;
   PointQueryResult closest;
-  oracle.query_points(request, closest);
+  oracle.query_points({.points = inside_points, .want_inside = false, .want_closest = true},
+                      closest);
   double sum_sq = 0;
   for (double d : closest.distance) {
     result.max_depth_m = std::max(result.max_depth_m, d);

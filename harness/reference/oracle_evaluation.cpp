@@ -190,12 +190,8 @@ OracleTickEvaluation OracleEvaluator::evaluate(int64_t tick, const Pose& tool_po
     std::vector<Vec3> points;
     points.reserve(contacts.size());
     for (const Contact& c : contacts) points.push_back(c.point);
-    PointQueryRequest request;
-    request.points = points;
-    request.want_inside = true;
-    request.want_closest = true;
     PointQueryResult truth;
-    oracle.query_points(request, truth);
+    oracle.query_points({.points = points, .want_inside = true, .want_closest = true}, truth);
     for (std::size_t i = 0; i < contacts.size(); ++i) {
       const double oracle_depth = truth.inside[i] ? truth.distance[i] : -truth.distance[i];
       out.contact_checks.push_back(

@@ -229,13 +229,10 @@ void refresh_distances(const Oracle& oracle, std::span<const Vec3> points,
                        std::span<const std::size_t> indices, double max_distance,
                        std::vector<double>& distance) {
   if (points.empty()) return;
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = false;
-  request.want_closest = true;
-  request.max_distance = max_distance;
   PointQueryResult result;
-  oracle.query_points(request, result);
+  oracle.query_points(
+      {.points = points, .want_inside = false, .want_closest = true, .max_distance = max_distance},
+      result);
   for (std::size_t k = 0; k < indices.size(); ++k)
     if (result.distance[k] >= 0) distance[indices[k]] = result.distance[k];
 }
@@ -701,24 +698,18 @@ bool RigidProxyReference::start_at(const Pose& device) {
   // tool started inside a mesh once cost 11 ms a tick).
   if (blocking_sample_ < tool_samples_.size()) {
     const Vec3 point = device.transform_point(tool_samples_[blocking_sample_]);
-    PointQueryRequest one;
-    one.points = std::span<const Vec3>(&point, 1);
-    one.want_inside = true;
-    one.want_closest = true;
     PointQueryResult found_one;
-    scene_->query_points(one, found_one);
+    scene_->query_points(
+        {.points = std::span<const Vec3>(&point, 1), .want_inside = true, .want_closest = true},
+        found_one);
     if (!clear(found_one, 0)) return false;
   }
   std::vector<Vec3> points(tool_samples_.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     points[i] = device.transform_point(tool_samples_[i]);
   // One query: every point outside the scene and at least ε from it.
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = true;
-  request.want_closest = true;
   PointQueryResult found;
-  scene_->query_points(request, found);
+  scene_->query_points({.points = points, .want_inside = true, .want_closest = true}, found);
   for (std::size_t i = 0; i < points.size(); ++i)
     if (!clear(found, i)) {
       blocking_sample_ = i;

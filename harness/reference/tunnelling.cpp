@@ -85,11 +85,7 @@ bool path_enters_solid(const Oracle& oracle, const Vec3& a, const Vec3& b, doubl
 bool OracleTunnellingDetector::update(const Vec3& origin_world) {
   if (!origin_world.allFinite()) return false;
   const std::array<Vec3, 1> point = {origin_world};
-  PointQueryRequest request;
-  request.points = point;
-  request.want_inside = true;
-  request.want_closest = true;
-  oracle_.query_points(request, query_);
+  oracle_.query_points({.points = point, .want_inside = true, .want_closest = true}, query_);
   const double distance = query_.distance[0];
   if (query_.inside[0] || !(distance > 0)) {  // wait for it to come out
     last_tick_outside_ = false;

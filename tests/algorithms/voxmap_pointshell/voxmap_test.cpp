@@ -90,12 +90,8 @@ TEST_CASE("voxmap states agree with CGAL's inside/outside except within one voxe
       points.push_back(scene[0].pose.transform_point(v) +
                        Vec3(offset(random), offset(random), offset(random)));
     }
-    PointQueryRequest request;
-    request.points = points;
-    request.want_inside = true;
-    request.want_closest = true;
     PointQueryResult truth;
-    cgal->query_points(request, truth);
+    cgal->query_points({.points = points, .want_inside = true, .want_closest = true}, truth);
 
     // The state is φ at the voxel's centre, and the point is at most √3/2 h
     // from the centre, so a wrong side is possible only within (√3−1)/2 h of

@@ -94,12 +94,9 @@ std::vector<Vec3> random_points(const Eigen::AlignedBox3d& box, int count, uint6
 
 PointQueryResult query(const Oracle& oracle, const std::vector<Vec3>& points, bool want_inside,
                        bool want_closest) {
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = want_inside;
-  request.want_closest = want_closest;
   PointQueryResult result;
-  oracle.query_points(request, result);
+  oracle.query_points({.points = points, .want_inside = want_inside, .want_closest = want_closest},
+                      result);
   return result;
 }
 

@@ -39,12 +39,8 @@ SceneObject model_object(const std::string& file) {
 }
 
 PointQueryResult query_all(const Oracle& oracle, const std::vector<Vec3>& points) {
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = true;
-  request.want_closest = true;
   PointQueryResult result;
-  oracle.query_points(request, result);
+  oracle.query_points({.points = points, .want_inside = true, .want_closest = true}, result);
   return result;
 }
 

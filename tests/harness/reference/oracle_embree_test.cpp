@@ -44,12 +44,8 @@ Pose make_pose(const Vec3& p, double angle, const Vec3& axis) {
 }
 
 PointQueryResult query_every_point(const Oracle& oracle, const std::vector<Vec3>& points) {
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = true;
-  request.want_closest = true;
   PointQueryResult result;
-  oracle.query_points(request, result);
+  oracle.query_points({.points = points, .want_inside = true, .want_closest = true}, result);
   return result;
 }
 
@@ -74,21 +70,16 @@ TEST_CASE("a closest-point search stops at max_distance and answers it as a lowe
   const auto oracle = make_embree_oracle({shape_object("cube", kUnitCube, kCubePose)});
   const std::vector<Vec3> points = {kCubePose.transform_point(Vec3(0.8, 0.1, -0.2)),
                                     kCubePose.transform_point(Vec3(2.5, 0.1, -0.2))};
-  PointQueryRequest request;
-  request.points = points;
-  request.want_inside = false;
-  request.want_closest = true;
-  request.max_distance = 1.0;
   PointQueryResult result;
-  oracle->query_points(request, result);
+  oracle->query_points(
+      {.points = points, .want_inside = false, .want_closest = true, .max_distance = 1.0}, result);
   REQUIRE(result.distance.size() == 2);
   CHECK(result.distance[0] == Approx(0.3).epsilon(1e-12));  // within: exact
   CHECK(result.object[0] == 0);
   CHECK(result.distance[1] == 1.0);  // beyond: the bound, no point
   CHECK(result.object[1] == -1);
   CHECK(std::isnan(result.closest[1].x()));
-  request.max_distance = std::numeric_limits<double>::infinity();
-  oracle->query_points(request, result);
+  oracle->query_points({.points = points, .want_inside = false, .want_closest = true}, result);
   CHECK(result.distance[1] == Approx(2.0).epsilon(1e-12));
 }
 
@@ -260,10 +251,8 @@ TEST_CASE("icosphere: inside/outside agrees with the exact sphere outside the ga
   for (int i = 0; i < 5000; ++i)
     points.push_back(sphere.pose.p +
                      Vec3(coordinate(random), coordinate(random), coordinate(random)));
-  PointQueryRequest request;
-  request.points = points;
   PointQueryResult result;
-  oracle->query_points(request, result);
+  oracle->query_points({.points = points}, result);
   CHECK(result.distance.empty());  // not asked for
   int checked = 0;
   int inside = 0;
@@ -300,10 +289,8 @@ TEST_CASE("icosphere: rays exactly through vertices and edges still classify rig
     for (double s : {0.5, 0.9, 1.1, 2.0})
       points.push_back(sphere.pose.p + s * (target - sphere.pose.p));
   }
-  PointQueryRequest request;
-  request.points = points;
   PointQueryResult result;
-  oracle->query_points(request, result);
+  oracle->query_points({.points = points}, result);
   int checked = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int expected = sphere.expected(points[i]);
@@ -527,10 +514,8 @@ TEST_CASE("bunny: inside/outside agrees with a brute-force parity count") {
       p[k] = std::uniform_real_distribution<double>(box.min()[k], box.max()[k])(random);
     points.push_back(p);
   }
-  PointQueryRequest request;
-  request.points = points;
   PointQueryResult result;
-  oracle->query_points(request, result);
+  oracle->query_points({.points = points}, result);
   int disagreements = 0;
   int inside = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {

@@ -154,12 +154,8 @@ TEST_CASE("ToolSceneDistanceSearch: the closest points of the skew edges are the
   ToolSceneDistanceSearch search(context.tool.mesh, corners, 0.01);
   std::vector<Vec3> world;
   for (const Vec3& c : corners) world.push_back(pose.transform_point(c));
-  PointQueryRequest request;
-  request.points = world;
-  request.want_inside = false;
-  request.want_closest = true;
   PointQueryResult closest;
-  oracle->query_points(request, closest);
+  oracle->query_points({.points = world, .want_inside = false, .want_closest = true}, closest);
   const std::optional<ToolSceneDistance> result = search.evaluate(*oracle, pose, closest);
   REQUIRE(result);
   CHECK_FALSE(result->crossing);
