@@ -134,6 +134,114 @@ std::string last_lines(const std::string& text, std::size_t count) {
 
 }  // namespace
 
+namespace {
+
+// Which jobs of this shard to run and which an earlier invocation finished.
+struct SweepPlan {
+  std::vector<SweepJobState> states;  ///< by job index, as found on disk
+  std::vector<std::size_t> to_run;    ///< job indices, in order
+  std::size_t in_this_shard = 0, done_earlier = 0;
+};
+
+SweepPlan plan_sweep(const std::vector<SweepJob>& jobs,
+                     const std::vector<std::string>& scenario_hashes, const SweepShard& shard,
+                     const fs::path& out_dir) {
+  SweepPlan plan;
+  plan.states.resize(jobs.size());
+  for (const SweepJob& job : jobs) {
+    plan.states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
+    if (!in_shard(job.index, shard)) continue;
+    ++plan.in_this_shard;
+    // A finished run folder is this job's only when it ran this job's
+    // scenario: another sweep into the same folder (another algorithm or
+    // grid value under the same job name) is run again, not reused.
+    if (fs::exists(out_dir / job.name / "summary.json") &&
+        plan.states[job.index].scenario_hash == scenario_hashes[job.index]) {
+      plan.states[job.index].done_earlier = true;
+      ++plan.done_earlier;
+    } else {
+      plan.to_run.push_back(job.index);
+    }
+  }
+  return plan;
+}
+
+// One worker process per job to run: this program, `sweep FILE --run-job I`.
+std::vector<WorkerLaunch> worker_launches(const SweepRunSettings& args,
+                                          const std::vector<std::size_t>& to_run,
+                                          const fs::path& out_dir) {
+  const std::string executable = this_executable().string();
+  const std::string sweep_file = fs::absolute(args.sweep_file).lexically_normal().string();
+  const std::string out_text = fs::absolute(out_dir).lexically_normal().string();
+  std::vector<WorkerLaunch> launches;
+  for (std::size_t index : to_run)
+    launches.push_back(
+        {{executable, "sweep", sweep_file, "--run-job", std::to_string(index), "--out", out_text}});
+  return launches;
+}
+
+// How many jobs ended in each way, this invocation.
+struct SweepTally {
+  std::size_t ok = 0, budget_failed = 0, failed = 0, crashed = 0;
+};
+
+// A finished worker's job status from how it ended and whether it wrote its
+// run folder; counted in `tally`.
+void classify_worker_end(const WorkerResult& result, bool wrote_folder, SweepJobState& state,
+                         SweepTally& tally) {
+  if (result.end.exited && result.end.exit_code == kSweepOk && wrote_folder) {
+    state.status = SweepJobStatus::kOk;
+    ++tally.ok;
+  } else if (result.end.exited && result.end.exit_code == kSweepBudgetFailed && wrote_folder) {
+    state.status = SweepJobStatus::kBudgetFailed;
+    ++tally.budget_failed;
+  } else if (result.end.exited && result.end.exit_code == kSweepFailed) {
+    // The worker said what went wrong (a full disk, a job's bad input).
+    state.status = SweepJobStatus::kFailed;
+    state.detail = "exit code 2, an error the worker named";
+    ++tally.failed;
+  } else {
+    state.status = SweepJobStatus::kCrashed;
+    state.detail = result.end.description() + (wrote_folder ? "" : ", no run folder written");
+    ++tally.crashed;
+  }
+}
+
+// Says how a job ended: the worker's run table, the end of its stderr when
+// it went wrong, and the progress line.
+void report_worker_end(const SweepJob& job, const SweepJobState& state, const WorkerResult& result,
+                       bool terminal, SweepProgress& progress) {
+  const bool went_wrong =
+      state.status == SweepJobStatus::kCrashed || state.status == SweepJobStatus::kFailed;
+  if (terminal) std::cerr << "\r\033[K" << std::flush;
+  std::cout << result.stdout_text << std::flush;
+  if (went_wrong && !result.stderr_text.empty())
+    std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
+              << last_lines(result.stderr_text, 20) << "\n";
+  const char* verdict = state.status == SweepJobStatus::kOk ? "ok"
+                        : state.status == SweepJobStatus::kBudgetFailed
+                            ? "budgets or stability failed"
+                        : state.status == SweepJobStatus::kFailed ? "FAILED"
+                                                                  : "CRASHED";
+  progress.finished(
+      job.name,
+      went_wrong ? std::string(verdict) + " (" + state.detail + ")" : std::string(verdict),
+      result.seconds, !went_wrong);
+}
+
+// The sweep's exit code: a crash, then a failure, then a failed budget in this shard.
+int sweep_exit_code(const SweepTally& tally, const std::vector<SweepJob>& jobs,
+                    const std::vector<SweepJobState>& states, const SweepShard& shard) {
+  if (tally.crashed > 0) return kSweepCrashed;
+  if (tally.failed > 0) return kSweepFailed;
+  for (const SweepJob& job : jobs)
+    if (in_shard(job.index, shard) && states[job.index].status == SweepJobStatus::kBudgetFailed)
+      return kSweepBudgetFailed;
+  return kSweepOk;
+}
+
+}  // namespace
+
 int run_sweep(const SweepRunSettings& args) {
   const SweepSpec spec = load_sweep_spec(args.sweep_file);
   const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
@@ -145,24 +253,9 @@ int run_sweep(const SweepRunSettings& args) {
   require_replaceable_file(out_dir / "sweep.json", "sweep index", is_sweep_index_file);
   require_replaceable_file(out_dir / "sweep.md", "sweep table", is_sweep_table_file);
 
-  std::vector<SweepJobState> states(jobs.size());
-  std::vector<std::size_t> to_run;
-  std::size_t in_this_shard = 0, done_earlier = 0;
-  for (const SweepJob& job : jobs) {
-    states[job.index] = sweep_job_state_on_disk(out_dir / job.name);
-    if (!in_shard(job.index, shard)) continue;
-    ++in_this_shard;
-    // A finished run folder is this job's only when it ran this job's
-    // scenario: another sweep into the same folder (another algorithm or
-    // grid value under the same job name) is run again, not reused.
-    if (fs::exists(out_dir / job.name / "summary.json") &&
-        states[job.index].scenario_hash == scenario_hashes[job.index]) {
-      states[job.index].done_earlier = true;
-      ++done_earlier;
-    } else {
-      to_run.push_back(job.index);
-    }
-  }
+  SweepPlan plan = plan_sweep(jobs, scenario_hashes, shard, out_dir);
+  std::vector<SweepJobState>& states = plan.states;
+  const std::vector<std::size_t>& to_run = plan.to_run;
   // Nothing is written unless every job folder to write may be written.
   for (std::size_t index : to_run)
     require_replaceable_folder(out_dir / jobs[index].name, OutputFolderKind::kRun);
@@ -179,73 +272,36 @@ int run_sweep(const SweepRunSettings& args) {
   write_index(false);
 
   std::cerr << "sweep " << spec.name << ": " << jobs.size() << " jobs";
-  if (shard.count > 1) std::cerr << ", shard " << shard_text(shard) << " has " << in_this_shard;
-  std::cerr << "; " << done_earlier << " done earlier, " << to_run.size() << " to run, "
+  if (shard.count > 1)
+    std::cerr << ", shard " << shard_text(shard) << " has " << plan.in_this_shard;
+  std::cerr << "; " << plan.done_earlier << " done earlier, " << to_run.size() << " to run, "
             << std::min(args.jobs, std::max<std::size_t>(to_run.size(), 1)) << " at a time -> "
             << out_dir.string() << "/\n";
 
   std::vector<std::string> names;
-  std::vector<WorkerLaunch> launches;
-  const std::string executable = this_executable().string();
-  const std::string sweep_file = fs::absolute(args.sweep_file).lexically_normal().string();
-  const std::string out_text = fs::absolute(out_dir).lexically_normal().string();
-  for (std::size_t index : to_run) {
-    names.push_back(jobs[index].name);
-    launches.push_back(
-        {{executable, "sweep", sweep_file, "--run-job", std::to_string(index), "--out", out_text}});
-  }
+  for (std::size_t index : to_run) names.push_back(jobs[index].name);
   remove_stale_staging(out_dir, names);
 
   const bool terminal = args.progress == ProgressStyle::kBar;
   std::ostream silent(nullptr);  // --progress none: everything written is dropped
   SweepProgress progress(args.progress == ProgressStyle::kNone ? silent : std::cerr, to_run.size(),
                          terminal, terminal_width());
-  std::size_t ok = 0, budget_failed = 0, failed = 0, crashed = 0;
+  SweepTally tally;
   WorkerCallbacks callbacks;
   callbacks.on_start = [&](std::size_t launch) { progress.started(names[launch]); };
   callbacks.on_wait = [&] { progress.refresh(); };
   callbacks.on_finish = [&](std::size_t launch, const WorkerResult& result) {
     const SweepJob& job = jobs[to_run[launch]];
-    SweepJobState& state = states[job.index];
     ran_here[job.index] = true;
     const bool wrote_folder = fs::exists(out_dir / job.name / "summary.json");
-    if (result.end.exited && result.end.exit_code == kSweepOk && wrote_folder) {
-      state.status = SweepJobStatus::kOk;
-      ++ok;
-    } else if (result.end.exited && result.end.exit_code == kSweepBudgetFailed && wrote_folder) {
-      state.status = SweepJobStatus::kBudgetFailed;
-      ++budget_failed;
-    } else if (result.end.exited && result.end.exit_code == kSweepFailed) {
-      // The worker said what went wrong (a full disk, a job's bad input).
-      state.status = SweepJobStatus::kFailed;
-      state.detail = "exit code 2, an error the worker named";
-      ++failed;
-    } else {
-      state.status = SweepJobStatus::kCrashed;
-      state.detail = result.end.description() + (wrote_folder ? "" : ", no run folder written");
-      ++crashed;
-    }
-    const bool went_wrong =
-        state.status == SweepJobStatus::kCrashed || state.status == SweepJobStatus::kFailed;
-    if (terminal) std::cerr << "\r\033[K" << std::flush;
-    std::cout << result.stdout_text << std::flush;
-    if (went_wrong && !result.stderr_text.empty())
-      std::cerr << "job " << job.name << ": the worker's stderr, last lines:\n"
-                << last_lines(result.stderr_text, 20) << "\n";
-    const char* verdict = state.status == SweepJobStatus::kOk ? "ok"
-                          : state.status == SweepJobStatus::kBudgetFailed
-                              ? "budgets or stability failed"
-                          : state.status == SweepJobStatus::kFailed ? "FAILED"
-                                                                    : "CRASHED";
-    progress.finished(
-        job.name,
-        went_wrong ? std::string(verdict) + " (" + state.detail + ")" : std::string(verdict),
-        result.seconds, !went_wrong);
+    classify_worker_end(result, wrote_folder, states[job.index], tally);
+    report_worker_end(job, states[job.index], result, terminal, progress);
     write_index(false);
   };
   {
     const ScratchFolder scratch("hapticbench-sweep");
-    run_worker_processes(launches, args.jobs, scratch.path(), callbacks);
+    run_worker_processes(worker_launches(args, to_run, out_dir), args.jobs, scratch.path(),
+                         callbacks);
   }
   progress.close();
   write_index(true);
@@ -253,17 +309,12 @@ int run_sweep(const SweepRunSettings& args) {
   print_sweep_table(std::cout, spec, table);
   write_file_replacing(out_dir / "sweep.md", sweep_table_markdown(spec, table));
 
-  std::size_t failed_budgets_in_shard = 0;
-  for (const SweepJob& job : jobs)
-    if (in_shard(job.index, shard) && states[job.index].status == SweepJobStatus::kBudgetFailed)
-      ++failed_budgets_in_shard;
   std::cout << "sweep " << spec.name << " -> " << out_dir.string()
-            << "/sweep.json: " << to_run.size() << " ran (" << ok << " ok, " << budget_failed
-            << " failed a budget or the stability verdict, " << failed << " failed, " << crashed
-            << " crashed), " << done_earlier << " done earlier\n";
-  if (crashed > 0) return kSweepCrashed;
-  if (failed > 0) return kSweepFailed;
-  return failed_budgets_in_shard > 0 ? kSweepBudgetFailed : kSweepOk;
+            << "/sweep.json: " << to_run.size() << " ran (" << tally.ok << " ok, "
+            << tally.budget_failed << " failed a budget or the stability verdict, " << tally.failed
+            << " failed, " << tally.crashed << " crashed), " << plan.done_earlier
+            << " done earlier\n";
+  return sweep_exit_code(tally, jobs, states, shard);
 }
 
 }  // namespace hb

@@ -316,6 +316,19 @@ void MetricsAccumulator::add_oracle(const OracleTickEvaluation& oracle) {
 
 RunMetrics MetricsAccumulator::finish() const {
   RunMetrics m = partial_;
+  finish_timing(m);
+  finish_accuracy(m);
+  finish_oracle(m);
+  finish_force_spectrum(m);
+  finish_chatter(m);
+  if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
+    m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;
+  finish_closed_loop(m);
+  return m;
+}
+
+// Step and CPU times, the slow loop's rate and its data's age.
+void MetricsAccumulator::finish_timing(RunMetrics& m) const {
   m.timing.ticks = ticks_;
   m.timing.step_ns = step_ns_.result();
   m.timing.step_ns_sample = step_ns_sample_;
@@ -336,6 +349,11 @@ RunMetrics MetricsAccumulator::finish() const {
     m.timing.slow_data_age_max_ticks = slow_age_max_;
     m.timing.slow_data_age_p99_ticks = std::llround(slow_age_.result().p99);
   }
+}
+
+// Force and torque error against the ideal, direction error under load, penetration,
+// free-space force, contacts per contact tick.
+void MetricsAccumulator::finish_accuracy(RunMetrics& m) const {
   if (ideal_ticks_ > 0) {
     m.accuracy.force_err_rms_n = std::sqrt(force_err_sq_ / static_cast<double>(ideal_ticks_));
     m.accuracy.torque_err_rms_nm = std::sqrt(torque_err_sq_ / static_cast<double>(ideal_ticks_));
@@ -373,6 +391,10 @@ RunMetrics MetricsAccumulator::finish() const {
     m.contacts.mean_contacts =
         static_cast<double>(contacts_sum_) / static_cast<double>(m.contacts.contact_ticks);
   }
+}
+
+// Each oracle backend's figures, the intersection volume's time, contact checks.
+void MetricsAccumulator::finish_oracle(RunMetrics& m) const {
   if (m.oracle) {
     for (std::size_t i = 0; i < backend_metrics_.size(); ++i) {
       if (!backend_metrics_[i]) continue;
@@ -390,6 +412,10 @@ RunMetrics MetricsAccumulator::finish() const {
       m.oracle->contact_depth_err_rms_m = std::sqrt(contact_depth_sq_ / n);
     }
   }
+}
+
+// The share of the force signal's energy above the jitter cutoff, over the three axes.
+void MetricsAccumulator::finish_force_spectrum(RunMetrics& m) const {
   double hf = 0, total_weight = 0;
   std::vector<double> component;  // one axis of the force signal at a time
   component.reserve(forces_.size());
@@ -407,66 +433,69 @@ RunMetrics MetricsAccumulator::finish() const {
     total_weight += variance;
   }
   m.stability.force_hf_energy_fraction = total_weight > 0 ? hf / total_weight : 0.0;
-  {
-    // The last quarter of the run (at least one block) and the quarter
-    // before it: an oscillation that dies out shrinks from one to the next.
-    const std::size_t blocks = chatter_blocks_.size();
-    const std::size_t quarter = std::max<std::size_t>(1, blocks / 4);
-    const auto rms_of = [&](std::size_t first, std::size_t end, double ChatterBlock::*sum) {
-      double total = 0;
-      int64_t ticks = 0;
-      for (std::size_t i = first; i < end; ++i) {
-        total += chatter_blocks_[i].*sum;
-        ticks += chatter_blocks_[i].ticks;
-      }
-      return ticks > 0 ? std::sqrt(total / static_cast<double>(ticks)) : 0.0;
-    };
-    const std::size_t last = blocks - std::min(blocks, quarter);
-    const std::size_t before = last - std::min(last, quarter);
-    m.stability.proxy_chatter_m = rms_of(last, blocks, &ChatterBlock::proxy_sq);
-    m.stability.device_chatter_m = rms_of(last, blocks, &ChatterBlock::device_sq);
-    const double earlier_chatter_m = rms_of(before, last, &ChatterBlock::proxy_sq);
-    const double threshold_m =
-        std::max(kChatterFloorM, kChatterDeviceRatio * m.stability.device_chatter_m);
-    // An oscillation, not one jump (a proxy leaving contact that becomes
-    // the device): above the threshold in at least half of the blocks.
-    std::size_t blocks_above = 0;
-    for (std::size_t i = last; i < blocks; ++i)
-      blocks_above += rms_of(i, i + 1, &ChatterBlock::proxy_sq) > threshold_m;
-    m.stability.chatters = m.stability.proxy_chatter_m > threshold_m &&
-                           2 * blocks_above >= blocks - last &&
-                           m.stability.proxy_chatter_m >= kChatterDecayRatio * earlier_chatter_m;
-  }
-  if (energy_fit_n_ >= 2 && energy_fit_var_t_ > 0)
-    m.stability.energy_drift_j_per_s = energy_fit_cov_ / energy_fit_var_t_;
-  if (limit_cycles_) {
-    ClosedLoopMetrics& closed = m.closed_loop.emplace();
-    closed.limit_cycles = limit_cycles_->finish();
-    closed.device_penetration_max_m = device_penetration_max_m_;
-    closed.display_energy_min_j = display_energy_min_j_;
-    const double n = static_cast<double>(stiffness_n_);
-    const double variance = stiffness_dd_ - stiffness_d_ * stiffness_d_ / std::max(n, 1.0);
-    const double span_m = stiffness_d_max_ - stiffness_d_min_;
-    const double needed_m = std::max(kMinStiffnessSpanM, kMinStiffnessCounts * settings_.encoder_m);
-    std::ostringstream note;
-    if (stiffness_n_ < kMinStiffnessTicks) {
-      note << stiffness_n_ << " ticks with the device in the scene; the fit needs "
-           << kMinStiffnessTicks;
-    } else if (span_m < needed_m) {
-      note << "the device's penetration spans " << span_m * 1e6 << " µm; the fit needs "
-           << needed_m * 1e6 << " µm"
-           << (settings_.encoder_m > 0 ? " (10 encoder counts: over fewer it measures the "
-                                         "encoder's staircase, not the stiffness)"
-                                       : "");
-    } else if (variance > 0) {
-      closed.displayed_stiffness_n_per_m =
-          (stiffness_df_ - stiffness_d_ * stiffness_f_ / n) / variance;
-    } else {
-      note << "the device's penetration does not vary";
+}
+
+// Proxy and device chatter in the run's last quarter, and whether the proxy chatters.
+void MetricsAccumulator::finish_chatter(RunMetrics& m) const {
+  // The last quarter of the run (at least one block) and the quarter
+  // before it: an oscillation that dies out shrinks from one to the next.
+  const std::size_t blocks = chatter_blocks_.size();
+  const std::size_t quarter = std::max<std::size_t>(1, blocks / 4);
+  const auto rms_of = [&](std::size_t first, std::size_t end, double ChatterBlock::*sum) {
+    double total = 0;
+    int64_t ticks = 0;
+    for (std::size_t i = first; i < end; ++i) {
+      total += chatter_blocks_[i].*sum;
+      ticks += chatter_blocks_[i].ticks;
     }
-    closed.displayed_stiffness_note = note.str();
+    return ticks > 0 ? std::sqrt(total / static_cast<double>(ticks)) : 0.0;
+  };
+  const std::size_t last = blocks - std::min(blocks, quarter);
+  const std::size_t before = last - std::min(last, quarter);
+  m.stability.proxy_chatter_m = rms_of(last, blocks, &ChatterBlock::proxy_sq);
+  m.stability.device_chatter_m = rms_of(last, blocks, &ChatterBlock::device_sq);
+  const double earlier_chatter_m = rms_of(before, last, &ChatterBlock::proxy_sq);
+  const double threshold_m =
+      std::max(kChatterFloorM, kChatterDeviceRatio * m.stability.device_chatter_m);
+  // An oscillation, not one jump (a proxy leaving contact that becomes
+  // the device): above the threshold in at least half of the blocks.
+  std::size_t blocks_above = 0;
+  for (std::size_t i = last; i < blocks; ++i)
+    blocks_above += rms_of(i, i + 1, &ChatterBlock::proxy_sq) > threshold_m;
+  m.stability.chatters = m.stability.proxy_chatter_m > threshold_m &&
+                         2 * blocks_above >= blocks - last &&
+                         m.stability.proxy_chatter_m >= kChatterDecayRatio * earlier_chatter_m;
+}
+
+// Closed loop: limit cycles, the device's penetration, the display's energy and the
+// displayed stiffness (a fit, or why there is none).
+void MetricsAccumulator::finish_closed_loop(RunMetrics& m) const {
+  if (!limit_cycles_) return;
+  ClosedLoopMetrics& closed = m.closed_loop.emplace();
+  closed.limit_cycles = limit_cycles_->finish();
+  closed.device_penetration_max_m = device_penetration_max_m_;
+  closed.display_energy_min_j = display_energy_min_j_;
+  const double n = static_cast<double>(stiffness_n_);
+  const double variance = stiffness_dd_ - stiffness_d_ * stiffness_d_ / std::max(n, 1.0);
+  const double span_m = stiffness_d_max_ - stiffness_d_min_;
+  const double needed_m = std::max(kMinStiffnessSpanM, kMinStiffnessCounts * settings_.encoder_m);
+  std::ostringstream note;
+  if (stiffness_n_ < kMinStiffnessTicks) {
+    note << stiffness_n_ << " ticks with the device in the scene; the fit needs "
+         << kMinStiffnessTicks;
+  } else if (span_m < needed_m) {
+    note << "the device's penetration spans " << span_m * 1e6 << " µm; the fit needs "
+         << needed_m * 1e6 << " µm"
+         << (settings_.encoder_m > 0 ? " (10 encoder counts: over fewer it measures the "
+                                       "encoder's staircase, not the stiffness)"
+                                     : "");
+  } else if (variance > 0) {
+    closed.displayed_stiffness_n_per_m =
+        (stiffness_df_ - stiffness_d_ * stiffness_f_ / n) / variance;
+  } else {
+    note << "the device's penetration does not vary";
   }
-  return m;
+  closed.displayed_stiffness_note = note.str();
 }
 
 }  // namespace hb

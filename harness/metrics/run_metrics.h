@@ -256,6 +256,13 @@ class MetricsAccumulator {
   RunMetrics finish() const;
 
  private:
+  // finish(), section by section: each fills its part of `m` from the sums.
+  void finish_timing(RunMetrics& m) const;
+  void finish_accuracy(RunMetrics& m) const;
+  void finish_oracle(RunMetrics& m) const;
+  void finish_force_spectrum(RunMetrics& m) const;
+  void finish_chatter(RunMetrics& m) const;
+  void finish_closed_loop(RunMetrics& m) const;
   void add_timing(const TickRecord& record, bool in_contact);
   void add_accuracy(const Wrench& display, const TickEvaluation& evaluation);
   /// Divergence, separation and the port energy; returns whether the proxy was finite.

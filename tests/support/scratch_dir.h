@@ -13,9 +13,11 @@ namespace hb::test {
 
 class ScratchDir {
  public:
+  /// A folder "hb_test_<name>_<pid>_<n>": n counts the folders this process made.
   explicit ScratchDir(const std::string& name)
       : path_(std::filesystem::temp_directory_path() /
-              ("hb_test_" + name + "_" + std::to_string(::getpid()))) {
+              ("hb_test_" + name + "_" + std::to_string(::getpid()) + "_" +
+               std::to_string(counter_++))) {
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
@@ -30,7 +32,15 @@ class ScratchDir {
   operator const std::filesystem::path&() const { return path_; }
   std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
 
+  /// Writes `text` to the file `name` in the folder; returns its path.
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path file = path_ / name;
+    std::ofstream(file, std::ios::binary) << text;
+    return file.string();
+  }
+
  private:
+  static inline int counter_ = 0;
   std::filesystem::path path_;
 };
 

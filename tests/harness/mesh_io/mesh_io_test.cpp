@@ -14,35 +14,12 @@
 
 #include "hapticbench/input_error.h"
 #include "hapticbench/mass_properties.h"
+#include "tests/support/scratch_dir.h"
 
 namespace hb {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh folder under the system's temporary directory, removed afterwards.
-class TempFolder {
- public:
-  TempFolder() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() /
-            ("hapticbench_mesh_io_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(path_);
-  }
-  ~TempFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path file = path_ / name;
-    std::ofstream(file, std::ios::binary) << text;
-    return file.string();
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // Corner tetrahedron 0, e_x, e_y, e_z (volume 1/6), faces outward.
 const char* const kTetrahedronOff =
@@ -87,7 +64,7 @@ std::string input_error_text(F&& f) {
 }  // namespace
 
 TEST_CASE("OFF tetrahedron", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const TriangleMesh mesh = read_mesh_file(folder.write("tetra.off", kTetrahedronOff));
   CHECK(mesh.vertices.size() == 4);
   CHECK(mesh.triangles.size() == 4);
@@ -96,7 +73,7 @@ TEST_CASE("OFF tetrahedron", "[mesh_io]") {
 }
 
 TEST_CASE("OFF cube of quads is split into outward triangles", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string text = std::string("OFF\n8 6 12\n") + kCubeVertices + cube_faces("4", 0);
   check_unit_cube(read_mesh_file(folder.write("cube.off", text)));
   // Upper-case extensions are the same format.
@@ -104,7 +81,7 @@ TEST_CASE("OFF cube of quads is split into outward triangles", "[mesh_io]") {
 }
 
 TEST_CASE("OBJ cube (1-based indices)", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   std::string text = "# unit cube\no cube\n";
   for (int i = 0; i < 8; ++i)
     text += "v " + std::to_string(i & 1) + " " + std::to_string((i >> 1) & 1) + " " +
@@ -114,7 +91,7 @@ TEST_CASE("OBJ cube (1-based indices)", "[mesh_io]") {
 }
 
 TEST_CASE("ASCII STL: unconnected triangles are merged at shared corners", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const double corner[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   std::string text = "solid tetra\n";
@@ -134,7 +111,7 @@ TEST_CASE("ASCII STL: unconnected triangles are merged at shared corners", "[mes
 }
 
 TEST_CASE("ASCII PLY cube of quads", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string text =
       std::string(
           "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
@@ -145,7 +122,7 @@ TEST_CASE("ASCII PLY cube of quads", "[mesh_io]") {
 }
 
 TEST_CASE("coincident vertices in any format are merged", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   // The tetrahedron with every face given its own three vertices; -0 and 0
   // are the same coordinate.
   const std::string text =
@@ -161,7 +138,7 @@ TEST_CASE("coincident vertices in any format are merged", "[mesh_io]") {
 }
 
 TEST_CASE("scale multiplies every coordinate and must be positive", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string path = folder.write("tetra.off", kTetrahedronOff);
   const TriangleMesh mesh = read_mesh_file(path, 0.02);
   CHECK(mesh.bounds().max().isApprox(Vec3(0.02, 0.02, 0.02)));
@@ -173,7 +150,7 @@ TEST_CASE("scale multiplies every coordinate and must be positive", "[mesh_io]")
 }
 
 TEST_CASE("missing file, unknown extension and garbage name the file", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string missing = (folder.path() / "nowhere.off").string();
   CHECK_THAT(input_error_text([&] { read_mesh_file(missing); }),
              Catch::Contains(missing) && Catch::Contains("file not found"));
@@ -206,7 +183,7 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
   // The readers take the digits a word starts with ("2000000000" from
   // "2000000000\x1f...") and a leading '+': the check must too (found by
   // fuzzing: each made the reader allocate 16 GB).
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string head = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
   for (const std::string& face :
        {std::string("2000000000\x1f\x15 0 1 2\n"), std::string("+2000000000 0 1 2\n")}) {
@@ -241,7 +218,7 @@ TEST_CASE("a face's corner count is read as the reader reads it", "[mesh_io]") {
 }
 
 TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   // One triangle: 80-byte header, count 1, normal, three corners, attribute.
   std::string one(84 + 50, '\0');
   one[80] = 1;
@@ -256,7 +233,7 @@ TEST_CASE("a binary STL's triangle count must fit the file", "[mesh_io]") {
 }
 
 TEST_CASE("no reader allocates for a count its bytes cannot hold", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string ply_head = "ply\nformat ascii 1.0\n";
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
   const std::string face_list = "property list uchar int vertex_indices\n";
@@ -320,7 +297,7 @@ TEST_CASE("no reader allocates for a count its bytes cannot hold", "[mesh_io]") 
 }
 
 TEST_CASE("face with an out-of-range vertex index", "[mesh_io]") {
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string path =
       folder.write("broken.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 9\n");
   CHECK_THAT(input_error_text([&] { read_mesh_file(path); }), Catch::Contains("broken.off"));
@@ -332,7 +309,7 @@ TEST_CASE("Stanford bunny from CGAL's data, if installed", "[mesh_io]") {
     WARN("skipped: " << archive << " is not installed");
     return;
   }
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string command =
       "tar -xzf " + archive.string() + " -C " + folder.path().string() + " data/meshes/bunny00.off";
   if (std::system(command.c_str()) != 0) {
@@ -361,7 +338,7 @@ TEST_CASE("CGAL's PLY and STL files read as the closed meshes they are, if insta
     WARN("skipped: " << archive << " is not installed");
     return;
   }
-  TempFolder folder;
+  const test::ScratchDir folder("mesh_io");
   const std::string command = "tar -xzf " + archive.string() + " -C " + folder.path().string() +
                               " data/meshes/sphere.ply data/meshes/sphere.stl"
                               " data/meshes/colored_tetra.ply data/meshes/pig.stl";

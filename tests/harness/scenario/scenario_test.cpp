@@ -22,6 +22,7 @@
 #include "harness/metrics/metric_table.h"
 #include "harness/reference/oracle.h"
 #include "harness/scenario/json_params.h"
+#include "tests/support/scratch_dir.h"
 
 namespace hb {
 namespace {
@@ -30,30 +31,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 const std::string kDataDir = std::string(HAPTICBENCH_SOURCE_DIR) + "/tests/harness/scenario/data";
-
-// A scratch folder for generated scenario files, removed afterwards.
-class ScratchDir {
- public:
-  ScratchDir() {
-    path_ = fs::temp_directory_path() /
-            ("hb_scenario_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path file = path_ / name;
-    std::ofstream(file, std::ios::binary) << text;
-    return file.string();
-  }
-  std::string path() const { return path_.string(); }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
 
 // Volume enclosed by a closed, outward-oriented mesh: sum of signed
 // tetrahedra against the origin (computed here, independently of the code
@@ -90,7 +67,7 @@ struct Rejection {
 };
 
 Rejection rejection_of_text(const std::string& text) {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   const std::string path = dir.write("broken.json", text);
   try {
     load_scenario(path);
@@ -231,7 +208,7 @@ TEST_CASE("a scenario with mesh files and a trace file loads, paths relative to 
 }
 
 TEST_CASE("the content hash follows the scenario and every file it names") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   auto cube_off = [](double side) {
     std::ostringstream out;
     out << "OFF\n8 12 0\n";
@@ -393,7 +370,7 @@ TEST_CASE("a trace file with NaN is rejected naming the trace file and its line"
 
 TEST_CASE(
     "a trace file in mm: read as metres it is a warning naming mm, and /trace/units converts it") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   // A 1 kHz press 30 mm above the box, logged in mm with an epoch clock.
   std::string csv = "t_ns,px,py,pz,qw,qx,qy,qz\n";
   for (int i = 0; i <= 100; ++i)
@@ -548,7 +525,7 @@ TEST_CASE("other rule violations name their field") {
 }
 
 TEST_CASE("settings outside their plausible range are warned about, defaults are not") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   Json scenario = valid_generated_scenario();  // no "device": unlimited, not implausible
   CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).warnings.empty());
   scenario["coupling"]["k_t"] = 1e30;
@@ -562,7 +539,7 @@ TEST_CASE("settings outside their plausible range are warned about, defaults are
 }
 
 TEST_CASE("the oracle \"all\" asks for every backend, and \"both\" means the same") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   Json scenario = valid_generated_scenario();
   std::vector<std::string> every;
   for (const OracleBackendEntry& backend : oracle_backends()) every.emplace_back(backend.name);
@@ -578,7 +555,7 @@ TEST_CASE("the oracle \"all\" asks for every backend, and \"both\" means the sam
 }
 
 TEST_CASE("a scene object's friction coefficient is read, frictionless by default") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   Json scenario = valid_generated_scenario();
   CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).context.scene.front().friction ==
         0);
@@ -588,7 +565,7 @@ TEST_CASE("a scene object's friction coefficient is read, frictionless by defaul
 }
 
 TEST_CASE("tags are read in order, each a safe name given once") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   Json scenario = valid_generated_scenario();
   CHECK(load_scenario(dir.write("plain.json", scenario.dump(2))).tags.empty());
   scenario["tags"] = {"stress", "friction"};
@@ -607,7 +584,7 @@ TEST_CASE("tags are read in order, each a safe name given once") {
 
 TEST_CASE("closed loop: an empty block takes the desk device and hand, keys override them") {
   Json json = valid_generated_scenario();
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   CHECK_FALSE(load_scenario(dir.write("open.json", json.dump())).closed_loop);
   json["closed_loop"] = Json::object();
   const Scenario defaults = load_scenario(dir.write("defaults.json", json.dump()));
@@ -646,7 +623,7 @@ TEST_CASE("budget names are the documented set") {
 }
 
 TEST_CASE("a budget under its earlier name in m or J loads converted, with a warning") {
-  ScratchDir dir;
+  const test::ScratchDir dir("scenario");
   Json scenario = valid_generated_scenario();
   scenario["budgets"] = Json{{"max_penetration_m", 0.002}, {"passivity_energy_min_j", -0.001}};
   const Scenario loaded = load_scenario(dir.write("old_names.json", scenario.dump()));
