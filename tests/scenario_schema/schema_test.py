@@ -20,7 +20,6 @@ except ImportError:
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 SCHEMA_PATH = os.path.join(ROOT, "docs", "scenario.schema.json")
-READER_PATH = os.path.join(ROOT, "harness", "scenario", "scenario.cpp")
 INT64_MAX = 2**63 - 1
 
 # JSON files among the scenarios' folders that are not scenarios.
@@ -367,21 +366,29 @@ class VariantsTest(unittest.TestCase):
 
 
 class Reader:
-    """harness/scenario/scenario.cpp, split into the reader's methods."""
+    """The scenario reader's sources (harness/scenario/scenario.cpp, then
+    scenario_*.cpp), split into ScenarioReader's read* methods."""
 
-    DEFINITION = re.compile(r"^  [A-Za-z][\w:<>, ]*?\b(read\w*)\((?=[^;]*\{\s*$)", re.M)
+    DEFINITION = re.compile(r"^[A-Za-z][\w:<>, ]*?\bScenarioReader::(read\w*)\((?=[^;]*\{\s*$)",
+                            re.M)
 
     def __init__(self):
-        self.text = read_text("harness", "scenario", "scenario.cpp")
-        starts = [(m.start(), m.group(1)) for m in self.DEFINITION.finditer(self.text)]
+        folder = os.path.join(ROOT, "harness", "scenario")
+        names = ["scenario.cpp"] + sorted(
+            os.path.basename(path) for path in glob.glob(os.path.join(folder, "scenario_*.cpp")))
+        self.text = ""
         self.methods = {}
-        for i, (start, name) in enumerate(starts):
-            end = starts[i + 1][0] if i + 1 < len(starts) else len(self.text)
-            self.methods[name] = (start, self.text[start:end])
+        for name in names:
+            text = read_text("harness", "scenario", name)
+            starts = [(m.start(), m.group(1)) for m in self.DEFINITION.finditer(text)]
+            for i, (start, method) in enumerate(starts):
+                end = starts[i + 1][0] if i + 1 < len(starts) else len(text)
+                self.methods[method] = (len(self.text) + start, text[start:end])
+            self.text += text
 
     def method(self, name):
         if name not in self.methods:
-            raise AssertionError(f"scenario.cpp has no method {name}() any more")
+            raise AssertionError(f"the scenario reader has no method {name}() any more")
         return self.methods[name][1]
 
     @staticmethod
