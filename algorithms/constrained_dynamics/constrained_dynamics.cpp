@@ -88,8 +88,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     escape_reported_ = false;
     state_ = state_at_rest(body_, escape_.pose);
     target_ = start;
-    certifier_.forget();
-    certificate_ = certifier_.certify(escape_.pose, certifier_.widest_band());
+    queries_.forget();
+    certificate_ = certifier_.certify(queries_, escape_.pose, certifier_.widest_band());
     impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
     warm_active_.clear();
     contacts_.clear();
@@ -157,7 +157,8 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   void finish_step(const DeviceSample& device, TickResult& result) {
     if (!is_finite(state_)) {  // restart at rest where the device is, out of the scene
       state_ = state_at_rest(body_, geometry_.escape(device.pose).pose);
-      certificate_ = certifier_.certify(tool_pose(body_, state_), certifier_.widest_band());
+      certificate_ =
+          certifier_.certify(queries_, tool_pose(body_, state_), certifier_.widest_band());
       impulses_.assign(certificate_.pairs.size(), Vec3::Zero());
       result.flags |= kFlagProxyReset;
     }
@@ -219,7 +220,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
                             : certifier_.widest_band();
     previous_update_target_ = target_;
     previous_update_proxy_ = proxy;
-    box->data.certificate = certifier_.certify(proxy, band);
+    box->data.certificate = certifier_.certify(queries_, proxy, band);
     return box;
   }
 
@@ -268,7 +269,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
         limit = std::min(limit, certificate_.distances[near] - standoff);
         break;
       }
-    certifier_.evaluate_listed(certificate_, near, start, evaluated_);
+    certifier_.evaluate_listed(evaluation_, certificate_, near, start, evaluated_);
     work.add(ConstrainedDynamicsWork::kPairsEvaluated, static_cast<int64_t>(near));
     for (std::size_t k = 0; k < near; ++k) {
       const ContactFeatures& pair = certificate_.pairs[k];
@@ -333,7 +334,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   // tick on (a pair whose direction between closest points turned over has
   // crossed), less min(standoff − kStandoffSlackM, its distance at the start).
   double worst_margin(const Pose& end, WorkCounters& work) {
-    certifier_.evaluate_listed(certificate_, rows_.size(), end, end_contacts_);
+    certifier_.evaluate_listed(evaluation_, certificate_, rows_.size(), end, end_contacts_);
     work.add(ConstrainedDynamicsWork::kPairsEvaluated, static_cast<int64_t>(rows_.size()));
     const double standoff_floor = settings_.contacts.standoff_m - kStandoffSlackM;
     double worst = std::numeric_limits<double>::infinity();
@@ -355,7 +356,7 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
     for (std::size_t k = 0; k < certificate_.pairs.size() && k < distances_.size(); ++k)
       if (distances_[k] <= contact_distance + moved_reach)
         reported_pairs_.push_back(certificate_.pairs[k]);
-    certifier_.evaluate(reported_pairs_, end, reported_);
+    certifier_.evaluate(evaluation_, reported_pairs_, end, reported_);
     for (const PairContact& contact : reported_) {
       if (contact.distance > contact_distance) continue;
       contacts_.push_back(Contact{contact.scene_point, contact.normal, -contact.distance});
@@ -370,6 +371,11 @@ class ConstrainedDynamicsRenderer : public Renderer, public SlowLoop {
   RigidBody body_;
   ContactGeometry geometry_;  ///< the mesh CCD, the scene's friction and the start escape
   ProximityCertifier certifier_;
+  /// The proximity queries' memory and scratch: the slow loop's, also used
+  /// by reset and by the restart after a non-finite state (finish_step).
+  ProximityCertifier::QueryWorkspace queries_;
+  /// The haptic tick's scratch of the certifier's evaluations.
+  ProximityCertifier::EvaluationWorkspace evaluation_;
   RigidBodyState state_;
   Pose target_;  ///< the latest finite device pose, read by the slow loop
   ProximityCertificate certificate_;

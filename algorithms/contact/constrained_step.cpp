@@ -277,79 +277,115 @@ const ConstrainedStep& ConstrainedStepSolver::solve_pass(
     std::span<const double> friction, std::vector<int>& warm_active,
     std::span<const Vec3> warm_impulses, bool rows_built) {
   ConstrainedStep& r = result_;
+  // Start: the unconstrained step, no impulses.
+  start_result(unconstrained, constraints.size(), friction);
+  if (constraints.empty()) return r;
+
+  // Frictionless: the QP's answer, or the sweeps' seed without warm impulses.
+  const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
+  if (seed_from_qp) {
+    solve_frictionless(metric, unconstrained, constraints, warm_active);
+    if (!r.with_friction) return r;
+  }
+
+  // Rows: they depend on the constraints and μ only, so a skew pass of
+  // solve_system takes those of the pass before it.
+  if (!rows_built) build_rows(constraints, friction);
+  seed_rows(seed_from_qp ? std::span<const Vec3>(r.impulses) : warm_impulses, constraints.size());
+  const Mat6& response = response_of(metric);
+
+  // Sweeps: the frictional solve on the rows.
+  const FrictionalContactSolution& solution =
+      frictional_.solve(response, unconstrained, rows_, seed_);
+  r.iterations += solution.sweeps;
+  keep_sweep_impulses(solution, constraints.size());
+
+  // Project: non-penetration exactly, the friction held as given forces.
+  if (!project_friction(metric, unconstrained, response, constraints, warm_active, solution))
+    return r;
+
+  // Residual: of the forces the step was solved with, each row's normal
+  // force and friction on its first constraint.
+  spread_row_normals(constraints.size());
+  r.coulomb_residual = coulomb_residual(response, r.step, constraints, friction, normal_forces_);
+  return r;
+}
+
+void ConstrainedStepSolver::start_result(const Vec6& unconstrained, std::size_t count,
+                                         std::span<const double> friction) {
+  ConstrainedStep& r = result_;
   r.step = unconstrained;
-  r.impulses.assign(constraints.size(), Vec3::Zero());
+  r.impulses.assign(count, Vec3::Zero());
   r.iterations = 0;
   r.converged = true;
   r.feasible = true;
   r.with_friction = std::any_of(friction.begin(), friction.end(), [](double mu) { return mu > 0; });
   r.coulomb_residual = 0;
   r.skew_passes = 0;
-  if (constraints.empty()) return r;
+}
 
-  const bool seed_from_qp = !r.with_friction || warm_impulses.size() != constraints.size();
-  if (seed_from_qp) {
-    std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
-    const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
-    r.iterations = solution.iterations;
-    r.converged = solution.converged;
-    r.feasible = solution.converged;
-    warm_active = solution.converged ? solution.active : std::vector<int>{};
-    r.step = solution.acceleration;
-    for (std::size_t k = 0; k < constraints.size(); ++k)
-      r.impulses[k].x() = solution.multipliers[k];
-    if (!r.with_friction) return r;
-  }
+void ConstrainedStepSolver::solve_frictionless(const Mat6& metric, const Vec6& unconstrained,
+                                               std::span<const GaussConstraint> constraints,
+                                               std::vector<int>& warm_active) {
+  ConstrainedStep& r = result_;
+  std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
+  const GaussSolution& solution = gauss_.solve(metric, unconstrained, constraints, warm_active);
+  r.iterations = solution.iterations;
+  r.converged = solution.converged;
+  r.feasible = solution.converged;
+  warm_active = solution.converged ? solution.active : std::vector<int>{};
+  r.step = solution.acceleration;
+  for (std::size_t k = 0; k < constraints.size(); ++k) r.impulses[k].x() = solution.multipliers[k];
+}
 
-  // The rows depend on the constraints and μ only: a skew pass of
-  // solve_system takes those of the pass before it.
-  if (!rows_built) build_rows(constraints, friction);
-  const std::span<const Vec3> source =
-      seed_from_qp ? std::span<const Vec3>(r.impulses) : warm_impulses;
+void ConstrainedStepSolver::seed_rows(std::span<const Vec3> source, std::size_t count) {
   seed_.assign(rows_.size(), Vec3::Zero());
-  for (std::size_t k = 0; k < constraints.size(); ++k)
+  for (std::size_t k = 0; k < count; ++k)
     if (row_of_[k] >= 0) seed_[row_of_[k]] += source[k];
-  // M⁻¹, kept while the metric stays the same bit for bit.
+}
+
+const Mat6& ConstrainedStepSolver::response_of(const Mat6& metric) {
   if (!inverted_ || std::memcmp(metric.data(), inverted_metric_.data(), sizeof(Mat6)) != 0) {
     response_ = metric.inverse();
     inverted_metric_ = metric;
     inverted_ = true;
   }
-  const Mat6& response = response_;
-  const FrictionalContactSolution& solution =
-      frictional_.solve(response, unconstrained, rows_, seed_);
-  r.iterations += solution.sweeps;
+  return response_;
+}
+
+void ConstrainedStepSolver::keep_sweep_impulses(const FrictionalContactSolution& solution,
+                                                std::size_t count) {
   // The sweeps' impulses are the next warm start: the QP below puts the load
   // of redundant contacts on an independent few, which they would spread again.
+  ConstrainedStep& r = result_;
   std::fill(r.impulses.begin(), r.impulses.end(), Vec3::Zero());
   taken_.assign(rows_.size(), 0);
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
+  for (std::size_t k = 0; k < count; ++k) {
     if (row_of_[k] < 0 || taken_[row_of_[k]]) continue;
     taken_[row_of_[k]] = 1;
     r.impulses[k] = solution.impulses[row_of_[k]];
   }
-
-  normal_forces_.assign(constraints.size(), 0.0);
+  normal_forces_.assign(count, 0.0);
   friction_forces_.resize(rows_.size());
   for (std::size_t row = 0; row < rows_.size(); ++row)
     friction_forces_[row] = solution.impulses[row].tail<2>();
+}
 
-  // Non-penetration exactly: the frictionless QP again with the friction
-  // impulses held as given forces (one step of staggered projections). Its
-  // normal forces are exact for that friction, shared within each planar
-  // contact as the sweeps shared them (share_planar_loads: the QP's own
-  // sharing of a planar contact's load is one of many). When the sweeps
-  // stopped at their limit, their friction is scaled into the QP's cone and
-  // the QP solved again, at most kConePasses times.
+bool ConstrainedStepSolver::project_friction(const Mat6& metric, const Vec6& unconstrained,
+                                             const Mat6& response,
+                                             std::span<const GaussConstraint> constraints,
+                                             std::vector<int>& warm_active,
+                                             const FrictionalContactSolution& solution) {
+  // The frictionless QP again with the friction impulses held as given
+  // forces (one step of staggered projections). Its normal forces are exact
+  // for that friction, shared within each planar contact as the sweeps
+  // shared them (share_planar_loads: the QP's own sharing of a planar
+  // contact's load is one of many). When the sweeps stopped at their
+  // limit, their friction is scaled into the QP's cone and the QP solved
+  // again, at most kConePasses times.
+  ConstrainedStep& r = result_;
   for (int pass = 0; pass < kConePasses; ++pass) {
-    Vec6 friction_wrench = Vec6::Zero();
-    for (std::size_t row = 0; row < rows_.size(); ++row) {
-      const Vec3 t1 = solution.tangent1[row];
-      const Vec3 t2 = rows_[row].normal.cross(t1);
-      const Vec3 force = friction_forces_[row].x() * t1 + friction_forces_[row].y() * t2;
-      friction_wrench.head<3>() += force;
-      friction_wrench.tail<3>() += rows_[row].lever.cross(force);
-    }
+    const Vec6 friction_wrench = row_friction_wrench(solution);
     std::erase_if(warm_active, [&](int k) { return k >= static_cast<int>(constraints.size()); });
     const GaussSolution& projected =
         gauss_.solve(metric, unconstrained + response * friction_wrench, constraints, warm_active);
@@ -358,33 +394,49 @@ const ConstrainedStep& ConstrainedStepSolver::solve_pass(
     r.feasible = projected.converged;
     warm_active = projected.converged ? projected.active : std::vector<int>{};
     r.step = projected.acceleration;
-    if (!projected.converged) return r;
-    row_normal_.assign(rows_.size(), 0.0);
-    for (std::size_t k = 0; k < constraints.size(); ++k) {
-      normal_forces_[k] = projected.multipliers[k];
-      if (row_of_[k] >= 0) row_normal_[row_of_[k]] += projected.multipliers[k];
-    }
+    if (!projected.converged) return false;
+    take_qp_normals(projected, constraints.size());
     share_planar_loads(solution);
-    // A converged solve's friction stands (the residual tells how well the
-    // normal forces support it). An unconverged one's is scaled down, all
-    // rows alike, until it is at most μ times the QP's normal force in all
-    // (a per-row cut would follow the QP's sharing of load between nearly
-    // coplanar contacts, which is arbitrary, and drop friction wholesale).
-    double friction_total = 0, cone_total = 0;
-    for (std::size_t row = 0; row < rows_.size(); ++row) {
-      friction_total += friction_forces_[row].norm();
-      cone_total += rows_[row].friction * row_normal_[row];
-    }
-    if (solution.converged || friction_total <= cone_total * (1 + 1e-9) || pass + 1 == kConePasses)
-      break;
-    for (Eigen::Vector2d& force : friction_forces_) force *= cone_total / friction_total;
+    if (solution.converged || !scale_friction_into_cone(pass)) break;
     r.converged = false;  // friction had to be cut: not the sweeps' answer any more
   }
-  // The residual of the forces the step was solved with: each row's normal
-  // force and friction on its first constraint.
-  spread_row_normals(constraints.size());
-  r.coulomb_residual = coulomb_residual(response, r.step, constraints, friction, normal_forces_);
-  return r;
+  return true;
+}
+
+Vec6 ConstrainedStepSolver::row_friction_wrench(const FrictionalContactSolution& solution) const {
+  Vec6 friction_wrench = Vec6::Zero();
+  for (std::size_t row = 0; row < rows_.size(); ++row) {
+    const Vec3 t1 = solution.tangent1[row];
+    const Vec3 t2 = rows_[row].normal.cross(t1);
+    const Vec3 force = friction_forces_[row].x() * t1 + friction_forces_[row].y() * t2;
+    friction_wrench.head<3>() += force;
+    friction_wrench.tail<3>() += rows_[row].lever.cross(force);
+  }
+  return friction_wrench;
+}
+
+void ConstrainedStepSolver::take_qp_normals(const GaussSolution& projected, std::size_t count) {
+  row_normal_.assign(rows_.size(), 0.0);
+  for (std::size_t k = 0; k < count; ++k) {
+    normal_forces_[k] = projected.multipliers[k];
+    if (row_of_[k] >= 0) row_normal_[row_of_[k]] += projected.multipliers[k];
+  }
+}
+
+bool ConstrainedStepSolver::scale_friction_into_cone(int pass) {
+  // A converged solve's friction stands (the residual tells how well the
+  // normal forces support it). An unconverged one's is scaled down, all
+  // rows alike, until it is at most μ times the QP's normal force in all
+  // (a per-row cut would follow the QP's sharing of load between nearly
+  // coplanar contacts, which is arbitrary, and drop friction wholesale).
+  double friction_total = 0, cone_total = 0;
+  for (std::size_t row = 0; row < rows_.size(); ++row) {
+    friction_total += friction_forces_[row].norm();
+    cone_total += rows_[row].friction * row_normal_[row];
+  }
+  if (friction_total <= cone_total * (1 + 1e-9) || pass + 1 == kConePasses) return false;
+  for (Eigen::Vector2d& force : friction_forces_) force *= cone_total / friction_total;
+  return true;
 }
 
 void ConstrainedStepSolver::share_planar_loads(const FrictionalContactSolution& solution) {

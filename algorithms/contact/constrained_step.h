@@ -12,7 +12,8 @@
 // dynamics M is the step's effective mass and λ are impulses (N·s).
 //
 // How it is solved (repeated constraints, the exact QP, the frictional
-// sweeps, the cone passes, the Coulomb residual): docs/algorithms/constrained-step.md.
+// sweeps, the cone passes, the Coulomb residual, non-symmetric systems):
+// docs/algorithms/constrained-step.md.
 #pragma once
 
 #include <span>
@@ -70,14 +71,10 @@ class ConstrainedStepSolver {
 
   /// The same for a system matrix A that need not be symmetric (an
   /// implicit step's gyroscopic and rotational-coupling terms): the step a
-  /// with A (a − a_u) = Σ Jᵀλ, the constraints and Coulomb's law. Solved as
-  /// a fixed point of `solve` with the metric S = (A + Aᵀ)/2 and the skew
-  /// part K = (A − Aᵀ)/2 carried as a given force, a_u shifted to
-  /// ã_u = a_u − S⁻¹K (a − a_u) with the previous pass's a; at the fixed
-  /// point S (a − ã_u) = S (a − a_u) + K (a − a_u) = A (a − a_u). The
-  /// shift contracts by ‖S^-½ K S^-½‖ per pass (the QP's projection is
-  /// non-expansive in the S-norm); the passes stop when it changes by less
-  /// than the tolerance (or 10⁻⁶ of |a − a_u|), at most kSkewPasses.
+  /// with A (a − a_u) = Σ Jᵀλ, the constraints and Coulomb's law, as a
+  /// fixed point of `solve` on A's symmetric part with its skew part as a
+  /// given force, at most kSkewPasses passes
+  /// (docs/algorithms/constrained-step.md).
   const ConstrainedStep& solve_system(const Mat6& system, const Vec6& unconstrained,
                                       std::span<const GaussConstraint> constraints,
                                       std::span<const double> friction,
@@ -127,6 +124,34 @@ class ConstrainedStepSolver {
                                     std::span<const GaussConstraint> constraints,
                                     std::span<const double> friction, std::vector<int>& warm_active,
                                     std::span<const Vec3> warm_impulses, bool rows_built);
+  /// result_ for a new pass: the unconstrained step, no impulses.
+  void start_result(const Vec6& unconstrained, std::size_t count, std::span<const double> friction);
+  /// The frictionless QP into result_ (step, normal multipliers, active set).
+  void solve_frictionless(const Mat6& metric, const Vec6& unconstrained,
+                          std::span<const GaussConstraint> constraints,
+                          std::vector<int>& warm_active);
+  /// seed_: per row, the sum of its constraints' impulses in `source`.
+  void seed_rows(std::span<const Vec3> source, std::size_t count);
+  /// M⁻¹ (response_), kept while the metric stays the same bit for bit.
+  const Mat6& response_of(const Mat6& metric);
+  /// The sweeps' impulses on each row's first constraint (result_), and
+  /// each row's friction (friction_forces_).
+  void keep_sweep_impulses(const FrictionalContactSolution& solution, std::size_t count);
+  /// The cone passes: the QP with the rows' friction held as given forces,
+  /// its normal forces shared within planar contacts, the friction scaled
+  /// into the cone while the sweeps had not converged; false when a QP
+  /// did not converge.
+  bool project_friction(const Mat6& metric, const Vec6& unconstrained, const Mat6& response,
+                        std::span<const GaussConstraint> constraints, std::vector<int>& warm_active,
+                        const FrictionalContactSolution& solution);
+  /// The wrench (N, N·m about the centre of mass; or their impulses) of
+  /// the rows' friction forces.
+  Vec6 row_friction_wrench(const FrictionalContactSolution& solution) const;
+  /// normal_forces_ and row_normal_ from the QP's multipliers.
+  void take_qp_normals(const GaussSolution& projected, std::size_t count);
+  /// Scales the rows' friction into μ times the QP's normal force in total
+  /// (true), unless it is within it already or `pass` is the last (false).
+  bool scale_friction_into_cone(int pass);
   /// rows_ and row_of_ for the constraints: coincident contacts merged,
   /// then reduce_coplanar_rows.
   void build_rows(std::span<const GaussConstraint> constraints, std::span<const double> friction);

@@ -82,14 +82,215 @@ using PolishMatrix =
 using PolishVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kPolishUnknowns, 1>;
 using PolishRows = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kPolishUnknowns>;
 
+// The polish's dense system on the contacts taken L (3 unknowns each):
+// v = J_L u = J_L u_free + G x, G = J_L R J_Lᵀ; per contact the
+// augmentation ρ_n = 1 / G_nn and ρ_t = 1 / (mean tangential diagonal),
+// which make every equation an impulse. Alart & Curnier's equations, zero
+// exactly where Signorini and Coulomb hold: with λ̂_n = λ_n − ρ_n (n·u − b)
+// and τ = λ_t − ρ_t u_t,
+//   F_n = λ_n − max(0, λ̂_n),   F_t = λ_t − Π_{|·| ≤ μ max(0, λ̂_n)}(τ),
+// with a generalised Jacobian from the branch each contact is on.
+class PolishSystem {
+ public:
+  // Builds G, the free rates, ρ and the start x (the iterate's impulses).
+  PolishSystem(std::span<const FrictionalContactRow> contacts, std::span<const int> taken,
+               std::span<const Eigen::Matrix<double, 3, 6>> jacobians,
+               std::span<const Eigen::Matrix<double, 6, 3>> responses,
+               std::span<const Vec3> impulses, const Vec6& free_velocity);
+
+  // Levenberg–Marquardt steps on ½ |F|² to a root; false when they stall
+  // short of one.
+  bool solve();
+  // Projects the root as the equations project it (λ_n = max(0, λ̂_n),
+  // λ_t = Π(τ)), so that a contact left unpressed carries exactly nothing
+  // and a sliding one lies on its circle; returns the velocity it gives.
+  Vec6 project(const Vec6& free_velocity);
+  // The impulses (λ_n, λ_t1, λ_t2) of the a-th contact taken.
+  Vec3 impulse(Eigen::Index a) const { return x_.segment<3>(3 * a); }
+
+ private:
+  // F (equations_) and the rates v (rates_) at `at`, and with_jacobian its
+  // generalised Jacobian (jacobian_).
+  void evaluate(const PolishVector& at, bool with_jacobian);
+  // One damped step from x_ that reduces |F| below `residual`, in trial_;
+  // false when none does.
+  bool find_reducing_step(double residual);
+
+  std::span<const FrictionalContactRow> contacts_;
+  std::span<const int> taken_;
+  std::span<const Eigen::Matrix<double, 6, 3>> responses_;
+  Eigen::Index m_;  // contacts taken
+  Eigen::Index n_;  // unknowns, 3 m_
+  PolishMatrix g_;
+  PolishVector free_rates_, x_, rho_;
+  PolishMatrix jacobian_;
+  PolishVector equations_, rates_;
+  PolishRows slip_change_;
+  PolishVector trial_;
+  PolishMatrix damped_;
+};
+
+PolishSystem::PolishSystem(std::span<const FrictionalContactRow> contacts,
+                           std::span<const int> taken,
+                           std::span<const Eigen::Matrix<double, 3, 6>> jacobians,
+                           std::span<const Eigen::Matrix<double, 6, 3>> responses,
+                           std::span<const Vec3> impulses, const Vec6& free_velocity)
+    : contacts_(contacts),
+      taken_(taken),
+      responses_(responses),
+      m_(static_cast<Eigen::Index>(taken.size())),
+      n_(3 * m_),
+      g_(n_, n_),
+      free_rates_(n_),
+      x_(n_),
+      rho_(n_),
+      jacobian_(n_, n_),
+      equations_(n_),
+      rates_(n_),
+      slip_change_(2, n_),
+      trial_(n_),
+      damped_(n_, n_) {
+  for (Eigen::Index a = 0; a < m_; ++a) {
+    const int k = taken_[a];
+    free_rates_.segment<3>(3 * a) = jacobians[k] * free_velocity;
+    x_.segment<3>(3 * a) = impulses[k];
+    for (Eigen::Index b = 0; b < m_; ++b)
+      g_.block<3, 3>(3 * a, 3 * b) = jacobians[k] * responses_[taken_[b]];
+    rho_(3 * a) = 1 / g_(3 * a, 3 * a);
+    rho_(3 * a + 1) = rho_(3 * a + 2) = 2 / (g_(3 * a + 1, 3 * a + 1) + g_(3 * a + 2, 3 * a + 2));
+  }
+}
+
+void PolishSystem::evaluate(const PolishVector& at, bool with_jacobian) {
+  rates_ = free_rates_ + g_ * at;
+  for (Eigen::Index a = 0; a < m_; ++a) {
+    const FrictionalContactRow& c = contacts_[taken_[a]];
+    const Eigen::Index row = 3 * a;
+    const double rho_n = rho_(row), rho_t = rho_(row + 1);
+    const double augmented = at(row) - rho_n * (rates_(row) - c.bound);
+    const bool pressed = augmented > 0;
+    if (pressed) {
+      equations_(row) = rho_n * (rates_(row) - c.bound);
+      if (with_jacobian) jacobian_.row(row) = rho_n * g_.row(row);
+    } else {
+      equations_(row) = at(row);
+      if (with_jacobian) {
+        jacobian_.row(row).setZero();
+        jacobian_(row, row) = 1;
+      }
+    }
+    const double radius = c.friction * std::max(0.0, augmented);
+    const Eigen::Vector2d tau = at.segment<2>(row + 1) - rho_t * rates_.segment<2>(row + 1);
+    const double length = tau.norm();
+    if (length <= radius) {  // sticking: u_t = 0
+      equations_.segment<2>(row + 1) = rho_t * rates_.segment<2>(row + 1);
+      if (with_jacobian) jacobian_.middleRows<2>(row + 1) = rho_t * g_.middleRows<2>(row + 1);
+      continue;
+    }
+    // Sliding: F_t = λ_t − r h, h = τ / |τ|, r = μ max(0, λ̂_n);
+    // dF_t = dλ_t − h dr − (r / |τ|) (I − h hᵀ) dτ.
+    const Eigen::Vector2d h = tau / length;
+    equations_.segment<2>(row + 1) = at.segment<2>(row + 1) - radius * h;
+    if (!with_jacobian) continue;
+    slip_change_ = -rho_t * g_.middleRows<2>(row + 1);
+    slip_change_.block<2, 2>(0, row + 1) += Eigen::Matrix2d::Identity();
+    jacobian_.middleRows<2>(row + 1) =
+        -(radius / length) * (Eigen::Matrix2d::Identity() - h * h.transpose()) * slip_change_;
+    jacobian_.block<2, 2>(row + 1, row + 1) += Eigen::Matrix2d::Identity();
+    if (pressed) {
+      jacobian_.middleRows<2>(row + 1) += (c.friction * rho_n) * h * g_.row(row);
+      jacobian_.block<2, 1>(row + 1, row) -= c.friction * h;
+    }
+  }
+}
+
+// Contacts at one point with nearly parallel normals make the Jacobian
+// nearly singular, and a plain Newton step would trade load between them
+// without bound: hence the damping.
+bool PolishSystem::solve() {
+  evaluate(x_, true);
+  double residual = equations_.norm();
+  for (int iteration = 0; iteration < kPolishIterations; ++iteration) {
+    if (residual <= kPolishResidual * x_.norm()) break;
+    if (!find_reducing_step(residual)) return false;
+    x_ = trial_;
+    evaluate(x_, true);
+    // Stalled short of a root (the contacts taken or their states are not
+    // the solution's): the sweeps go on.
+    const double previous = residual;
+    residual = equations_.norm();
+    if (residual > kPolishStall * previous) return false;
+  }
+  return residual <= kPolishResidual * x_.norm();
+}
+
+// A step is halved until it reduces |F|; when kPolishHalvings halvings do
+// not, the damping (from a share of the mean diagonal of JᵀJ) grows a
+// hundredfold, at most kPolishDampings times.
+bool PolishSystem::find_reducing_step(double residual) {
+  const PolishVector gradient = jacobian_.transpose() * equations_;
+  const PolishMatrix normal_matrix = jacobian_.transpose() * jacobian_;
+  // The mean diagonal of JᵀJ is |J|² / n.
+  double damping = kPolishDamping * jacobian_.squaredNorm() / static_cast<double>(n_);
+  bool reduced = false;
+  for (int attempt = 0; attempt < kPolishDampings && !reduced; ++attempt, damping *= 100) {
+    damped_ = normal_matrix;
+    damped_.diagonal().array() += damping;
+    const PolishVector step = damped_.ldlt().solve(-gradient);
+    if (!step.allFinite()) return false;
+    double fraction = 1;
+    for (int halving = 0; halving <= kPolishHalvings && !reduced; ++halving, fraction *= 0.5) {
+      trial_ = x_ + fraction * step;
+      evaluate(trial_, false);
+      reduced = equations_.norm() <= (1 - 1e-4 * fraction) * residual;
+    }
+  }
+  return reduced;
+}
+
+// rates_ holds v at x_ from the last evaluation.
+Vec6 PolishSystem::project(const Vec6& free_velocity) {
+  Vec6 velocity = free_velocity;
+  for (Eigen::Index a = 0; a < m_; ++a) {
+    const FrictionalContactRow& c = contacts_[taken_[a]];
+    const Eigen::Index row = 3 * a;
+    const double normal = std::max(0.0, x_(row) - rho_(row) * (rates_(row) - c.bound));
+    const Eigen::Vector2d tau = x_.segment<2>(row + 1) - rho_(row + 1) * rates_.segment<2>(row + 1);
+    const double radius = c.friction * normal, length = tau.norm();
+    x_(row) = normal;
+    x_.segment<2>(row + 1) = length <= radius ? tau : Eigen::Vector2d(tau * (radius / length));
+    velocity += responses_[taken_[a]] * x_.segment<3>(row);
+  }
+  return velocity;
+}
+
 }  // namespace
 
 bool FrictionalContactSolver::polish(std::span<const FrictionalContactRow> contacts,
                                      const Vec6& free_velocity) {
   FrictionalContactSolution& s = solution_;
+  // Take: the contacts carrying load or below their bound, at most kPolishContacts.
+  if (!take_polish_contacts(contacts)) return false;
+  // Build: G = J_L R J_Lᵀ, the free rates and ρ over the contacts taken.
+  PolishSystem system(contacts, taken_, jacobians_, responses_, s.impulses, free_velocity);
+  // Solve: Levenberg–Marquardt steps to a root of Alart & Curnier's equations.
+  if (!system.solve()) return false;
+  // Project: the root's impulses as the equations project them.
+  const Vec6 velocity = system.project(free_velocity);
+  // Check: the contacts left out must still be clear of their bounds.
+  if (!left_out_clear(contacts, velocity)) return false;
+  // Accept: the root replaces the iterate.
+  for (std::size_t a = 0; a < taken_.size(); ++a)
+    s.impulses[taken_[a]] = system.impulse(static_cast<Eigen::Index>(a));
+  s.velocity = velocity;
+  return true;
+}
+
+bool FrictionalContactSolver::take_polish_contacts(std::span<const FrictionalContactRow> contacts) {
   // The contacts taken: those carrying load and those the iterate pushes
   // below their bound; the others carry nothing (an unloaded contact's
   // disk is a point) and stay so when the result keeps them clear.
+  const FrictionalContactSolution& s = solution_;
   taken_.clear();
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     if (!(s.impulses[k].x() > 0) && !(jacobians_[k].row(0).dot(s.velocity) - contacts[k].bound < 0))
@@ -97,131 +298,15 @@ bool FrictionalContactSolver::polish(std::span<const FrictionalContactRow> conta
     if (taken_.size() == static_cast<std::size_t>(kPolishContacts)) return false;
     taken_.push_back(static_cast<int>(k));
   }
-  const auto m = static_cast<Eigen::Index>(taken_.size());
-  if (m == 0) return false;
-  const Eigen::Index n = 3 * m;
-  // v = J_L u = J_L u_free + G x over the contacts taken L, G = J_L R J_Lᵀ;
-  // per contact the augmentation ρ_n = 1 / G_nn and ρ_t = 1 / (mean
-  // tangential diagonal), which make every equation an impulse.
-  PolishMatrix g(n, n);
-  PolishVector free_rates(n), x(n), rho(n);
-  for (Eigen::Index a = 0; a < m; ++a) {
-    const int k = taken_[a];
-    free_rates.segment<3>(3 * a) = jacobians_[k] * free_velocity;
-    x.segment<3>(3 * a) = s.impulses[k];
-    for (Eigen::Index b = 0; b < m; ++b)
-      g.block<3, 3>(3 * a, 3 * b) = jacobians_[k] * responses_[taken_[b]];
-    rho(3 * a) = 1 / g(3 * a, 3 * a);
-    rho(3 * a + 1) = rho(3 * a + 2) = 2 / (g(3 * a + 1, 3 * a + 1) + g(3 * a + 2, 3 * a + 2));
-  }
-  // Alart & Curnier's equations, zero exactly where the conditions above
-  // hold: with λ̂_n = λ_n − ρ_n (n·u − b) and τ = λ_t − ρ_t u_t,
-  //   F_n = λ_n − max(0, λ̂_n),   F_t = λ_t − Π_{|·| ≤ μ max(0, λ̂_n)}(τ),
-  // and a generalised Jacobian from the branch each contact is on.
-  PolishMatrix jacobian(n, n);
-  PolishVector equations(n), rates(n);
-  PolishRows slip_change(2, n);
-  const auto evaluate = [&](const PolishVector& at, bool with_jacobian) {
-    rates = free_rates + g * at;
-    for (Eigen::Index a = 0; a < m; ++a) {
-      const FrictionalContactRow& c = contacts[taken_[a]];
-      const Eigen::Index row = 3 * a;
-      const double rho_n = rho(row), rho_t = rho(row + 1);
-      const double augmented = at(row) - rho_n * (rates(row) - c.bound);
-      const bool pressed = augmented > 0;
-      if (pressed) {
-        equations(row) = rho_n * (rates(row) - c.bound);
-        if (with_jacobian) jacobian.row(row) = rho_n * g.row(row);
-      } else {
-        equations(row) = at(row);
-        if (with_jacobian) {
-          jacobian.row(row).setZero();
-          jacobian(row, row) = 1;
-        }
-      }
-      const double radius = c.friction * std::max(0.0, augmented);
-      const Eigen::Vector2d tau = at.segment<2>(row + 1) - rho_t * rates.segment<2>(row + 1);
-      const double length = tau.norm();
-      if (length <= radius) {  // sticking: u_t = 0
-        equations.segment<2>(row + 1) = rho_t * rates.segment<2>(row + 1);
-        if (with_jacobian) jacobian.middleRows<2>(row + 1) = rho_t * g.middleRows<2>(row + 1);
-        continue;
-      }
-      // Sliding: F_t = λ_t − r h, h = τ / |τ|, r = μ max(0, λ̂_n);
-      // dF_t = dλ_t − h dr − (r / |τ|) (I − h hᵀ) dτ.
-      const Eigen::Vector2d h = tau / length;
-      equations.segment<2>(row + 1) = at.segment<2>(row + 1) - radius * h;
-      if (!with_jacobian) continue;
-      slip_change = -rho_t * g.middleRows<2>(row + 1);
-      slip_change.block<2, 2>(0, row + 1) += Eigen::Matrix2d::Identity();
-      jacobian.middleRows<2>(row + 1) =
-          -(radius / length) * (Eigen::Matrix2d::Identity() - h * h.transpose()) * slip_change;
-      jacobian.block<2, 2>(row + 1, row + 1) += Eigen::Matrix2d::Identity();
-      if (pressed) {
-        jacobian.middleRows<2>(row + 1) += (c.friction * rho_n) * h * g.row(row);
-        jacobian.block<2, 1>(row + 1, row) -= c.friction * h;
-      }
-    }
-  };
-  // Levenberg–Marquardt steps on ½ |F|²: contacts at one point with
-  // nearly parallel normals make the Jacobian nearly singular, and a plain
-  // Newton step would trade load between them without bound. A step is
-  // halved until it reduces |F|; when kPolishHalvings halvings do not, the
-  // damping grows a hundredfold, at most kPolishDampings times.
-  PolishVector trial(n);
-  PolishMatrix damped(n, n);
-  evaluate(x, true);
-  double residual = equations.norm();
-  for (int iteration = 0; iteration < kPolishIterations; ++iteration) {
-    if (residual <= kPolishResidual * x.norm()) break;
-    const PolishVector gradient = jacobian.transpose() * equations;
-    const PolishMatrix normal_matrix = jacobian.transpose() * jacobian;
-    // The mean diagonal of JᵀJ is |J|² / n.
-    double damping = kPolishDamping * jacobian.squaredNorm() / static_cast<double>(n);
-    bool reduced = false;
-    for (int attempt = 0; attempt < kPolishDampings && !reduced; ++attempt, damping *= 100) {
-      damped = normal_matrix;
-      damped.diagonal().array() += damping;
-      const PolishVector step = damped.ldlt().solve(-gradient);
-      if (!step.allFinite()) return false;
-      double fraction = 1;
-      for (int halving = 0; halving <= kPolishHalvings && !reduced; ++halving, fraction *= 0.5) {
-        trial = x + fraction * step;
-        evaluate(trial, false);
-        reduced = equations.norm() <= (1 - 1e-4 * fraction) * residual;
-      }
-    }
-    if (!reduced) return false;
-    x = trial;
-    evaluate(x, true);
-    // Stalled short of a root (the contacts taken or their states are not
-    // the solution's): the sweeps go on.
-    const double previous = residual;
-    residual = equations.norm();
-    if (residual > kPolishStall * previous) return false;
-  }
-  if (!(residual <= kPolishResidual * x.norm())) return false;
-  // The result projected as the equations project it (λ_n = max(0, λ̂_n),
-  // λ_t = Π(τ)), so that a contact left unpressed carries exactly nothing
-  // and a sliding one lies on its circle; the contacts left out must still
-  // be clear of their bounds (`rates` holds v at x from the last evaluation).
-  Vec6 velocity = free_velocity;
-  for (Eigen::Index a = 0; a < m; ++a) {
-    const FrictionalContactRow& c = contacts[taken_[a]];
-    const Eigen::Index row = 3 * a;
-    const double normal = std::max(0.0, x(row) - rho(row) * (rates(row) - c.bound));
-    const Eigen::Vector2d tau = x.segment<2>(row + 1) - rho(row + 1) * rates.segment<2>(row + 1);
-    const double radius = c.friction * normal, length = tau.norm();
-    x(row) = normal;
-    x.segment<2>(row + 1) = length <= radius ? tau : Eigen::Vector2d(tau * (radius / length));
-    velocity += responses_[taken_[a]] * x.segment<3>(row);
-  }
+  return !taken_.empty();
+}
+
+bool FrictionalContactSolver::left_out_clear(std::span<const FrictionalContactRow> contacts,
+                                             const Vec6& velocity) const {
   for (std::size_t k = 0; k < contacts.size(); ++k)
     if (!std::binary_search(taken_.begin(), taken_.end(), static_cast<int>(k)) &&
         jacobians_[k].row(0).dot(velocity) - contacts[k].bound < -options_.tolerance)
       return false;
-  for (Eigen::Index a = 0; a < m; ++a) s.impulses[taken_[a]] = x.segment<3>(3 * a);
-  s.velocity = velocity;
   return true;
 }
 
@@ -245,10 +330,53 @@ double FrictionalContactSolver::clear_stick_slip(
 FrictionalContactSolver::FrictionalContactSolver(const FrictionalContactOptions& options)
     : options_(options) {}
 
+// What the sweeps' stopping and polishing decisions carry from one sweep
+// to the next.
+struct FrictionalContactSolver::SweepHistory {
+  int next_polish = kFirstPolishSweep;  ///< the first sweep that may polish next
+  double last_change = 0;               ///< the last sweep's largest change
+  int failed_polishes = 0;
+  /// clear_stick_slip's, the sweep before.
+  double last_slip = std::numeric_limits<double>::infinity();
+};
+
 const FrictionalContactSolution& FrictionalContactSolver::solve(
     const Mat6& response, const Vec6& free_velocity, std::span<const FrictionalContactRow> contacts,
     std::span<const Vec3> warm) {
   const std::size_t count = contacts.size();
+  FrictionalContactSolution& s = solution_;
+  start_solve(count, free_velocity);
+  // Rows: each contact's Jacobian, response and block, and its warm start.
+  for (std::size_t k = 0; k < count; ++k) {
+    build_contact(k, contacts[k], response);
+    if (warm.size() == count) warm_start_contact(k, contacts[k], warm[k]);
+  }
+  if (count == 0) return s;
+
+  SweepHistory history;
+  for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
+    const Vec6 velocity_before = s.velocity;
+    // Sweep: each contact's block solved exactly with the others held.
+    for (std::size_t k = 0; k < count; ++k) {
+      const double normal = relax_normal(k, contacts[k]);
+      relax_tangential(k, contacts[k], normal);
+    }
+    // Converged when no contact point's velocity changed beyond the tolerance.
+    const double largest_change = largest_point_change(s.velocity - velocity_before);
+    s.sweeps = sweep + 1;
+    s.residual = largest_change;
+    if (largest_change <= options_.tolerance) return s;
+    // Stuck: every loaded contact clearly sticks (only when asked).
+    if (options_.stick_slip > 0 && clearly_stuck(contacts, history)) return s;
+    // Polish: a semismooth Newton solve of the loaded contacts where the sweeps are slow.
+    polish_if_slow(contacts, free_velocity, largest_change, history);
+    history.last_change = largest_change;
+  }
+  s.converged = false;
+  return s;
+}
+
+void FrictionalContactSolver::start_solve(std::size_t count, const Vec6& free_velocity) {
   FrictionalContactSolution& s = solution_;
   jacobians_.resize(count);
   responses_.resize(count);
@@ -264,107 +392,104 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   s.residual = 0;
   s.converged = true;
   s.stuck = false;
+}
 
-  for (std::size_t k = 0; k < count; ++k) {
-    const FrictionalContactRow& c = contacts[k];
-    const Vec3 t1 = perpendicular_unit(c.normal);
-    const Vec3 t2 = c.normal.cross(t1);
-    s.tangent1[k] = t1;
-    Eigen::Matrix<double, 3, 6>& j = jacobians_[k];
-    j.row(0) << c.normal.transpose(), c.lever.cross(c.normal).transpose();
-    j.row(1) << t1.transpose(), c.lever.cross(t1).transpose();
-    j.row(2) << t2.transpose(), c.lever.cross(t2).transpose();
-    responses_[k] = response * j.transpose();
-    blocks_[k] = j * responses_[k];
-    tangential_inverses_[k] = blocks_[k].bottomRightCorner<2, 2>().inverse();
-    if (warm.size() == count) {
-      Vec3 start = warm[k];
-      start.x() = std::max(0.0, start.x());
-      const double radius = c.friction * start.x();
-      const double tangential = start.tail<2>().norm();
-      if (tangential > radius) start.tail<2>() *= tangential > 0 ? radius / tangential : 0.0;
-      s.impulses[k] = start;
-      s.velocity += responses_[k] * start;
-    }
+void FrictionalContactSolver::build_contact(std::size_t k, const FrictionalContactRow& c,
+                                            const Mat6& response) {
+  const Vec3 t1 = perpendicular_unit(c.normal);
+  const Vec3 t2 = c.normal.cross(t1);
+  solution_.tangent1[k] = t1;
+  Eigen::Matrix<double, 3, 6>& j = jacobians_[k];
+  j.row(0) << c.normal.transpose(), c.lever.cross(c.normal).transpose();
+  j.row(1) << t1.transpose(), c.lever.cross(t1).transpose();
+  j.row(2) << t2.transpose(), c.lever.cross(t2).transpose();
+  responses_[k] = response * j.transpose();
+  blocks_[k] = j * responses_[k];
+  tangential_inverses_[k] = blocks_[k].bottomRightCorner<2, 2>().inverse();
+}
+
+void FrictionalContactSolver::warm_start_contact(std::size_t k, const FrictionalContactRow& c,
+                                                 const Vec3& warm) {
+  FrictionalContactSolution& s = solution_;
+  Vec3 start = warm;
+  start.x() = std::max(0.0, start.x());
+  const double radius = c.friction * start.x();
+  const double tangential = start.tail<2>().norm();
+  if (tangential > radius) start.tail<2>() *= tangential > 0 ? radius / tangential : 0.0;
+  s.impulses[k] = start;
+  s.velocity += responses_[k] * start;
+}
+
+double FrictionalContactSolver::relax_normal(std::size_t k, const FrictionalContactRow& c) {
+  FrictionalContactSolution& s = solution_;
+  Vec3& impulse = s.impulses[k];
+  const double normal_velocity = jacobians_[k].row(0).dot(s.velocity) - c.bound;
+  const double normal = std::max(0.0, impulse.x() - normal_velocity / blocks_[k](0, 0));
+  const double normal_change = normal - impulse.x();
+  if (normal_change != 0) {
+    s.velocity += responses_[k].col(0) * normal_change;
+    impulse.x() = normal;
   }
-  if (count == 0) return s;
+  return normal;
+}
 
-  int next_polish = kFirstPolishSweep;
-  double last_change = 0;
-  int failed_polishes = 0;
-  double last_slip =
-      std::numeric_limits<double>::infinity();  // clear_stick_slip's, the sweep before
-  for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
-    const Vec6 velocity_before = s.velocity;
-    for (std::size_t k = 0; k < count; ++k) {
-      const FrictionalContactRow& c = contacts[k];
-      const Eigen::Matrix<double, 3, 6>& j = jacobians_[k];
-      const Mat3& w = blocks_[k];
-      Vec3& impulse = s.impulses[k];
-
-      // Normal: the impulse that brings n·u to its bound, kept ≥ 0.
-      const double normal_velocity = j.row(0).dot(s.velocity) - c.bound;
-      const double normal = std::max(0.0, impulse.x() - normal_velocity / w(0, 0));
-      const double normal_change = normal - impulse.x();
-      if (normal_change != 0) {
-        s.velocity += responses_[k].col(0) * normal_change;
-        impulse.x() = normal;
-      }
-
-      // Tangential: the impulse that stops sliding, kept in the disk μ λ_n
-      // (a point without friction or normal force keeps none).
-      if ((c.friction <= 0 || impulse.x() == 0) && impulse.tail<2>().isZero()) continue;
-      const Eigen::Matrix2d wt = w.bottomRightCorner<2, 2>();
-      // The slip this contact's tangential impulse sees from everything else.
-      const Eigen::Vector2d slip_without = j.bottomRows<2>() * s.velocity - wt * impulse.tail<2>();
-      const Eigen::Vector2d tangential =
-          disk_minimiser(tangential_inverses_[k], slip_without, c.friction * normal, [&, k] {
-            if (!tangential_decomposed_[k]) {
-              const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 *
-                                                                         (wt + wt.transpose()));
-              tangential_eigenvalues_[k] = eigen.eigenvalues();
-              tangential_eigenvectors_[k] = eigen.eigenvectors();
-              tangential_decomposed_[k] = 1;
-            }
-            return std::pair<const Eigen::Vector2d&, const Eigen::Matrix2d&>(
-                tangential_eigenvalues_[k], tangential_eigenvectors_[k]);
-          });
-      const Eigen::Vector2d tangential_change = tangential - impulse.tail<2>();
-      if (!tangential_change.isZero()) {
-        s.velocity += responses_[k].rightCols<2>() * tangential_change;
-        impulse.tail<2>() = tangential;
-      }
-    }
-    // The sweep's change of every contact point's velocity.
-    const Vec6 change = s.velocity - velocity_before;
-    double largest_squared = 0;
-    for (std::size_t k = 0; k < count; ++k)
-      largest_squared = std::max(largest_squared, (jacobians_[k] * change).squaredNorm());
-    const double largest_change = std::sqrt(largest_squared);
-    s.sweeps = sweep + 1;
-    s.residual = largest_change;
-    if (largest_change <= options_.tolerance) return s;
-    if (options_.stick_slip > 0) {
-      const double slip = clear_stick_slip(contacts);
-      if (s.sweeps >= kFirstPolishSweep && slip <= options_.stick_slip && slip <= last_slip) {
-        s.converged = false;
-        s.stuck = true;
-        return s;
-      }
-      last_slip = slip;
-    }
-    // Polish where the sweeps converge slowly: from kFirstPolishSweep on,
-    // when a sweep took off less than kSlowSweep of the last one's change,
-    // then at doubling intervals.
-    if (s.sweeps >= next_polish && failed_polishes < kPolishFailures &&
-        largest_change > kSlowSweep * last_change) {
-      if (!polish(contacts, free_velocity)) ++failed_polishes;
-      next_polish = 2 * s.sweeps;
-    }
-    last_change = largest_change;
+void FrictionalContactSolver::relax_tangential(std::size_t k, const FrictionalContactRow& c,
+                                               double normal) {
+  FrictionalContactSolution& s = solution_;
+  Vec3& impulse = s.impulses[k];
+  // A point without friction or normal force keeps none.
+  if ((c.friction <= 0 || impulse.x() == 0) && impulse.tail<2>().isZero()) return;
+  const Eigen::Matrix2d wt = blocks_[k].bottomRightCorner<2, 2>();
+  // The slip this contact's tangential impulse sees from everything else.
+  const Eigen::Vector2d slip_without =
+      jacobians_[k].bottomRows<2>() * s.velocity - wt * impulse.tail<2>();
+  const Eigen::Vector2d tangential =
+      disk_minimiser(tangential_inverses_[k], slip_without, c.friction * normal, [&, k] {
+        if (!tangential_decomposed_[k]) {
+          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(0.5 * (wt + wt.transpose()));
+          tangential_eigenvalues_[k] = eigen.eigenvalues();
+          tangential_eigenvectors_[k] = eigen.eigenvectors();
+          tangential_decomposed_[k] = 1;
+        }
+        return std::pair<const Eigen::Vector2d&, const Eigen::Matrix2d&>(
+            tangential_eigenvalues_[k], tangential_eigenvectors_[k]);
+      });
+  const Eigen::Vector2d tangential_change = tangential - impulse.tail<2>();
+  if (!tangential_change.isZero()) {
+    s.velocity += responses_[k].rightCols<2>() * tangential_change;
+    impulse.tail<2>() = tangential;
   }
-  s.converged = false;
-  return s;
+}
+
+double FrictionalContactSolver::largest_point_change(const Vec6& change) const {
+  double largest_squared = 0;
+  for (const Eigen::Matrix<double, 3, 6>& j : jacobians_)
+    largest_squared = std::max(largest_squared, (j * change).squaredNorm());
+  return std::sqrt(largest_squared);
+}
+
+bool FrictionalContactSolver::clearly_stuck(std::span<const FrictionalContactRow> contacts,
+                                            SweepHistory& history) {
+  FrictionalContactSolution& s = solution_;
+  const double slip = clear_stick_slip(contacts);
+  if (s.sweeps >= kFirstPolishSweep && slip <= options_.stick_slip && slip <= history.last_slip) {
+    s.converged = false;
+    s.stuck = true;
+    return true;
+  }
+  history.last_slip = slip;
+  return false;
+}
+
+void FrictionalContactSolver::polish_if_slow(std::span<const FrictionalContactRow> contacts,
+                                             const Vec6& free_velocity, double largest_change,
+                                             SweepHistory& history) {
+  const int sweeps = solution_.sweeps;
+  if (sweeps >= history.next_polish && history.failed_polishes < kPolishFailures &&
+      largest_change > kSlowSweep * history.last_change) {
+    if (!polish(contacts, free_velocity)) ++history.failed_polishes;
+    history.next_polish = 2 * sweeps;
+  }
 }
 
 }  // namespace hb

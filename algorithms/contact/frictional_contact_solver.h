@@ -13,43 +13,9 @@
 // where u_k = J_k u and b_k is the bound on the normal velocity (−gap/Δt for
 // a speculative contact, > 0 to push a penetration out).
 //
-// The solver is projected Gauss–Seidel over contacts, each block solved
-// exactly with the others held: the normal impulse by its diagonal,
-// projected on λ_n ≥ 0, then the two tangential impulses as the minimiser of
-// the contact's 2 × 2 quadratic over the disk |λ_t| ≤ μ λ_n (a trust-region
-// step, so a sliding contact's impulse opposes its slip exactly, which a
-// Euclidean projection of the unconstrained impulse would not do when the
-// block is anisotropic). The disk is the exact circular cone, not a
-// pyramid: sliding in any direction gives |λ_t| = μ λ_n, which a
-// linearised cone with m facets would only bound (an inscribed pyramid
-// gives as little as cos(π/m) of it: 71 % with 4 facets, 98 % with 16). Each sweep keeps u = u_free
-// + R Jᵀ λ up to date incrementally (a 6 × 3 column block per contact), so a sweep costs
-// O(contacts). It stops when a sweep changed no contact point's velocity
-// (normal and tangential) by more than the tolerance; that change is the
-// residual reported. A fixed point of the sweep is a solution of the
-// complementarity problem; measuring the velocities rather than the
-// impulses lets redundant contacts (four coplanar corners of a face, whose
-// impulses can trade load without changing the motion) converge as fast as
-// the motion they determine.
-// Warm starts from a previous solution cut the sweeps for resting contacts.
-// Sweeps converge slowly where contacts carrying load are nearly dependent
-// (a point pressed on two faces a few degrees apart: each one's normal
-// impulse undoes much of the other's, and 300 sweeps left the velocity up
-// to 0.3 mm per step from the solution). From the eighth sweep on, a sweep
-// that took off less than 70 % of the change of the sweep before it
-// *polishes*: the conditions above, for the contacts carrying load or
-// pushed below their bound (at most kPolishContacts), written as Alart &
-// Curnier's equations (zero exactly where Signorini and Coulomb hold, each
-// contact pressed or not, sticking or sliding as the iterate lies), are
-// solved by a semismooth Newton method (Levenberg–Marquardt steps, halved
-// until they reduce the equations). A root that leaves the other contacts
-// clear of their bounds replaces the iterate, and the sweeps go on from
-// there; they converge at the next sweep when the root is the solution.
-// Convergence is judged by the sweeps alone, as without polishing. A polish
-// that stalls is dropped; after two, the sweeps go on alone. A caller that
-// solves a sticking problem exactly itself may ask the sweeps to stop as
-// soon as every loaded contact clearly sticks (FrictionalContactOptions::
-// stick_slip; the solution is then `stuck`, not `converged`).
+// Solved by projected Gauss–Seidel over the contacts with the exact
+// circular cone, polished by a semismooth Newton method where the sweeps
+// converge slowly (docs/algorithms/constrained-step.md).
 //
 // With R = K⁻¹ (the coupling's stiffness) and u_free the unconstrained
 // displacement, the same problem is the massless god-object's quasi-static
@@ -130,6 +96,38 @@ class FrictionalContactSolver {
   /// of the contacts carrying load; true when it replaced the iterate
   /// (solution_'s impulses and velocity).
   bool polish(std::span<const FrictionalContactRow> contacts, const Vec6& free_velocity);
+  /// The contacts a polish takes (taken_): those carrying load or below
+  /// their bound; false when there are none or more than kPolishContacts.
+  bool take_polish_contacts(std::span<const FrictionalContactRow> contacts);
+  /// Whether every contact a polish left out stays clear of its bound at `velocity`.
+  bool left_out_clear(std::span<const FrictionalContactRow> contacts, const Vec6& velocity) const;
+
+  /// What the sweeps carry from one to the next (frictional_contact_solver.cpp).
+  struct SweepHistory;
+  /// Sizes the buffers and starts the solution at u_free with no impulses.
+  void start_solve(std::size_t count, const Vec6& free_velocity);
+  /// Contact k's Jacobian J_k, its response R J_kᵀ, block J_k R J_kᵀ and
+  /// tangent basis.
+  void build_contact(std::size_t k, const FrictionalContactRow& c, const Mat6& response);
+  /// Starts contact k from its warm impulse, projected on λ_n ≥ 0 and its disk.
+  void warm_start_contact(std::size_t k, const FrictionalContactRow& c, const Vec3& warm);
+  /// Contact k's normal impulse that brings n·u to its bound, kept ≥ 0; returns it.
+  double relax_normal(std::size_t k, const FrictionalContactRow& c);
+  /// Contact k's tangential impulse that stops its slip, kept in the disk
+  /// μ `normal` (the disk's minimiser of the contact's 2 × 2 quadratic).
+  void relax_tangential(std::size_t k, const FrictionalContactRow& c, double normal);
+  /// The largest change of a contact point's velocity (normal and
+  /// tangential) for the change `change` of u.
+  double largest_point_change(const Vec6& change) const;
+  /// Marks the solution stuck (true) when every loaded contact clearly
+  /// sticks (FrictionalContactOptions::stick_slip), sliding no more than at
+  /// the sweep before.
+  bool clearly_stuck(std::span<const FrictionalContactRow> contacts, SweepHistory& history);
+  /// Polishes when the sweeps converge slowly: from kFirstPolishSweep on,
+  /// when a sweep took off less than kSlowSweep of the last one's change,
+  /// then at doubling intervals.
+  void polish_if_slow(std::span<const FrictionalContactRow> contacts, const Vec6& free_velocity,
+                      double largest_change, SweepHistory& history);
   /// Where every loaded contact with friction sticks clearly and none is
   /// below its bound by more than FrictionalContactOptions::stick_slip, the
   /// largest slip of a loaded contact (m/s, or m); else infinity.

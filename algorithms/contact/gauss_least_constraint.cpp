@@ -101,6 +101,17 @@ class ActiveSetFactorisation {
   Mat6 r_ = Mat6::Zero();
 };
 
+// The position of the most negative of the first `size` multipliers; −1
+// when none is negative.
+int most_negative_multiplier(const ActiveVector& multipliers, int size) {
+  int most_negative = -1;
+  for (int i = 0; i < size; ++i) {
+    if (multipliers[i] < 0 && (most_negative < 0 || multipliers[i] < multipliers[most_negative]))
+      most_negative = i;
+  }
+  return most_negative;
+}
+
 // Validation runs every solve, so it builds a message only when it fails.
 std::string constraint_field(size_t index, const char* field) {
   return "constraints[" + std::to_string(index) + "]." + field;
@@ -158,31 +169,29 @@ Mat6 rigid_body_mass_matrix(double mass_kg, const Mat3& inertia_world) {
 GaussLeastConstraintSolver::GaussLeastConstraintSolver(const GaussOptions& options)
     : options_(options) {}
 
+// The dual iteration's state between its phases: the active rows'
+// factorisation, the point z = Lᵀ(a − a^u) and the scratch of its steps.
+struct GaussLeastConstraintSolver::DualIterate {
+  ActiveSetFactorisation factorisation;
+  Vec6 z = Vec6::Zero();
+  ActiveVector coefficients;  ///< a row's coefficients on the active rows (split)
+  Vec6 orthogonal;            ///< a row's part orthogonal to the active rows (split)
+  ActiveVector bounds;        ///< the active rows' ĥ
+  ActiveVector multipliers;   ///< the active rows' λ̂ at the least-norm point
+};
+
 const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const Vec6& unconstrained,
                                                        std::span<const GaussConstraint> constraints,
                                                        std::span<const int> warm_active) {
   validate_problem(mass, unconstrained, constraints, warm_active);
-  // The factors of the last mass, kept while the mass stays the same bit
-  // for bit (a solve repeated with other bounds or a shifted a^u).
-  if (!factored_ || std::memcmp(mass.data(), factored_mass_.data(), sizeof(Mat6)) != 0) {
-    factored_ = false;
-    const Eigen::LLT<Mat6> cholesky(mass);
-    if (cholesky.info() != Eigen::Success) {
-      throw InputError("", "mass", "expected a positive definite mass matrix");
-    }
-    lower_ = cholesky.matrixL();
-    // L⁻¹ once, so each row costs one 6×6 product instead of a triangular solve.
-    lower_inverse_ = lower_triangular_inverse(lower_);
-    factored_mass_ = mass;
-    factored_ = true;
-  }
-  const Mat6& lower = lower_;
-  const Mat6& lower_inverse = lower_inverse_;
+  // Factor: M = L Lᵀ and L⁻¹, unless M is the last solve's.
+  factor(mass);
   const int count = static_cast<int>(constraints.size());
 
+  // Rows: each constraint as a unit row and bound in the metric z = Lᵀ(a − a^u).
   bool known_feasible = true;  // a = 0 satisfies every constraint when all rhs ≤ 0
   const double scale =
-      prepare_rows(lower, lower_inverse, unconstrained, constraints, known_feasible);
+      prepare_rows(lower_, lower_inverse_, unconstrained, constraints, known_feasible);
   const double violation_tolerance = options_.feasibility_tolerance * scale;
 
   GaussSolution& solution = solution_;
@@ -190,137 +199,176 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
   solution.converged = false;
   solution.infeasible = false;
 
-  ActiveSetFactorisation factorisation;
-  ActiveVector coefficients;
-  Vec6 orthogonal;
-
-  // Warm start: take the suggested rows that are independent of each other.
-  factorisation.compute(unit_rows_, working_set_);
-  for (const int index : warm_active) {
-    if (in_active_set_[index]) continue;
-    factorisation.split(unit_rows_[index], coefficients, orthogonal);
-    if (orthogonal.norm() <= options_.dependence_tolerance) continue;
-    factorisation.append(unit_rows_[index]);
-    working_set_.push_back(index);
-    in_active_set_[index] = 1;
-  }
-
-  auto remove_from_working_set = [&](int position) {
-    const int index = working_set_[position];
-    in_active_set_[index] = 0;
-    unit_multipliers_[index] = 0;
-    working_set_.erase(working_set_.begin() + position);
-  };
-  auto within_budget = [&] { return solution.iterations < options_.max_iterations; };
-
-  Vec6 z = Vec6::Zero();
-  ActiveVector bounds;
-  ActiveVector multipliers;
-  bool stopped = false;
-  while (!stopped) {
-    // The exact minimum-norm point on the working set's boundaries. Its
-    // multipliers are non-negative after every full step in exact
-    // arithmetic; a negative one (a poor warm-start guess, or rounding) is
-    // dropped, which keeps the pair (z, working set) dual feasible.
-    while (true) {
-      factorisation.compute(unit_rows_, working_set_);
-      bounds.resize(factorisation.size());
-      for (int i = 0; i < factorisation.size(); ++i) bounds[i] = unit_rhs_[working_set_[i]];
-      factorisation.least_norm_point(bounds, z, multipliers);
-      int most_negative = -1;
-      for (int i = 0; i < factorisation.size(); ++i) {
-        if (multipliers[i] < 0 &&
-            (most_negative < 0 || multipliers[i] < multipliers[most_negative]))
-          most_negative = i;
-      }
-      if (most_negative < 0) break;
-      if (!within_budget()) {
-        stopped = true;
-        break;
-      }
-      ++solution.iterations;
-      remove_from_working_set(most_negative);
-    }
-    if (stopped) break;
-    for (int i = 0; i < factorisation.size(); ++i)
-      unit_multipliers_[working_set_[i]] = multipliers[i];
-
-    // The most violated constraint, as a distance in the kinetic metric.
-    int added = -1;
-    double worst = violation_tolerance;
-    for (int k = 0; k < count; ++k) {
-      if (in_active_set_[k] || set_aside_[k]) continue;
-      const double violation = unit_rhs_[k] - unit_rows_[k].dot(z);
-      if (violation > worst) {
-        worst = violation;
-        added = k;
-      }
-    }
+  // Warm start: the suggested rows that are independent of each other.
+  DualIterate iterate;
+  warm_start(iterate, warm_active);
+  while (true) {
+    // Drop: the least-norm point of the working set, its negative multipliers dropped.
+    if (!drop_negative_multipliers(iterate)) break;
+    // Converged when no constraint is violated beyond the tolerance.
+    const int added = most_violated(iterate.z, count, violation_tolerance);
     if (added < 0) {
       solution.converged = true;
       break;
     }
-
-    // Raise the new constraint's multiplier t from 0, keeping the active
-    // constraints on their boundaries: z moves along d (the part of ĝ_p
-    // orthogonal to the active rows) and the active multipliers change by −t r.
-    double added_multiplier = 0;
-    while (true) {
-      if (!within_budget()) {
-        stopped = true;
-        break;
-      }
-      ++solution.iterations;
-      factorisation.split(unit_rows_[added], coefficients, orthogonal);
-      const bool dependent = orthogonal.norm() <= options_.dependence_tolerance;
-      if (dependent) orthogonal.setZero();
-
-      double partial_step = kInfinity;  // the first active multiplier to reach zero
-      int blocking = -1;
-      for (int i = 0; i < factorisation.size(); ++i) {
-        if (coefficients[i] <= 0) continue;
-        const double step = unit_multipliers_[working_set_[i]] / coefficients[i];
-        if (step < partial_step) {
-          partial_step = step;
-          blocking = i;
-        }
-      }
-      const double violation = unit_rhs_[added] - unit_rows_[added].dot(z);
-      const double full_step =
-          dependent ? kInfinity : std::max(violation, 0.0) / orthogonal.squaredNorm();
-
-      if (blocking < 0 && dependent) {
-        // ĝ_p is a non-positive combination of active rows that hold with
-        // equality: no point satisfies them and p. When a = 0 is known to be
-        // feasible this can only be a row within rounding of dependence, whose
-        // violation is then of rounding size too (bounded by the dependence
-        // tolerance times the scale): leave it out of this solve.
-        if (known_feasible) {
-          set_aside_[added] = 1;
-        } else {
-          solution.infeasible = true;
-          stopped = true;
-        }
-        break;
-      }
-      const double step = std::min(full_step, partial_step);
-      z += step * orthogonal;
-      for (int i = 0; i < factorisation.size(); ++i)
-        unit_multipliers_[working_set_[i]] -= step * coefficients[i];
-      added_multiplier += step;
-      if (full_step <= partial_step) {
-        working_set_.push_back(added);
-        in_active_set_[added] = 1;
-        unit_multipliers_[added] = added_multiplier;
-        break;
-      }
-      remove_from_working_set(blocking);
-      factorisation.compute(unit_rows_, working_set_);
-    }
+    // Add: the most violated constraint, dropping the rows that block it.
+    if (!add_constraint(iterate, added, known_feasible)) break;
   }
 
-  finish(unconstrained, lower_inverse, z, count);
+  // Finish: a = a^u + L⁻ᵀ z and the multipliers in the constraints' units.
+  finish(unconstrained, lower_inverse_, iterate.z, count);
   return solution;
+}
+
+// The factors of the last mass, kept while the mass stays the same bit for
+// bit (a solve repeated with other bounds or a shifted a^u).
+void GaussLeastConstraintSolver::factor(const Mat6& mass) {
+  if (factored_ && std::memcmp(mass.data(), factored_mass_.data(), sizeof(Mat6)) == 0) return;
+  factored_ = false;
+  const Eigen::LLT<Mat6> cholesky(mass);
+  if (cholesky.info() != Eigen::Success) {
+    throw InputError("", "mass", "expected a positive definite mass matrix");
+  }
+  lower_ = cholesky.matrixL();
+  // L⁻¹ once, so each row costs one 6×6 product instead of a triangular solve.
+  lower_inverse_ = lower_triangular_inverse(lower_);
+  factored_mass_ = mass;
+  factored_ = true;
+}
+
+// Warm start: takes the suggested rows that are independent of each other.
+void GaussLeastConstraintSolver::warm_start(DualIterate& iterate,
+                                            std::span<const int> warm_active) {
+  iterate.factorisation.compute(unit_rows_, working_set_);
+  for (const int index : warm_active) {
+    if (in_active_set_[index]) continue;
+    iterate.factorisation.split(unit_rows_[index], iterate.coefficients, iterate.orthogonal);
+    if (iterate.orthogonal.norm() <= options_.dependence_tolerance) continue;
+    iterate.factorisation.append(unit_rows_[index]);
+    working_set_.push_back(index);
+    in_active_set_[index] = 1;
+  }
+}
+
+// The exact minimum-norm point on the working set's boundaries. Its
+// multipliers are non-negative after every full step in exact arithmetic;
+// a negative one (a poor warm-start guess, or rounding) is dropped, which
+// keeps the pair (z, working set) dual feasible. False when the iteration
+// budget ran out first.
+bool GaussLeastConstraintSolver::drop_negative_multipliers(DualIterate& iterate) {
+  ActiveSetFactorisation& factorisation = iterate.factorisation;
+  while (true) {
+    factorisation.compute(unit_rows_, working_set_);
+    iterate.bounds.resize(factorisation.size());
+    for (int i = 0; i < factorisation.size(); ++i) iterate.bounds[i] = unit_rhs_[working_set_[i]];
+    factorisation.least_norm_point(iterate.bounds, iterate.z, iterate.multipliers);
+    const int most_negative = most_negative_multiplier(iterate.multipliers, factorisation.size());
+    if (most_negative < 0) break;
+    if (!within_budget()) return false;
+    ++solution_.iterations;
+    remove_from_working_set(most_negative);
+  }
+  for (int i = 0; i < factorisation.size(); ++i)
+    unit_multipliers_[working_set_[i]] = iterate.multipliers[i];
+  return true;
+}
+
+// The most violated constraint at z, as a distance in the kinetic metric;
+// −1 when none misses its bound by more than the tolerance.
+int GaussLeastConstraintSolver::most_violated(const Vec6& z, int count, double tolerance) const {
+  int added = -1;
+  double worst = tolerance;
+  for (int k = 0; k < count; ++k) {
+    if (in_active_set_[k] || set_aside_[k]) continue;
+    const double violation = unit_rhs_[k] - unit_rows_[k].dot(z);
+    if (violation > worst) {
+      worst = violation;
+      added = k;
+    }
+  }
+  return added;
+}
+
+// Raises the new constraint's multiplier t from 0, keeping the active
+// constraints on their boundaries: z moves along d (the part of ĝ_p
+// orthogonal to the active rows) and the active multipliers change by −t r.
+// Ends with the constraint added or set aside; false when the solve stops
+// (budget spent, or infeasible).
+bool GaussLeastConstraintSolver::add_constraint(DualIterate& iterate, int added,
+                                                bool known_feasible) {
+  ActiveSetFactorisation& factorisation = iterate.factorisation;
+  double added_multiplier = 0;
+  while (true) {
+    if (!within_budget()) return false;
+    ++solution_.iterations;
+    factorisation.split(unit_rows_[added], iterate.coefficients, iterate.orthogonal);
+    const bool dependent = iterate.orthogonal.norm() <= options_.dependence_tolerance;
+    if (dependent) iterate.orthogonal.setZero();
+
+    int blocking = -1;  // the first active multiplier to reach zero
+    const double partial_step = blocking_step(iterate, blocking);
+    const double violation = unit_rhs_[added] - unit_rows_[added].dot(iterate.z);
+    const double full_step =
+        dependent ? kInfinity : std::max(violation, 0.0) / iterate.orthogonal.squaredNorm();
+
+    if (blocking < 0 && dependent) return set_aside_dependent(added, known_feasible);
+    const double step = std::min(full_step, partial_step);
+    iterate.z += step * iterate.orthogonal;
+    for (int i = 0; i < factorisation.size(); ++i)
+      unit_multipliers_[working_set_[i]] -= step * iterate.coefficients[i];
+    added_multiplier += step;
+    if (full_step <= partial_step) {
+      working_set_.push_back(added);
+      in_active_set_[added] = 1;
+      unit_multipliers_[added] = added_multiplier;
+      return true;
+    }
+    remove_from_working_set(blocking);
+    factorisation.compute(unit_rows_, working_set_);
+  }
+}
+
+// The step t at which the first active multiplier reaches zero as the
+// added one rises (infinity when none falls), and its position `blocking`
+// in the working set (−1 for none).
+double GaussLeastConstraintSolver::blocking_step(const DualIterate& iterate, int& blocking) const {
+  const ActiveVector& coefficients = iterate.coefficients;
+  double partial_step = kInfinity;
+  for (int i = 0; i < iterate.factorisation.size(); ++i) {
+    if (coefficients[i] <= 0) continue;
+    const double step = unit_multipliers_[working_set_[i]] / coefficients[i];
+    if (step < partial_step) {
+      partial_step = step;
+      blocking = i;
+    }
+  }
+  return partial_step;
+}
+
+// ĝ_p is a non-positive combination of active rows that hold with equality:
+// no point satisfies them and p. When a = 0 is known to be feasible this
+// can only be a row within rounding of dependence, whose violation is then
+// of rounding size too (bounded by the dependence tolerance times the
+// scale): it is left out of this solve (true: the solve goes on). Otherwise
+// the problem is infeasible (false).
+bool GaussLeastConstraintSolver::set_aside_dependent(int added, bool known_feasible) {
+  if (known_feasible) {
+    set_aside_[added] = 1;
+    return true;
+  }
+  solution_.infeasible = true;
+  return false;
+}
+
+bool GaussLeastConstraintSolver::within_budget() const {
+  return solution_.iterations < options_.max_iterations;
+}
+
+void GaussLeastConstraintSolver::remove_from_working_set(int position) {
+  const int index = working_set_[position];
+  in_active_set_[index] = 0;
+  unit_multipliers_[index] = 0;
+  working_set_.erase(working_set_.begin() + position);
 }
 
 // z = Lᵀ(a − a^u) turns the kinetic metric into the Euclidean one: the

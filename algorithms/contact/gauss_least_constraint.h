@@ -8,16 +8,8 @@
 // one row per contact (point, normal). With b = 0 (the notes' constraints)
 // a = 0 is always feasible, so a solution always exists.
 //
-// The solver is the Goldfarb–Idnani dual active-set method on the 6×6
-// problem: after the change of variables z = Lᵀ (a − a^u), M = L Lᵀ, it is the
-// projection of the origin onto the polyhedron {z : G z ≥ h}. It starts from
-// the unconstrained minimum (or a warm-start active set), adds the most
-// violated constraint, and drops constraints whose multiplier would turn
-// negative, so every intermediate point is dual feasible and the distance
-// grows monotonically. A constraint linearly dependent on the active ones
-// (duplicates, four coplanar contacts of a box face, more than six contacts)
-// is never added beside them: the method first drops one of them instead,
-// which keeps the active rows independent and the factorisation exact.
+// Solved by the Goldfarb–Idnani dual active-set method, whose active rows
+// stay linearly independent (docs/algorithms/constrained-step.md).
 #pragma once
 
 #include <span>
@@ -120,6 +112,29 @@ class GaussLeastConstraintSolver {
   Mat6 lower_inverse_ = Mat6::Zero();
   bool factored_ = false;
 
+  /// The dual iteration's state between its phases (gauss_least_constraint.cpp).
+  struct DualIterate;
+
+  /// Factors the mass (L, L⁻¹), unless it is the last one factored.
+  void factor(const Mat6& mass);
+  /// Puts the warm-start rows that are independent of each other in the working set.
+  void warm_start(DualIterate& iterate, std::span<const int> warm_active);
+  /// z at the least-norm point of the working set, dropping rows whose
+  /// multipliers turn negative; false when the iteration budget ran out.
+  bool drop_negative_multipliers(DualIterate& iterate);
+  /// The constraint that misses its bound by the most beyond `tolerance`, or −1.
+  int most_violated(const Vec6& z, int count, double tolerance) const;
+  /// Raises the `added` constraint's multiplier until it holds (added) or
+  /// another leaves; false when the solve stops (budget, infeasible).
+  bool add_constraint(DualIterate& iterate, int added, bool known_feasible);
+  /// The step at which the first active multiplier reaches zero and its
+  /// working-set position `blocking` (unchanged: none falls).
+  double blocking_step(const DualIterate& iterate, int& blocking) const;
+  /// A row dependent on the active ones that cannot be added: set aside
+  /// (true) when a = 0 is feasible, else the problem is infeasible (false).
+  bool set_aside_dependent(int added, bool known_feasible);
+  bool within_budget() const;  ///< add/drop steps left
+  void remove_from_working_set(int position);
   /// Fills the per-constraint buffers for a solve; returns the problem's
   /// scale (the largest bound, or |Lᵀ a^u|) and clears known_feasible when
   /// some rhs > 0.

@@ -41,10 +41,11 @@ ProximityCertifier::ProximityCertifier(const MeshCcd& ccd, const ContactSettings
       frames_{centre_of_mass},
       radius_(settings.point_tool ? 0.0 : ccd.tool_radius()) {}
 
-ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double band_m) const {
+ProximityCertificate ProximityCertifier::certify(QueryWorkspace& queries, const Pose& tool_pose,
+                                                 double band_m) const {
   ProximityCertificate certificate;
   certificate.anchor = frames_.com_frame(tool_pose);
-  certificate.ahead_searches = advance_search_ahead(certificate.anchor) ? 1 : 0;
+  certificate.ahead_searches = advance_search_ahead(queries, certificate.anchor) ? 1 : 0;
   const auto most = static_cast<std::size_t>(settings_.haptic_max_pairs);
   const std::size_t first = std::min(kFirstListedPairs, most);
   constexpr double kReachPerBand = 1.0 / 3;
@@ -54,27 +55,27 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
   const auto too_little_reach = [&](double clearance) {
     return clearance < band_m && clearance - settings_.standoff_m < reach_wanted;
   };
-  std::size_t listed = crowded_ ? most : first;
-  ProximityResult found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches,
-                                       certificate.ahead_searches);
-  if (!crowded_ && first < most && too_little_reach(found.clearance_m)) {
+  std::size_t listed = queries.crowded_ ? most : first;
+  ProximityResult found = listed_pairs(queries, certificate.anchor, band_m, listed,
+                                       certificate.searches, certificate.ahead_searches);
+  if (!queries.crowded_ && first < most && too_little_reach(found.clearance_m)) {
     listed = most;
-    found = listed_pairs(certificate.anchor, band_m, listed, certificate.searches,
+    found = listed_pairs(queries, certificate.anchor, band_m, listed, certificate.searches,
                          certificate.ahead_searches);
   }
   // Whether the first pairs alone would have left too little reach here
   // (their clearance: the distance of the next pair): then the next query,
   // a slow-loop interval away, lists the most at once.
-  crowded_ = found.pairs.size() > first && too_little_reach(found.pairs[first].distance);
+  queries.crowded_ = found.pairs.size() > first && too_little_reach(found.pairs[first].distance);
   // A wider search pays while the next certificates come from its pairs;
   // when the one after it had to search as well (the tool moves faster than
   // the margin, as in an impact), searches ask only for what they need,
   // trying a wider one again after kPlainSearchesBetweenTries of them.
   if (certificate.searches == 0)
-    widen_ = true;
-  else if (last_search_widened_)
-    widen_ = false;
-  last_search_widened_ = certificate.searches > 0 && searched_.widened;
+    queries.widen_ = true;
+  else if (queries.last_search_widened_)
+    queries.widen_ = false;
+  queries.last_search_widened_ = certificate.searches > 0 && queries.searched_.widened;
   certificate.clearance_m = found.clearance_m;
   certificate.pairs.reserve(found.pairs.size());
   certificate.distances.reserve(found.pairs.size());
@@ -82,10 +83,10 @@ ProximityCertificate ProximityCertifier::certify(const Pose& tool_pose, double b
     certificate.pairs.push_back(pair.features);
     certificate.distances.push_back(pair.distance);
   }
-  if (!listed_groups_.empty()) mark_repeats(certificate);
-  start_search_ahead(certificate, band_m, listed);
-  last_anchor_ = certificate.anchor;
-  last_clearance_m_ = certificate.clearance_m;
+  if (!queries.listed_groups_.empty()) mark_repeats(queries, certificate);
+  start_search_ahead(queries, certificate, band_m, listed);
+  queries.last_anchor_ = certificate.anchor;
+  queries.last_clearance_m_ = certificate.clearance_m;
   return certificate;
 }
 
@@ -94,61 +95,63 @@ std::size_t ProximityCertifier::pairs_kept(std::size_t max_pairs, std::size_t pe
                                       static_cast<std::size_t>(settings_.haptic_max_pairs)));
 }
 
-double ProximityCertifier::queries_left(const Pose& anchor) const {
-  if (!last_anchor_) return std::numeric_limits<double>::infinity();
-  const double step = point_reach(displacement(*last_anchor_, anchor), radius_);
+double ProximityCertifier::queries_left(const QueryWorkspace& queries, const Pose& anchor) const {
+  if (!queries.last_anchor_) return std::numeric_limits<double>::infinity();
+  const double step = point_reach(displacement(*queries.last_anchor_, anchor), radius_);
   if (!(step > 0)) return std::numeric_limits<double>::infinity();
-  const double room = searched_.clearance_m -
-                      point_reach(displacement(searched_.anchor, anchor), radius_) -
-                      last_clearance_m_;
+  const double room = queries.searched_.clearance_m -
+                      point_reach(displacement(queries.searched_.anchor, anchor), radius_) -
+                      queries.last_clearance_m_;
   return std::max(0.0, std::floor(room / step));
 }
 
-void ProximityCertifier::start_search_ahead(const ProximityCertificate& certificate, double band_m,
+void ProximityCertifier::start_search_ahead(QueryWorkspace& queries,
+                                            const ProximityCertificate& certificate, double band_m,
                                             std::size_t max_pairs) const {
   // Only near the scene (in free space the clearance is the reach), with
   // room beyond what the query needed, and once the queries left are few
   // enough to need it but enough to share it: a proxy at rest keeps its
   // pairs, and one that outruns every search (an impact) searches as it goes.
-  if (ahead_ || searched_.pairs.empty() || search_node_pairs_ == 0 || !last_anchor_ ||
-      !(searched_.clearance_m > last_clearance_m_))
+  if (queries.ahead_ || queries.searched_.pairs.empty() || queries.search_node_pairs_ == 0 ||
+      !queries.last_anchor_ || !(queries.searched_.clearance_m > queries.last_clearance_m_))
     return;
-  const double left = queries_left(certificate.anchor);
+  const double left = queries_left(queries, certificate.anchor);
   if (!(left <= kAheadLeadQueries && left >= kAheadLeastQueries)) return;
   // Centred where the tool will be when the kept pairs run out, at its
   // motion per query, so that the new pairs' room lies ahead of it.
   const Pose anchor =
-      displaced(certificate.anchor, left * displacement(*last_anchor_, certificate.anchor));
-  ahead_.emplace(SearchAhead{ccd_.start_proximity(anchor, (1 + kAheadMargin) * band_m,
-                                                  pairs_kept(max_pairs, kAheadPairsPerListed)),
-                             anchor});
+      displaced(certificate.anchor, left * displacement(*queries.last_anchor_, certificate.anchor));
+  queries.ahead_.emplace(
+      SearchAhead{ccd_.start_proximity(anchor, (1 + kAheadMargin) * band_m,
+                                       pairs_kept(max_pairs, kAheadPairsPerListed)),
+                  anchor});
 }
 
-bool ProximityCertifier::advance_search_ahead(const Pose& anchor) const {
-  if (!ahead_) return false;
+bool ProximityCertifier::advance_search_ahead(QueryWorkspace& queries, const Pose& anchor) const {
+  if (!queries.ahead_) return false;
   // The rest of the node pairs the last search opened, shared among this
   // query and those left; at least kAheadLeastSlice, at most a slice.
   int64_t slice = kAheadLeastSlice;
-  const double left = queries_left(anchor);
+  const double left = queries_left(queries, anchor);
   if (std::isfinite(left)) {
     const int64_t remaining =
-        std::max(search_node_pairs_ - ahead_->search.opened(), kAheadLeastSlice);
+        std::max(queries.search_node_pairs_ - queries.ahead_->search.opened(), kAheadLeastSlice);
     slice = std::clamp(static_cast<int64_t>(std::ceil(static_cast<double>(remaining) / (left + 1))),
                        kAheadLeastSlice, kAheadSliceNodePairs);
   }
-  if (!ahead_->search.advance(slice)) return false;
-  return complete_search_ahead();
+  if (!queries.ahead_->search.advance(slice)) return false;
+  return complete_search_ahead(queries);
 }
 
-bool ProximityCertifier::complete_search_ahead() const {
-  if (!ahead_) return false;
-  SearchAhead ahead = std::move(*ahead_);
-  ahead_.reset();
-  keep_search(ahead.anchor, std::move(ahead.search), true);
+bool ProximityCertifier::complete_search_ahead(QueryWorkspace& queries) const {
+  if (!queries.ahead_) return false;
+  SearchAhead ahead = std::move(*queries.ahead_);
+  queries.ahead_.reset();
+  keep_search(queries, ahead.anchor, std::move(ahead.search), true);
   return true;
 }
 
-void ProximityCertifier::forget() const {
+void ProximityCertifier::QueryWorkspace::forget() {
   ahead_.reset();
   search_node_pairs_ = 0;
   last_anchor_.reset();
@@ -160,47 +163,49 @@ void ProximityCertifier::forget() const {
   last_search_widened_ = false;
 }
 
-void ProximityCertifier::mark_repeats(ProximityCertificate& certificate) const {
-  // The listed pairs' groups (listed_groups_, from the search): the first
-  // listed pair of a group is measured, the others repeat it.
+void ProximityCertifier::mark_repeats(QueryWorkspace& queries,
+                                      ProximityCertificate& certificate) const {
+  // The listed pairs' groups (from the search): the first listed pair of a
+  // group is measured, the others repeat it.
   std::vector<int>& firsts = certificate.first_of_kind;
   std::vector<int>& measured_as = certificate.measured_as;
   firsts.clear();
-  measured_as.resize(listed_groups_.size());
-  for (std::size_t k = 0; k < listed_groups_.size(); ++k) {
-    int& first = group_first_[static_cast<std::size_t>(listed_groups_[k])];
+  measured_as.resize(queries.listed_groups_.size());
+  for (std::size_t k = 0; k < queries.listed_groups_.size(); ++k) {
+    int& first = queries.group_first_[static_cast<std::size_t>(queries.listed_groups_[k])];
     if (first < 0) {
       first = static_cast<int>(firsts.size());
       firsts.push_back(static_cast<int>(k));
     }
     measured_as[k] = first;
   }
-  for (const int group : listed_groups_) group_first_[static_cast<std::size_t>(group)] = -1;
+  for (const int group : queries.listed_groups_)
+    queries.group_first_[static_cast<std::size_t>(group)] = -1;
   if (firsts.size() == measured_as.size()) {
     firsts.clear();
     measured_as.clear();
   }
 }
 
-void ProximityCertifier::group_searched_pairs() const {
+void ProximityCertifier::group_searched_pairs(QueryWorkspace& queries) const {
   // Pairs of one kind and tool feature whose scene features share a place
   // (MeshCcd::scene_feature_places) form a group; every other pair is one.
-  std::vector<int>& group = searched_.group;
+  std::vector<int>& group = queries.searched_.group;
   group.clear();
   if (!ccd_.scene_features_share_places()) return;
-  const std::vector<ProximityPair>& pairs = searched_.pairs;
-  features_.clear();
-  for (const ProximityPair& pair : pairs) features_.push_back(pair.features);
-  ccd_.scene_feature_places(features_, places_);
+  const std::vector<ProximityPair>& pairs = queries.searched_.pairs;
+  queries.features_.clear();
+  for (const ProximityPair& pair : pairs) queries.features_.push_back(pair.features);
+  ccd_.scene_feature_places(queries.features_, queries.places_);
   std::size_t table = 64;
   while (table < 2 * pairs.size()) table *= 2;
-  std::vector<int>& slots = group_first_;  // its −1 state is restored below
+  std::vector<int>& slots = queries.group_first_;  // its −1 state is restored below
   slots.assign(table, -1);
   group.resize(pairs.size());
   int groups = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const ContactFeatures& pair = features_[k];
-    const int place = places_[k];
+    const ContactFeatures& pair = queries.features_[k];
+    const int place = queries.places_[k];
     if (place < 0) {  // alone at its place: a group of its own
       group[k] = groups++;
       continue;
@@ -212,8 +217,9 @@ void ProximityCertifier::group_searched_pairs() const {
     int found = -1;
     for (; slots[slot] >= 0; slot = (slot + 1) & (table - 1)) {
       const auto other = static_cast<std::size_t>(slots[slot]);
-      if (features_[other].kind == pair.kind &&
-          features_[other].tool_feature == pair.tool_feature && places_[other] == place) {
+      if (queries.features_[other].kind == pair.kind &&
+          queries.features_[other].tool_feature == pair.tool_feature &&
+          queries.places_[other] == place) {
         found = group[other];
         break;
       }
@@ -224,8 +230,8 @@ void ProximityCertifier::group_searched_pairs() const {
     }
     group[k] = found;
   }
-  group_first_.assign(static_cast<std::size_t>(std::max(groups, 1)), -1);
-  group_slot_.assign(group_first_.size(), -1);
+  queries.group_first_.assign(static_cast<std::size_t>(std::max(groups, 1)), -1);
+  queries.group_slot_.assign(queries.group_first_.size(), -1);
 }
 
 namespace {
@@ -276,51 +282,54 @@ std::optional<ProximityResult> answer_within(std::span<const ProximityPair> near
 
 }  // namespace
 
-ProximityResult ProximityCertifier::listed_pairs(const Pose& anchor, double band_m,
-                                                 std::size_t max_pairs, int& searches,
-                                                 int& ahead_searches) const {
-  if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
+ProximityResult ProximityCertifier::listed_pairs(QueryWorkspace& queries, const Pose& anchor,
+                                                 double band_m, std::size_t max_pairs,
+                                                 int& searches, int& ahead_searches) const {
+  if (std::optional<ProximityResult> answer =
+          answer_from_searched(queries, anchor, band_m, max_pairs))
     return std::move(*answer);
   // A search ahead, completed here if it is at least half done (else a
   // search of what the query needs costs less), may answer.
-  if (ahead_ && 2 * ahead_->search.opened() < search_node_pairs_) ahead_.reset();
-  if (complete_search_ahead()) {
+  if (queries.ahead_ && 2 * queries.ahead_->search.opened() < queries.search_node_pairs_)
+    queries.ahead_.reset();
+  if (complete_search_ahead(queries)) {
     ++ahead_searches;
-    if (std::optional<ProximityResult> answer = answer_from_searched(anchor, band_m, max_pairs))
+    if (std::optional<ProximityResult> answer =
+            answer_from_searched(queries, anchor, band_m, max_pairs))
       return std::move(*answer);
   }
   ++searches;
   // Farther than asked and up to twice the pairs (within the most a query
   // lists), so that the next queries can be answered from the pairs found
   // (certify says when).
-  const bool widened = widen_ || plain_searches_ >= kPlainSearchesBetweenTries;
-  plain_searches_ = widened ? 0 : plain_searches_ + 1;
+  const bool widened = queries.widen_ || queries.plain_searches_ >= kPlainSearchesBetweenTries;
+  queries.plain_searches_ = widened ? 0 : queries.plain_searches_ + 1;
   const std::size_t kept = widened ? pairs_kept(max_pairs, kSearchedPairsPerListed) : max_pairs;
-  keep_search(anchor,
+  keep_search(queries, anchor,
               ccd_.start_proximity(anchor, (widened ? 1 + kSearchMargin : 1.0) * band_m, kept),
               widened);
   // The search holds every pair nearer than its clearance, and more than
   // max_pairs of them if it was cut short beyond max_pairs; cut short at
   // max_pairs, its list and clearance are the answer.
   std::optional<ProximityResult> answer =
-      answer_within(searched_.pairs, searched_.clearance_m, band_m, max_pairs);
-  if (!answer || searched_.pairs.empty()) {  // cut short, or free space (its clearance)
+      answer_within(queries.searched_.pairs, queries.searched_.clearance_m, band_m, max_pairs);
+  if (!answer || queries.searched_.pairs.empty()) {  // cut short, or free space (its clearance)
     answer.emplace();
-    answer->pairs = searched_.pairs;
-    answer->clearance_m = searched_.clearance_m;
+    answer->pairs = queries.searched_.pairs;
+    answer->clearance_m = queries.searched_.clearance_m;
   }
   // The answer is a prefix of the searched pairs.
-  const std::vector<int>& group = searched_.group;
-  listed_groups_.assign(
+  const std::vector<int>& group = queries.searched_.group;
+  queries.listed_groups_.assign(
       group.begin(),
       group.begin() + static_cast<std::ptrdiff_t>(group.empty() ? 0 : answer->pairs.size()));
   return std::move(*answer);
 }
 
-void ProximityCertifier::keep_search(const Pose& anchor, ProximityInSlices search,
-                                     bool widened) const {
+void ProximityCertifier::keep_search(QueryWorkspace& queries, const Pose& anchor,
+                                     ProximityInSlices search, bool widened) const {
   search.advance(std::numeric_limits<int64_t>::max());
-  search_node_pairs_ = search.opened();
+  queries.search_node_pairs_ = search.opened();
   ProximityResult found = search.finish();
   // Nothing near: how far the scene is (up to kFreeSpaceReachBands widest
   // bands), so that the proxy may go that far before the next certificate
@@ -333,102 +342,109 @@ void ProximityCertifier::keep_search(const Pose& anchor, ProximityInSlices searc
     nearest.advance(kFreeSpaceNodePairs);
     found.clearance_m = std::max(found.clearance_m, nearest.nearest_bound());
   }
-  searched_.anchor = anchor;
-  searched_.widened = widened;
-  searched_.clearance_m = found.clearance_m;
-  searched_.pairs = std::move(found.pairs);
-  group_searched_pairs();
+  queries.searched_.anchor = anchor;
+  queries.searched_.widened = widened;
+  queries.searched_.clearance_m = found.clearance_m;
+  queries.searched_.pairs = std::move(found.pairs);
+  group_searched_pairs(queries);
 }
 
 std::optional<ProximityResult> ProximityCertifier::answer_from_searched(
-    const Pose& anchor, double band_m, std::size_t max_pairs) const {
-  if (searched_.clearance_m < 0) return std::nullopt;
+    QueryWorkspace& queries, const Pose& anchor, double band_m, std::size_t max_pairs) const {
+  if (queries.searched_.clearance_m < 0) return std::nullopt;
   // Every pair the search did not find was at least its clearance apart at
   // its pose, and no tool point has moved farther than `moved` since: here
   // it is at least `complete` apart, so the searched pairs hold every pair
   // nearer than that (less a nanometre for the rounding of the bound).
   constexpr double kRoundingSlack = 1e-9;  // m
-  const double moved = point_reach(displacement(searched_.anchor, anchor), radius_);
-  const double complete = searched_.clearance_m - moved - kRoundingSlack;
+  const double moved = point_reach(displacement(queries.searched_.anchor, anchor), radius_);
+  const double complete = queries.searched_.clearance_m - moved - kRoundingSlack;
   // The answer needs every pair within band_m, or max_pairs + 1 pairs
   // within `complete` (then the last of them is the clearance).
-  if (complete < band_m && searched_.pairs.size() <= max_pairs) return std::nullopt;
+  if (complete < band_m && queries.searched_.pairs.size() <= max_pairs) return std::nullopt;
   // In free space the clearance is the reach: measured again once the tool
   // has moved half of it away, so a late certificate still reaches far.
-  if (searched_.pairs.empty() && moved > 0.5 * searched_.clearance_m) return std::nullopt;
+  if (queries.searched_.pairs.empty() && moved > 0.5 * queries.searched_.clearance_m)
+    return std::nullopt;
   const double within = std::min(complete, band_m);
   // A pair's distance has changed by `moved` at most: only those that can
   // be within reach are measured again (with groups, measure_grouped picks
   // them).
   const double reachable = within + kRoundingSlack;
-  const std::vector<int>& group = searched_.group;
+  const std::vector<int>& group = queries.searched_.group;
   // answer_within reads the max_pairs + 1 nearest at most (all are within).
   const std::size_t needed = max_pairs + (max_pairs < SIZE_MAX ? 1 : 0);
   std::size_t pair_tests = 0;
   if (group.empty()) {
-    to_measure_.clear();
-    for (const ProximityPair& pair : searched_.pairs)
-      if (!(pair.distance - moved > reachable)) to_measure_.push_back(pair.features);
-    pair_tests = to_measure_.size();
-    ccd_.closest_points(to_measure_, anchor, measured_points_);
-    order_.clear();
-    for (std::size_t i = 0; i < to_measure_.size(); ++i)
-      if (measured_points_[i].distance <= within)
-        order_.push_back(std::pair<double, int>{measured_points_[i].distance, static_cast<int>(i)});
-    keep_nearest(order_, needed, [&](int i) -> const ContactFeatures& {
-      return to_measure_[static_cast<std::size_t>(i)];
+    queries.to_measure_.clear();
+    for (const ProximityPair& pair : queries.searched_.pairs)
+      if (!(pair.distance - moved > reachable)) queries.to_measure_.push_back(pair.features);
+    pair_tests = queries.to_measure_.size();
+    ccd_.closest_points(queries.to_measure_, anchor, queries.measured_points_);
+    queries.order_.clear();
+    for (std::size_t i = 0; i < queries.to_measure_.size(); ++i)
+      if (queries.measured_points_[i].distance <= within)
+        queries.order_.push_back(
+            std::pair<double, int>{queries.measured_points_[i].distance, static_cast<int>(i)});
+    keep_nearest(queries.order_, needed, [&](int i) -> const ContactFeatures& {
+      return queries.to_measure_[static_cast<std::size_t>(i)];
     });
-    measured_.clear();
-    for (const auto& [distance, i] : order_)
-      measured_.push_back(ProximityPair{to_measure_[static_cast<std::size_t>(i)], distance});
-    listed_groups_.clear();
+    queries.measured_.clear();
+    for (const auto& [distance, i] : queries.order_)
+      queries.measured_.push_back(
+          ProximityPair{queries.to_measure_[static_cast<std::size_t>(i)], distance});
+    queries.listed_groups_.clear();
   } else {
-    measure_grouped(anchor, moved, reachable, within, needed);
-    pair_tests = measured_index_.size();
+    measure_grouped(queries, anchor, moved, reachable, within, needed);
+    pair_tests = queries.measured_index_.size();
   }
-  std::optional<ProximityResult> answer = answer_within(measured_, complete, band_m, max_pairs);
-  if (answer && searched_.pairs.empty()) answer->clearance_m = complete;  // free space
+  std::optional<ProximityResult> answer =
+      answer_within(queries.measured_, complete, band_m, max_pairs);
+  if (answer && queries.searched_.pairs.empty()) answer->clearance_m = complete;  // free space
   if (answer) answer->pair_tests = static_cast<int64_t>(pair_tests);
   if (!group.empty())
-    listed_groups_.resize(answer ? answer->pairs.size() : 0);  // a prefix of measured_'s
+    queries.listed_groups_.resize(answer ? answer->pairs.size() : 0);  // a prefix of measured_'s
   return answer;
 }
 
-void ProximityCertifier::measure_grouped(const Pose& anchor, double moved, double reachable,
-                                         double within, std::size_t needed) const {
+void ProximityCertifier::measure_grouped(QueryWorkspace& queries, const Pose& anchor, double moved,
+                                         double reachable, double within,
+                                         std::size_t needed) const {
   // As the plain re-measurement (answer_from_searched), the first pair of
   // each group measured for all of it: the same distances, bit for bit.
-  const std::vector<ProximityPair>& pairs = searched_.pairs;
-  const std::vector<int>& group = searched_.group;
-  firsts_measured_.clear();
-  measured_index_.clear();
+  const std::vector<ProximityPair>& pairs = queries.searched_.pairs;
+  const std::vector<int>& group = queries.searched_.group;
+  queries.firsts_measured_.clear();
+  queries.measured_index_.clear();
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (pairs[i].distance - moved > reachable) continue;
-    int& slot = group_slot_[static_cast<std::size_t>(group[i])];
+    int& slot = queries.group_slot_[static_cast<std::size_t>(group[i])];
     if (slot < 0) {
-      slot = static_cast<int>(firsts_measured_.size());
-      firsts_measured_.push_back(pairs[i].features);
+      slot = static_cast<int>(queries.firsts_measured_.size());
+      queries.firsts_measured_.push_back(pairs[i].features);
     }
-    measured_index_.push_back(static_cast<int>(i));
+    queries.measured_index_.push_back(static_cast<int>(i));
   }
-  ccd_.closest_points(firsts_measured_, anchor, measured_points_);
-  order_.clear();
-  for (const int i : measured_index_) {
-    const int slot = group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])];
-    if (measured_points_[static_cast<std::size_t>(slot)].distance <= within)
-      order_.push_back(
-          std::pair<double, int>{measured_points_[static_cast<std::size_t>(slot)].distance, i});
+  ccd_.closest_points(queries.firsts_measured_, anchor, queries.measured_points_);
+  queries.order_.clear();
+  for (const int i : queries.measured_index_) {
+    const int slot =
+        queries.group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])];
+    if (queries.measured_points_[static_cast<std::size_t>(slot)].distance <= within)
+      queries.order_.push_back(std::pair<double, int>{
+          queries.measured_points_[static_cast<std::size_t>(slot)].distance, i});
   }
-  for (const int i : measured_index_)
-    group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])] = -1;
-  keep_nearest(order_, needed, [&](int i) -> const ContactFeatures& {
+  for (const int i : queries.measured_index_)
+    queries.group_slot_[static_cast<std::size_t>(group[static_cast<std::size_t>(i)])] = -1;
+  keep_nearest(queries.order_, needed, [&](int i) -> const ContactFeatures& {
     return pairs[static_cast<std::size_t>(i)].features;
   });
-  measured_.clear();
-  listed_groups_.clear();
-  for (const auto& [distance, i] : order_) {
-    measured_.push_back(ProximityPair{pairs[static_cast<std::size_t>(i)].features, distance});
-    listed_groups_.push_back(group[static_cast<std::size_t>(i)]);
+  queries.measured_.clear();
+  queries.listed_groups_.clear();
+  for (const auto& [distance, i] : queries.order_) {
+    queries.measured_.push_back(
+        ProximityPair{pairs[static_cast<std::size_t>(i)].features, distance});
+    queries.listed_groups_.push_back(group[static_cast<std::size_t>(i)]);
   }
 }
 
@@ -449,21 +465,23 @@ PairContact ProximityCertifier::evaluate(const ContactFeatures& pair, const Pose
   return contact_of(pair, ccd_.closest_points(pair, com_pose), com_pose);
 }
 
-void ProximityCertifier::evaluate(std::span<const ContactFeatures> pairs, const Pose& com_pose,
+void ProximityCertifier::evaluate(EvaluationWorkspace& workspace,
+                                  std::span<const ContactFeatures> pairs, const Pose& com_pose,
                                   std::vector<PairContact>& contacts) const {
-  ccd_.closest_points(pairs, com_pose, evaluated_points_);
+  ccd_.closest_points(pairs, com_pose, workspace.points_);
   contacts.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k)
-    contacts[k] = contact_of(pairs[k], evaluated_points_[k], com_pose);
+    contacts[k] = contact_of(pairs[k], workspace.points_[k], com_pose);
 }
 
-void ProximityCertifier::evaluate_listed(const ProximityCertificate& certificate, std::size_t count,
+void ProximityCertifier::evaluate_listed(EvaluationWorkspace& workspace,
+                                         const ProximityCertificate& certificate, std::size_t count,
                                          const Pose& com_pose,
                                          std::vector<PairContact>& contacts) const {
   const std::span<const ContactFeatures> listed =
       std::span<const ContactFeatures>(certificate.pairs).first(count);
   if (certificate.measured_as.empty()) {
-    evaluate(listed, com_pose, contacts);
+    evaluate(workspace, listed, com_pose, contacts);
     return;
   }
   // The pairs that repeat none among the first `count`: a prefix of
@@ -471,15 +489,15 @@ void ProximityCertifier::evaluate_listed(const ProximityCertificate& certificate
   const std::vector<int>& firsts = certificate.first_of_kind;
   const auto measured = static_cast<std::size_t>(
       std::lower_bound(firsts.begin(), firsts.end(), static_cast<int>(count)) - firsts.begin());
-  firsts_.clear();
+  workspace.firsts_.clear();
   for (std::size_t i = 0; i < measured; ++i)
-    firsts_.push_back(listed[static_cast<std::size_t>(firsts[i])]);
-  ccd_.closest_points(firsts_, com_pose, evaluated_points_);
+    workspace.firsts_.push_back(listed[static_cast<std::size_t>(firsts[i])]);
+  ccd_.closest_points(workspace.firsts_, com_pose, workspace.points_);
   contacts.resize(count);
   for (std::size_t k = 0; k < count; ++k) {
     const auto as = static_cast<std::size_t>(certificate.measured_as[k]);
     const auto first = static_cast<std::size_t>(firsts[as]);
-    const PairClosestPoints& points = evaluated_points_[as];
+    const PairClosestPoints& points = workspace.points_[as];
     // Away from the floor the contact is the points' alone (contact_of):
     // the first's, bit for bit.
     contacts[k] = first < k && points.distance > kDirectionFloor

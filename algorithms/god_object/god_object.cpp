@@ -80,7 +80,7 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
     escape_ = solver_.geometry().escape(start);
     escape_reported_ = false;
     solver_.reset(escape_.pose);
-    haptic_.reset(escape_.pose);
+    haptic_.reset(escape_.pose, queries_);
     target_ = start;
     proxy_ = state_at_rest(body_, escape_.pose);
     mailbox_.clear();
@@ -150,14 +150,14 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
                             ? haptic_.band_for(*previous_update_target_, target_)
                             : haptic_.widest_band();
     previous_update_target_ = target_;
-    update.certificate = haptic_.certify(start, band);
+    update.certificate = haptic_.certify(queries_, start, band);
     update.stats = solver_.update(target_, &update.certificate);
     update.stats.certificates = 1;
     update.stats.proximity_searches = update.certificate.searches;
     update.stats.proximity_searches_ahead = update.certificate.ahead_searches;
     update.proxy = solver_.proxy_pose();
     if (!haptic_.within_reach(update.certificate, update.proxy)) {
-      update.certificate = haptic_.certify(update.proxy, band);
+      update.certificate = haptic_.certify(queries_, update.proxy, band);
       ++update.stats.certificates;
       update.stats.proximity_searches += update.certificate.searches;
       update.stats.proximity_searches_ahead += update.certificate.ahead_searches;
@@ -203,8 +203,11 @@ class GodObjectRenderer : public Renderer, public SlowLoop {
   RigidBody body_;          ///< only its centre of mass matters: the coupling's lever arm
   GodObjectSolver solver_;  ///< owned by the slow loop
   HapticProxy haptic_;      ///< owned by the haptic loop; its pose is read by the slow loop
-  Pose target_;             ///< the latest finite device pose, read by the slow loop
-  RigidBodyState proxy_;    ///< the displayed proxy: the haptic proxy's pose and velocity
+  /// The proximity queries' memory and scratch: owned by the slow loop
+  /// (reset, with no update running, starts it afresh).
+  ProximityCertifier::QueryWorkspace queries_;
+  Pose target_;           ///< the latest finite device pose, read by the slow loop
+  RigidBodyState proxy_;  ///< the displayed proxy: the haptic proxy's pose and velocity
   SlowLoopMailbox<GodObjectUpdate> mailbox_;
   std::optional<Pose> previous_update_target_;  ///< the device's pose at the last slow update
   StartEscape escape_;                          ///< how reset() moved the start, if it did

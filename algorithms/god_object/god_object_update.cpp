@@ -21,6 +21,9 @@ bool usable(const ContactFeatures& features, const FeatureGeometry& geometry,
   return geometry.distance - std::abs(geometry.gap) <= 1e-9 * geometry.distance + 1e-15;
 }
 
+// Below this largest point displacement (m) a motion counts as none.
+constexpr double kNegligibleMotion = 1e-12;
+
 }  // namespace
 
 std::span<const ContactFeatures> pairs_within_move(const ProximityCertificate& certificate,
@@ -71,14 +74,9 @@ void GodObjectSolver::refresh_contacts() {
 GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
                                              const ProximityCertificate* certificate) {
   GodObjectUpdateStats stats;
-  const MeshCcd& ccd = geometry_.ccd();
   const ProxyFrames& frames = geometry_.frames();
-  const double radius = settings_.point_tool ? 0.0 : ccd.tool_radius();
-  // Below this largest point displacement (m) a motion counts as none.
-  constexpr double kNegligibleMotion = 1e-12;
-  auto reach = [&](const Vec6& d) { return point_reach(d, radius); };
-
   for (int iteration = 0; iteration < settings_.max_iterations; ++iteration) {
+    // Refresh: the kept contacts at the proxy's pose; stop at the device.
     refresh_contacts();
     const Pose start = frames.com_frame(proxy_);
     const Vec6 unconstrained = displacement(start, frames.com_frame(target));
@@ -86,85 +84,107 @@ GodObjectUpdateStats GodObjectSolver::update(const Pose& target,
       stats.reached_device = true;
       break;
     }
-
-    constraints_.clear();
-    constraint_friction_.clear();
-    for (const KeptContact& contact : contacts_) {
-      const FeatureGeometry& g = contact.geometry;
-      constraints_.push_back(GaussConstraint{g.normal, g.point - start.p,
-                                             -std::max(0.0, g.gap - settings_.standoff_m)});
-      constraint_friction_.push_back(geometry_.friction()[contact.features.scene_object]);
-    }
-    const ConstrainedStep& solved =
-        solver_.solve(coupling_metric(gains_, frames.centre_of_mass, proxy_.q, ccd.tool_radius()),
-                      unconstrained, constraints_, constraint_friction_, warm_active_);
+    // Solve: Gauss' least constraint (with friction) on the kept contacts.
+    build_constraints(start);
+    const ConstrainedStep& solved = solver_.solve(
+        coupling_metric(gains_, frames.centre_of_mass, proxy_.q, geometry_.ccd().tool_radius()),
+        unconstrained, constraints_, constraint_friction_, warm_active_);
     stats.qp_iterations += solved.iterations;
     stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
     if (!solved.feasible) {
       stats.solver_failed = true;
       break;
     }
-    Vec6 constrained = solved.step;
-    if (reach(constrained) <= kNegligibleMotion) break;
-
-    // Within the certificate's reach only its pairs can meet: a move that
-    // would leave it is cut at its boundary and is the update's last (the
-    // path's point displacement from the anchor is convex along the screw
-    // motion, a line for the centre and a geodesic for the rotation, so a
-    // path whose ends are within reach stays within it). Only a start with
-    // no room left (a crowded contact whose 64 pairs end close to the
-    // standoff) falls back to the whole mesh CCD.
-    double fraction = 1.0;
-    if (certificate != nullptr)
-      fraction = fraction_within_reach(certificate->anchor, start, constrained, radius,
-                                       certificate->clearance_m - settings_.standoff_m);
-    const bool certified = certificate != nullptr && fraction > 0;
-    const bool last_move = certified && fraction < 1;
-    if (certified) constrained *= fraction;
-    const ScrewMotion motion(start, displaced(start, constrained));
-    stats.certified_moves += certified;
-    const MeshCcdResult hit =
-        certified ? ccd.first_contact_among(
-                        motion, pairs_within_move(*certificate, start, constrained, radius),
-                        settings_.ccd)
-                  : ccd.first_contact(motion, settings_.ccd);
-    ++stats.iterations;
-    stats.bv_tests += hit.bv_tests;
-    stats.primitive_queries += hit.primitive_queries;
-    stats.budget_hits += hit.budget_exhausted;
-    if (!hit.contact) {
-      proxy_ = frames.tool_frame(pose_on(motion, 1.0));
-      if (last_move) break;
-      continue;
-    }
-    ++stats.ccd_hits;
-
-    // Back off from the first contact so the fastest-approaching contact
-    // keeps about `standoff` of separation (never less than a tenth of the
-    // path's speed is assumed, so a grazing hit still makes progress).
-    const Vec3 com_at_hit = motion.point_at(Vec3::Zero(), hit.toi);
-    double approach_speed = 0.1 * reach(constrained);  // m per unit t
-    for (const MeshCcdContact& contact : hit.contacts) {
-      const Vec3 lever = contact.geometry.point - com_at_hit;
-      const Vec3 velocity = constrained.head<3>() + constrained.tail<3>().cross(lever);
-      approach_speed = std::max(approach_speed, -contact.geometry.normal.dot(velocity));
-    }
-    const double stop = std::max(0.0, hit.toi - settings_.standoff_m / approach_speed);
-    proxy_ = frames.tool_frame(pose_on(motion, stop));
-
-    const Pose stopped = frames.com_frame(proxy_);
-    for (const MeshCcdContact& contact : hit.contacts) {
-      const bool known =
-          std::any_of(contacts_.begin(), contacts_.end(),
-                      [&](const KeptContact& kept) { return kept.features == contact.features; });
-      if (known) continue;
-      const FeatureGeometry geometry = ccd.evaluate(contact.features, stopped);
-      if (usable(contact.features, geometry, settings_.contact_distance_m))
-        contacts_.push_back({contact.features, geometry});
-    }
+    if (reach(solved.step) <= kNegligibleMotion) break;
+    // Move: along the step's screw motion as far as the CCD lets the proxy.
+    if (!move(start, solved.step, certificate, stats)) break;
   }
   refresh_contacts();
   return stats;
+}
+
+double GodObjectSolver::radius() const {
+  return settings_.point_tool ? 0.0 : geometry_.ccd().tool_radius();
+}
+
+double GodObjectSolver::reach(const Vec6& motion) const { return point_reach(motion, radius()); }
+
+void GodObjectSolver::build_constraints(const Pose& start) {
+  constraints_.clear();
+  constraint_friction_.clear();
+  for (const KeptContact& contact : contacts_) {
+    const FeatureGeometry& g = contact.geometry;
+    constraints_.push_back(
+        GaussConstraint{g.normal, g.point - start.p, -std::max(0.0, g.gap - settings_.standoff_m)});
+    constraint_friction_.push_back(geometry_.friction()[contact.features.scene_object]);
+  }
+}
+
+bool GodObjectSolver::move(const Pose& start, Vec6 constrained,
+                           const ProximityCertificate* certificate, GodObjectUpdateStats& stats) {
+  const MeshCcd& ccd = geometry_.ccd();
+  const ProxyFrames& frames = geometry_.frames();
+  // Within the certificate's reach only its pairs can meet: a move that
+  // would leave it is cut at its boundary and is the update's last (the
+  // path's point displacement from the anchor is convex along the screw
+  // motion, a line for the centre and a geodesic for the rotation, so a
+  // path whose ends are within reach stays within it). Only a start with
+  // no room left (a crowded contact whose 64 pairs end close to the
+  // standoff) falls back to the whole mesh CCD.
+  double fraction = 1.0;
+  if (certificate != nullptr)
+    fraction = fraction_within_reach(certificate->anchor, start, constrained, radius(),
+                                     certificate->clearance_m - settings_.standoff_m);
+  const bool certified = certificate != nullptr && fraction > 0;
+  const bool last_move = certified && fraction < 1;
+  if (certified) constrained *= fraction;
+  const ScrewMotion motion(start, displaced(start, constrained));
+  stats.certified_moves += certified;
+  const MeshCcdResult hit =
+      certified ? ccd.first_contact_among(
+                      motion, pairs_within_move(*certificate, start, constrained, radius()),
+                      settings_.ccd)
+                : ccd.first_contact(motion, settings_.ccd);
+  ++stats.iterations;
+  stats.bv_tests += hit.bv_tests;
+  stats.primitive_queries += hit.primitive_queries;
+  stats.budget_hits += hit.budget_exhausted;
+  if (!hit.contact) {
+    proxy_ = frames.tool_frame(pose_on(motion, 1.0));
+    return !last_move;
+  }
+  ++stats.ccd_hits;
+  proxy_ = frames.tool_frame(pose_on(motion, stop_before(motion, constrained, hit)));
+  add_new_contacts(hit);
+  return true;
+}
+
+double GodObjectSolver::stop_before(const ScrewMotion& motion, const Vec6& constrained,
+                                    const MeshCcdResult& hit) const {
+  // Back off from the first contact so the fastest-approaching contact
+  // keeps about `standoff` of separation (never less than a tenth of the
+  // path's speed is assumed, so a grazing hit still makes progress).
+  const Vec3 com_at_hit = motion.point_at(Vec3::Zero(), hit.toi);
+  double approach_speed = 0.1 * reach(constrained);  // m per unit t
+  for (const MeshCcdContact& contact : hit.contacts) {
+    const Vec3 lever = contact.geometry.point - com_at_hit;
+    const Vec3 velocity = constrained.head<3>() + constrained.tail<3>().cross(lever);
+    approach_speed = std::max(approach_speed, -contact.geometry.normal.dot(velocity));
+  }
+  return std::max(0.0, hit.toi - settings_.standoff_m / approach_speed);
+}
+
+void GodObjectSolver::add_new_contacts(const MeshCcdResult& hit) {
+  const Pose stopped = geometry_.frames().com_frame(proxy_);
+  for (const MeshCcdContact& contact : hit.contacts) {
+    const bool known =
+        std::any_of(contacts_.begin(), contacts_.end(),
+                    [&](const KeptContact& kept) { return kept.features == contact.features; });
+    if (known) continue;
+    const FeatureGeometry geometry = geometry_.ccd().evaluate(contact.features, stopped);
+    if (usable(contact.features, geometry, settings_.contact_distance_m))
+      contacts_.push_back({contact.features, geometry});
+  }
 }
 
 }  // namespace hb

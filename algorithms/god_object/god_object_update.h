@@ -1,33 +1,13 @@
 // One update of the 6-DOF god-object (lecture notes, "Constraint-Based Proxy
 // Solver" to "CCD Summary"; Ortega, Redon & Coquillart 2007): a massless
 // proxy that follows the device as far as the scene lets it and never
-// penetrates it.
-//
-// Each iteration of an update:
-//  1. refreshes the kept contacts at the proxy's pose and drops those whose
-//     features have moved apart by more than `contact_distance`;
-//  2. takes the unconstrained motion a^u as the displacement of the centre
-//     of mass and the rotation vector that carry the proxy onto the device's
-//     pose (the notes' a^u = ½(x_h − x_s), with the ½ and its twin in
-//     x'_s = x_s + ½ a^c cancelling);
-//  3. solves Gauss' least constraint, minimise ½ (a − a^u)ᵀ M (a − a^u)
-//     subject to n_k · (a_cm + α × r_k) ≥ −max(0, gap_k − standoff), one row
-//     per kept contact; M is the coupling's stiffness about the centre of
-//     mass (a massless proxy has no mass matrix; with this metric a^u is the
-//     unconstrained minimiser of the coupling energy, and the fixed point is
-//     the same for every metric: the coupling wrench balanced by contact
-//     forces along the normals);
-//  4. moves the proxy along the screw motion of a^c, stopping where the
-//     mesh CCD finds the first contact, backed off so the touching features
-//     keep `standoff` between them, and adds the new contacts.
-// It stops when the proxy reaches the device, when the constrained motion
-// vanishes, or after `max_iterations`.
-//
-// The proxy's frame for CCD is the tool's centre of mass with the tool
-// frame's axes. A point tool (the 3-DOF god-object) is the special case of a
-// one-vertex tool at its frame's origin: its path is the segment between two
-// positions, its contacts are the scene faces it meets, and its orientation
-// simply follows the device.
+// penetrates it. Each iteration refreshes the kept contacts, solves Gauss'
+// least constraint in the coupling's stiffness metric for the step toward
+// the device (Δ centre of mass m, rotation vector rad, world), and moves
+// along it until the mesh CCD's first contact, backed off to keep
+// `standoff` (m); it stops at the device, when the step vanishes, or after
+// `max_iterations` (docs/algorithms/god-object.md). The proxy's frame for
+// CCD is the tool's centre of mass with the tool frame's axes.
 #pragma once
 
 #include <cstdint>
@@ -124,6 +104,25 @@ class GodObjectSolver {
 
  private:
   void refresh_contacts();
+  /// The tool's radius about its centre of mass (m; 0 for a point tool).
+  double radius() const;
+  /// The largest displacement (m) of a tool point under `motion` (point_reach).
+  double reach(const Vec6& motion) const;
+  /// constraints_ and constraint_friction_ from the kept contacts, levers
+  /// from the centre-of-mass pose `start`.
+  void build_constraints(const Pose& start);
+  /// Moves the proxy from the centre-of-mass pose `start` along the step
+  /// `constrained` (cut at the certificate's reach) until the CCD's first
+  /// contact, backed off; adds the contacts found. False when the update
+  /// ends with it (the move was cut at the certificate's reach).
+  bool move(const Pose& start, Vec6 constrained, const ProximityCertificate* certificate,
+            GodObjectUpdateStats& stats);
+  /// The time on `motion` (the step `constrained`) to stop at before the
+  /// CCD's hit, so that the fastest-approaching contact keeps about the standoff.
+  double stop_before(const ScrewMotion& motion, const Vec6& constrained,
+                     const MeshCcdResult& hit) const;
+  /// The hit's contacts not yet kept, usable at the proxy's pose.
+  void add_new_contacts(const MeshCcdResult& hit);
 
   GodObjectSettings settings_;
   CouplingGains gains_;

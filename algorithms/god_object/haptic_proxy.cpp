@@ -17,10 +17,10 @@ HapticProxy::HapticProxy(const MeshCcd& ccd, const CouplingGains& gains,
       settings_(settings),
       friction_(std::move(friction)) {}
 
-void HapticProxy::reset(const Pose& start) {
+void HapticProxy::reset(const Pose& start, ProximityCertifier::QueryWorkspace& queries) {
   pose_ = start;
-  certifier_.forget();
-  certificate_ = certify(start, settings_.haptic_band_m);
+  queries.forget();
+  certificate_ = certify(queries, start, settings_.haptic_band_m);
   com_pose_current_ = false;
   measured_.clear();
   warm_active_.clear();
@@ -85,7 +85,7 @@ double HapticProxy::least_listed_distance() const {
 }
 
 double HapticProxy::worst_margin(const Pose& com_pose) {
-  certifier_.evaluate_listed(certificate_, constraints_.size(), com_pose, evaluated_);
+  certifier_.evaluate_listed(evaluation_, certificate_, constraints_.size(), com_pose, evaluated_);
   double worst = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < constraints_.size(); ++k) {
     const PairContact& contact = evaluated_[k];
@@ -160,13 +160,53 @@ HapticSolveStats HapticProxy::step(const Pose& target) {
 
 bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& unconstrained,
                              double allowance, Vec6& moved, HapticSolveStats& stats, bool carried) {
-  const ProxyFrames& frames = certifier_.frames();
   const double radius = certifier_.radius();
   const bool all = near == certificate_.pairs.size();
-  // The near pairs at the current pose: one constraint each, asking for
-  // the standoff (a pair found closer is pushed back out: the gap a
-  // rotation's second-order motion took is recovered). The last tick's
-  // final check measured them there already, unless a certificate came since.
+  // Constraints: one per near pair at the start, asking for the standoff.
+  build_near_constraints(near, start, carried, stats);
+  // Solve, move, and check every near pair's exact distance at the end
+  // pose; a pair that fell short of its floor (the linearised constraint
+  // missed a rotation's second-order motion, or an edge pair's sliding
+  // closest points) is asked for its shortfall more in a new solve. What
+  // still falls short after kCorrections solves is cut to the largest
+  // fraction of the step that keeps every pair above its floor.
+  double reached = 0;  // the largest reach of a solve's step
+  for (int pass = 0;; ++pass) {
+    // Solve: the constrained step, warm-started from the last solve.
+    const Vec6 step = solve_step(near, start, unconstrained, stats);
+    reached = std::max(reached, point_reach(step, radius));
+    if (!all && reached > allowance) return false;
+    // Stay within the certificate's reach: the largest fraction of the step
+    // that does (the reach bound is continuous in the fraction, and the
+    // start lies within it).
+    const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius,
+                                                  certifier_.reach(certificate_));
+    stats.bounded = fraction < 1;
+    moved = fraction * step;
+    // Check: every solved pair's exact distance at the end pose.
+    stats.pairs_evaluated += static_cast<int64_t>(constraints_.size());
+    if (worst_margin(displaced(start, moved)) >= 0) break;
+    // Cut: after kCorrections solves, the step keeps every pair above its floor.
+    if (pass == kCorrections) {
+      cut_step(start, moved, stats);
+      break;
+    }
+    // Correct: the pairs that fell short ask for their shortfall more.
+    ask_for_shortfalls();
+    ++stats.corrections;
+  }
+  std::fill(warm_impulses_.begin() + static_cast<std::ptrdiff_t>(near), warm_impulses_.end(),
+            Vec3::Zero());
+  last_step_reach_ = reached;
+  return true;
+}
+
+void HapticProxy::build_near_constraints(std::size_t near, const Pose& start, bool carried,
+                                         HapticSolveStats& stats) {
+  // One constraint per near pair at the current pose, asking for the
+  // standoff (a pair found closer is pushed back out: the gap a rotation's
+  // second-order motion took is recovered). The last tick's final check
+  // measured them there already, unless a certificate came since.
   constraints_.clear();
   constraint_friction_.clear();
   floors_.clear();
@@ -182,65 +222,46 @@ bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& un
     floors_.push_back(std::min(settings_.standoff_m - kStandoffSlackM, contact.distance));
   }
   end_distances_.assign(constraints_.size(), 0);
+}
 
-  // Solve, move, and check every near pair's exact distance at the end
-  // pose; a pair that fell short of its floor (the linearised constraint
-  // missed a rotation's second-order motion, or an edge pair's sliding
-  // closest points) is asked for its shortfall more in a new solve. What
-  // still falls short after kCorrections solves is cut to the largest
-  // fraction of the step that keeps every pair above its floor.
+Vec6 HapticProxy::solve_step(std::size_t near, const Pose& start, const Vec6& unconstrained,
+                             HapticSolveStats& stats) {
   // The warm start: the last solve's impulses per listed pair, the pairs
   // left out at zero (none after a jump).
   const std::size_t listed = certificate_.pairs.size();
-  double reached = 0;  // the largest reach of a solve's step
-  for (int pass = 0;; ++pass) {
-    const bool warm = warm_impulses_.size() == listed;
-    const ConstrainedStep& solved = solver_.solve(
-        coupling_metric(gains_, frames.centre_of_mass, start.q, radius), unconstrained,
-        constraints_, constraint_friction_, warm_active_,
-        warm ? std::span<const Vec3>(warm_impulses_).first(near) : std::span<const Vec3>());
-    // The same pairs, in the same order, until the next certificate.
-    warm_impulses_.resize(listed, Vec3::Zero());
-    std::copy(solved.impulses.begin(), solved.impulses.end(), warm_impulses_.begin());
-    stats.qp_iterations += solved.iterations;
-    stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
-    // A step the friction sweeps did not finish is still feasible: taken
-    // (the proxy only stays when the last QP failed, which it does not for
-    // a consistent set of constraints).
-    const Vec6 step = solved.feasible ? solved.step : Vec6::Zero();
-    reached = std::max(reached, point_reach(step, radius));
-    if (!all && reached > allowance) return false;
-    // Stay within the certificate's reach: the largest fraction of the step
-    // that does (the reach bound is continuous in the fraction, and the
-    // start lies within it).
-    const double fraction = fraction_within_reach(certificate_.anchor, start, step, radius,
-                                                  certifier_.reach(certificate_));
-    stats.bounded = fraction < 1;
-    moved = fraction * step;
+  const bool warm = warm_impulses_.size() == listed;
+  const ConstrainedStep& solved = solver_.solve(
+      coupling_metric(gains_, certifier_.frames().centre_of_mass, start.q, certifier_.radius()),
+      unconstrained, constraints_, constraint_friction_, warm_active_,
+      warm ? std::span<const Vec3>(warm_impulses_).first(near) : std::span<const Vec3>());
+  // The same pairs, in the same order, until the next certificate.
+  warm_impulses_.resize(listed, Vec3::Zero());
+  std::copy(solved.impulses.begin(), solved.impulses.end(), warm_impulses_.begin());
+  stats.qp_iterations += solved.iterations;
+  stats.coulomb_violations += solved.coulomb_residual > kCoulombResidualTolerance;
+  // A step the friction sweeps did not finish is still feasible: taken
+  // (the proxy only stays when the last QP failed, which it does not for
+  // a consistent set of constraints).
+  return solved.feasible ? solved.step : Vec6::Zero();
+}
+
+void HapticProxy::cut_step(const Pose& start, Vec6& moved, HapticSolveStats& stats) {
+  // The start keeps every pair above its floor: bisect the fraction.
+  double safe = 0, unsafe = 1;
+  for (int i = 0; i < kCutBisections; ++i) {
+    const double middle = 0.5 * (safe + unsafe);
     stats.pairs_evaluated += static_cast<int64_t>(constraints_.size());
-    if (worst_margin(displaced(start, moved)) >= 0) break;
-    if (pass == kCorrections) {
-      // The start keeps every pair above its floor: bisect the fraction.
-      double safe = 0, unsafe = 1;
-      for (int i = 0; i < kCutBisections; ++i) {
-        const double middle = 0.5 * (safe + unsafe);
-        stats.pairs_evaluated += static_cast<int64_t>(constraints_.size());
-        (worst_margin(displaced(start, middle * moved)) >= 0 ? safe : unsafe) = middle;
-      }
-      moved *= safe;
-      worst_margin(displaced(start, moved));  // the pairs at the pose kept
-      stats.cut = true;
-      break;
-    }
-    for (std::size_t k = 0; k < constraints_.size(); ++k)
-      if (end_distances_[k] < floors_[k])
-        constraints_[k].rhs += settings_.standoff_m - end_distances_[k];
-    ++stats.corrections;
+    (worst_margin(displaced(start, middle * moved)) >= 0 ? safe : unsafe) = middle;
   }
-  std::fill(warm_impulses_.begin() + static_cast<std::ptrdiff_t>(near), warm_impulses_.end(),
-            Vec3::Zero());
-  last_step_reach_ = reached;
-  return true;
+  moved *= safe;
+  worst_margin(displaced(start, moved));  // the pairs at the pose kept
+  stats.cut = true;
+}
+
+void HapticProxy::ask_for_shortfalls() {
+  for (std::size_t k = 0; k < constraints_.size(); ++k)
+    if (end_distances_[k] < floors_[k])
+      constraints_[k].rhs += settings_.standoff_m - end_distances_[k];
 }
 
 }  // namespace hb

@@ -1,43 +1,13 @@
 // The god-object's haptic-rate part (lecture notes: the constraint solve at
 // the haptic rate, collision detection and contact discovery at a slower
 // one). Every tick the proxy moves toward the device by Gauss' least
-// constraint on the feature pairs the slow loop found near it, each
-// re-evaluated at the current pose, without any collision detection.
-//
-// Why the proxy cannot pass a feature the slow loop has not seen: the slow
-// loop hands over a proximity certificate, an anchor pose with every
-// feature pair (tool vertex–scene face, scene vertex–tool face, edge–edge)
-// closer than a clearance c listed (MeshCcd::proximity). Between
-// certificates the proxy stays within reach ρ = c − standoff of the anchor:
-// no point of the tool is farther than ρ from where it was at the anchor
-// (bounded by |Δc| + |φ| r, r the tool's radius about its centre of mass),
-// so every pair not listed stays at least `standoff` apart, along the
-// straight path between any two poses too. The listed pairs are the
-// constraints of the solve: n·(δc + φ × r_k) ≥ standoff − d_k, n the
-// direction between the pair's closest points and d_k their distance: a pair
-// closer than the standoff is pushed back out to it. The linearised
-// constraint is exact for a vertex–face pair under translation; a rotation
-// moves a contact point by a further ½ φ × (φ × r), toward the surface when
-// the point lies beyond the centre of mass along the normal (a hook), and an
-// edge–edge pair's closest points slide along nearly parallel edges by far
-// more. So after the solve every listed pair's exact distance at the end
-// pose is measured, signed by the side the pair started on (a pair whose
-// direction between closest points turned over has crossed); a pair short
-// of its floor, min(standoff − kStandoffSlackM, d_k) (never below where it
-// started the tick, so no floor creeps down tick by tick), is asked for its
-// shortfall more in a new solve (at most kCorrections times), and what
-// still falls short is cut to the largest fraction of the step that keeps
-// every pair above its floor. The floor holds at every tick.
-//
-// Only the listed pairs that can matter within the tick are solved and
-// measured: a pair d apart at the anchor is at least d − (reach from the
-// anchor to the tick's start) − (reach of the step) apart at its end, and
-// its linearised constraint holds for any step of reach below d − standoff.
-// The step is allowed twice the last tick's reach (kNearFloorM at least);
-// the pairs nearer than max(standoff, contact distance) + those reaches are
-// the solve's (a prefix: the certificate lists pairs by ascending
-// distance), and a solve whose step reaches farther is done again with
-// every listed pair (HapticSolveStats::widened).
+// constraint on the feature pairs the slow loop's proximity certificate
+// lists near it, each re-evaluated at the current pose, without any
+// collision detection: it stays within the certificate's reach, so no pair
+// left unlisted comes within the standoff, and every solved pair's exact
+// distance at the end pose is kept above its floor, min(standoff −
+// kStandoffSlackM, its distance at the tick's start) (m). Why this holds,
+// and which pairs a tick solves: docs/algorithms/god-object.md.
 #pragma once
 
 #include <cstdint>
@@ -88,9 +58,11 @@ class HapticProxy {
   HapticProxy(const MeshCcd& ccd, const CouplingGains& gains, const GodObjectSettings& settings,
               const Vec3& centre_of_mass, std::vector<double> friction = {});
 
-  /// The proximity query, band and reach (proximity_certifier.h).
-  ProximityCertificate certify(const Pose& tool_pose, double band_m) const {
-    return certifier_.certify(tool_pose, band_m);
+  /// The proximity query, band and reach (proximity_certifier.h). The
+  /// query's workspace is the querying thread's (the slow loop's).
+  ProximityCertificate certify(ProximityCertifier::QueryWorkspace& queries, const Pose& tool_pose,
+                               double band_m) const {
+    return certifier_.certify(queries, tool_pose, band_m);
   }
   double band_for(const Pose& previous_target, const Pose& target) const {
     return certifier_.band_for(previous_target, target);
@@ -101,8 +73,9 @@ class HapticProxy {
   }
 
   /// Puts the proxy at the tool-frame pose `start` (free of the scene) with
-  /// a certificate computed there.
-  void reset(const Pose& start);
+  /// a certificate computed there, `queries` forgotten first (the slow
+  /// loop's workspace, which no query uses meanwhile).
+  void reset(const Pose& start, ProximityCertifier::QueryWorkspace& queries);
 
   /// A certificate from the slow loop, found at the tool-frame pose
   /// `slow_proxy` (where the slow update's CCD-limited moves ended). Taken
@@ -135,6 +108,20 @@ class HapticProxy {
   /// (m) and some pairs were left out.
   bool solve_near(std::size_t near, const Pose& start, const Vec6& unconstrained, double allowance,
                   Vec6& moved, HapticSolveStats& stats, bool carried);
+  /// constraints_, constraint_friction_ and floors_ of the first `near`
+  /// listed pairs at the centre-of-mass pose `start` (measured there unless
+  /// `carried` from the last tick's check).
+  void build_near_constraints(std::size_t near, const Pose& start, bool carried,
+                              HapticSolveStats& stats);
+  /// The constrained step (Δ centre of mass m, rotation vector rad, world)
+  /// on constraints_, warm-started from the last solve; zero when infeasible.
+  Vec6 solve_step(std::size_t near, const Pose& start, const Vec6& unconstrained,
+                  HapticSolveStats& stats);
+  /// Cuts `moved` to the largest fraction (bisected) that keeps every solved
+  /// pair above its floor, leaving end_contacts_ measured there.
+  void cut_step(const Pose& start, Vec6& moved, HapticSolveStats& stats);
+  /// Raises each pair short of its floor by its shortfall below the standoff.
+  void ask_for_shortfalls();
   /// After a certificate taken at the same pose: the pairs both certificates
   /// list keep their measurement at com_pose_ (end_contacts_, measured_).
   void carry_measured_pairs(const std::vector<ContactFeatures>& previous);
@@ -173,6 +160,8 @@ class HapticProxy {
   std::vector<double> end_distances_;  ///< per solved pair at the end pose tried, signed (m)
   std::vector<PairContact> end_contacts_;  ///< per listed pair at the end pose tried
   std::vector<PairContact> evaluated_;     ///< scratch of worst_margin
+  /// The haptic tick's scratch of the certifier's evaluations.
+  ProximityCertifier::EvaluationWorkspace evaluation_;
 };
 
 }  // namespace hb

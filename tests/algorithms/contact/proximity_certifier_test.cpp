@@ -30,13 +30,15 @@ TEST_CASE("a certificate over tiles edge to edge measures each repeated pair onc
   REQUIRE(ccd.scene_features_share_places());
   ContactSettings settings;
   const ProximityCertifier certifier(ccd, settings, Vec3::Zero());
+  ProximityCertifier::QueryWorkspace queries;
+  ProximityCertifier::EvaluationWorkspace evaluation;
   int remeasured = 0, with_repeats = 0;
   for (int step = 0; step < 40; ++step) {
     const double t = step / 40.0;
     const Quat q(Eigen::AngleAxisd(0.05 * t, Vec3::UnitZ()) *
                  Eigen::AngleAxisd(0.002, Vec3(1, 0.5, 0).normalized()));
     const Pose pose{Vec3(0.03 + 0.002 * t, 0.03 + 0.001 * t, 0.0103 - 0.0002 * t), q};
-    const ProximityCertificate certificate = certifier.certify(pose, 0.002);
+    const ProximityCertificate certificate = certifier.certify(queries, pose, 0.002);
     const std::vector<ContactFeatures>& pairs = certificate.pairs;
     INFO("step " << step << ", " << pairs.size() << " pairs, " << certificate.searches
                  << " searches");
@@ -70,8 +72,9 @@ TEST_CASE("a certificate over tiles edge to edge measures each repeated pair onc
     const Pose there = displaced(certificate.anchor, moved);
     for (const std::size_t count : {pairs.size(), pairs.size() / 2}) {
       std::vector<PairContact> listed, each;
-      certifier.evaluate_listed(certificate, count, there, listed);
-      certifier.evaluate(std::span<const ContactFeatures>(pairs).first(count), there, each);
+      certifier.evaluate_listed(evaluation, certificate, count, there, listed);
+      certifier.evaluate(evaluation, std::span<const ContactFeatures>(pairs).first(count), there,
+                         each);
       REQUIRE(listed.size() == count);
       for (std::size_t k = 0; k < count; ++k) CHECK(same_contact(listed[k], each[k]));
     }
@@ -91,12 +94,13 @@ TEST_CASE("searches ahead, worked a slice a query, answer as a new search would"
   const MeshCcd ccd(tool.mesh, scene);
   const ContactSettings settings;
   const ProximityCertifier certifier(ccd, settings, Vec3::Zero());
+  ProximityCertifier::QueryWorkspace workspace;
   const double band = 0.0006;
   int searches = 0, ahead = 0, queries = 0;
   for (int step = 0; step < 400; ++step) {
     const Quat q(Eigen::AngleAxisd(2e-4 * step, Vec3::UnitZ()));
     const Pose pose{Vec3(0.03 + 2e-5 * step, 0.03 + 1e-5 * step, 0.0103), q};
-    const ProximityCertificate certificate = certifier.certify(pose, band);
+    const ProximityCertificate certificate = certifier.certify(workspace, pose, band);
     searches += certificate.searches;
     ahead += certificate.ahead_searches;
     ++queries;
@@ -119,9 +123,9 @@ TEST_CASE("searches ahead, worked a slice a query, answer as a new search would"
   CHECK(ahead >= 5);
   CHECK(searches * 10 < queries);
   // Forgotten, the next query searches as the first did.
-  certifier.forget();
+  workspace.forget();
   const ProximityCertificate first =
-      certifier.certify(Pose{Vec3(0.03, 0.03, 0.0103), Quat::Identity()}, band);
+      certifier.certify(workspace, Pose{Vec3(0.03, 0.03, 0.0103), Quat::Identity()}, band);
   CHECK(first.searches == 1);
   CHECK(first.ahead_searches == 0);
 }
@@ -131,11 +135,40 @@ TEST_CASE("a scene whose features are all apart lists no repeats") {
   const Tool tool = test::meshed_box_tool(Vec3(0.03, 0.03, 0.02));
   const MeshCcd ccd(tool.mesh, scene);
   const ProximityCertifier certifier(ccd, ContactSettings{}, Vec3::Zero());
+  ProximityCertifier::QueryWorkspace queries;
   const ProximityCertificate certificate =
-      certifier.certify(Pose{Vec3(0.01, 0.01, 0.0102), Quat::Identity()}, 0.002);
+      certifier.certify(queries, Pose{Vec3(0.01, 0.01, 0.0102), Quat::Identity()}, 0.002);
   REQUIRE(!certificate.pairs.empty());
   CHECK(certificate.first_of_kind.empty());
   CHECK(certificate.measured_as.empty());
+}
+
+TEST_CASE("one certifier answers two query workspaces as two certifiers would") {
+  // Two boxes' worth of queries, one sliding and one sinking over the same
+  // tiles, alternate on one certifier, each with its own workspace: each
+  // sequence gets what a certifier of its own gives it, bit for bit.
+  const std::vector<SceneObject> scene = test::box_tiles(6, 0.01, 0.0);
+  const Tool tool = test::meshed_box_tool(Vec3(0.05, 0.05, 0.02));
+  const MeshCcd ccd(tool.mesh, scene);
+  const ContactSettings settings;
+  const ProximityCertifier shared(ccd, settings, Vec3::Zero());
+  const ProximityCertifier own_sliding(ccd, settings, Vec3::Zero());
+  const ProximityCertifier own_sinking(ccd, settings, Vec3::Zero());
+  ProximityCertifier::QueryWorkspace sliding, sinking, alone_sliding, alone_sinking;
+  const auto same = [](const ProximityCertificate& a, const ProximityCertificate& b) {
+    return a.pairs == b.pairs && a.distances == b.distances && a.clearance_m == b.clearance_m &&
+           a.searches == b.searches && a.ahead_searches == b.ahead_searches &&
+           a.measured_as == b.measured_as;
+  };
+  for (int step = 0; step < 30; ++step) {
+    const Pose slide{Vec3(0.03 + 4e-5 * step, 0.03, 0.0103), Quat::Identity()};
+    const Pose sink{Vec3(0.025, 0.028, 0.0112 - 4e-5 * step), Quat::Identity()};
+    INFO("step " << step);
+    CHECK(same(shared.certify(sliding, slide, 0.002),
+               own_sliding.certify(alone_sliding, slide, 0.002)));
+    CHECK(same(shared.certify(sinking, sink, 0.002),
+               own_sinking.certify(alone_sinking, sink, 0.002)));
+  }
 }
 
 }  // namespace hb

@@ -257,6 +257,7 @@ TEST_CASE("a move's collision check on the pairs that may touch finds what all l
   GodObjectSolver solver(context, settings);
   const MeshCcd& ccd = solver.geometry().ccd();
   const ProximityCertifier certifier(ccd, settings, context.tool.mass.centre_of_mass);
+  ProximityCertifier::QueryWorkspace queries;
   const double radius = ccd.tool_radius();
   std::mt19937 random(5);
   std::uniform_real_distribution<double> unit(-1, 1);
@@ -269,7 +270,7 @@ TEST_CASE("a move's collision check on the pairs that may touch finds what all l
     const Pose tool_anchor =
         at(Vec3(0.008 * t, 0.004 * t, 0.0108 - 0.0008 * std::min(1.0, 2 * t)), turn);
     const ProximityCertificate certificate =
-        certifier.certify(tool_anchor, k % 2 ? settings.haptic_band_m : 0.002);
+        certifier.certify(queries, tool_anchor, k % 2 ? settings.haptic_band_m : 0.002);
     const double reach = certifier.reach(certificate);
     REQUIRE(reach > 0);
     for (int m = 0; m < 8; ++m) {

@@ -42,6 +42,7 @@ struct ProxyRig {
   GodObjectSettings settings;
   GodObjectSolver solver;
   HapticProxy proxy;
+  ProximityCertifier::QueryWorkspace queries;  ///< the slow loop's, as the renderer's
 
   explicit ProxyRig(RenderContext scene, const GodObjectSettings& chosen = {})
       : context(std::move(scene)),
@@ -49,6 +50,12 @@ struct ProxyRig {
         solver(context, settings),
         proxy(solver.geometry().ccd(), context.coupling, settings,
               context.tool.mass.centre_of_mass) {}
+
+  /// The proximity query at the tool-frame pose, as the slow loop makes it.
+  ProximityCertificate certify(const Pose& tool_pose, double band_m) {
+    return proxy.certify(queries, tool_pose, band_m);
+  }
+  void reset(const Pose& start) { proxy.reset(start, queries); }
 
   /// m, world: the tool mesh's lowest vertex at the proxy pose.
   double lowest_vertex_z() const {
@@ -75,12 +82,12 @@ TEST_CASE("in free space the proxy is the device's pose until it would leave the
   CubeOnSlab rig;
   // 8 cm above the face: nothing within the band, nor within ten widest
   // bands, how far a search measures the scene in free space.
-  rig.proxy.reset(at(Vec3(0, 0, 0.1)));
+  rig.reset(at(Vec3(0, 0, 0.1)));
   CHECK(rig.proxy.certificate().pairs.empty());
   CHECK(rig.proxy.certificate().clearance_m == kFreeSpaceReachBands * rig.settings.haptic_band_m);
   // 3 cm above it: the clearance is that distance, the reach all but the
   // standoff of it.
-  rig.proxy.reset(at(Vec3(0, 0, 0.05)));
+  rig.reset(at(Vec3(0, 0, 0.05)));
   CHECK(rig.proxy.certificate().pairs.empty());
   CHECK(rig.proxy.certificate().clearance_m == Approx(0.03).epsilon(1e-12));
   const double reach = rig.proxy.certificate().clearance_m - rig.settings.standoff_m;
@@ -103,15 +110,15 @@ TEST_CASE("in free space the proxy is the device's pose until it would leave the
   }
   // A new certificate at the proxy lets it move on at once.
   const Pose target = at(rig.proxy.pose().p + Vec3(0.002, 0, 0), rig.proxy.pose().q);
-  CHECK(rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                        rig.proxy.pose(), target));
+  CHECK(rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                        target));
   rig.proxy.step(target);
   CHECK((rig.proxy.pose().p - target.p).norm() < 1e-12);
 }
 
 TEST_CASE("random device motions at the haptic rate never carry a cube vertex below the face") {
   CubeOnSlab rig;
-  rig.proxy.reset(at(Vec3(0, 0, 0.05)));
+  rig.reset(at(Vec3(0, 0, 0.05)));
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> offset(-0.001, 0.001);
   std::uniform_real_distribution<double> angle(-0.02, 0.02);
@@ -126,8 +133,8 @@ TEST_CASE("random device motions at the haptic rate never carry a cube vertex be
     target.q = (quat_from_rotation_vector(Vec3(angle(rng), angle(rng), angle(rng))) * target.q)
                    .normalized();
     if (tick % 10 == 0)  // a slow loop at 100 Hz
-      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                      rig.proxy.pose(), target);
+      rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                      target);
     rig.proxy.step(target);
     INFO("tick " << tick);
     REQUIRE(rig.lowest_vertex_z() >= 0.0);
@@ -171,7 +178,7 @@ TEST_CASE("a hook turned about its tip never sinks below the standoff, at 2, 4 a
     HookOnSlab rig;
     REQUIRE(rig.context.tool.mass.centre_of_mass.z() < -0.01);  // the contact lies above it
     const Vec3 tip(-0.15, 0, 0);
-    rig.proxy.reset(at(tip + Vec3(0, 0, 0.005)));
+    rig.reset(at(tip + Vec3(0, 0, 0.005)));
     double least_pair = 1e300, least_vertex = 1e300;
     int turning_contact_ticks = 0;
     for (int tick = 0; tick < 1500; ++tick) {
@@ -180,8 +187,8 @@ TEST_CASE("a hook turned about its tip never sinks below the standoff, at 2, 4 a
       Pose target = at(tip + Vec3(0, 0, std::max(-0.002, 0.005 - 0.035 * t)));
       if (t > 0.2) target.q = quat_from_rotation_vector(Vec3(0, rate * (t - 0.2), 0));
       if (tick % 10 == 0)  // a slow loop at 100 Hz
-        rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                        rig.proxy.pose(), target);
+        rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                        target);
       rig.proxy.step(target);
       least_pair = std::min(least_pair, rig.proxy.least_listed_distance());
       least_vertex = std::min(least_vertex, rig.lowest_vertex_over_slab());
@@ -213,7 +220,7 @@ TEST_CASE(
     auto pose_at = [&](double yaw, double depth) {
       return at(centre - Vec3(0, 0, depth), quat_from_rotation_vector(Vec3(0, 0, yaw)) * roll);
     };
-    rig.proxy.reset(pose_at(0.3, -0.003));
+    rig.reset(pose_at(0.3, -0.003));
     double least = 1e300;
     for (int tick = 0; tick < 1200; ++tick) {
       const double t = 1e-3 * tick;
@@ -221,8 +228,8 @@ TEST_CASE(
       const double yaw = t < 0.2 ? 0.3 : 0.3 - rate * (t - 0.2);
       const Pose target = pose_at(yaw, depth);
       if (tick % 10 == 0)
-        rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                        rig.proxy.pose(), target);
+        rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                        target);
       rig.proxy.step(target);
       least = std::min(least, test::least_edge_distance_to_box(
                                   rig.context.tool.mesh, rig.proxy.pose(), slab_centre, slab_half));
@@ -239,9 +246,9 @@ TEST_CASE("a tick starts from the last tick's check: each solved pair is measure
   // (the first tick, a pair a new certificate adds) is also measured at its
   // start. Pairs that cannot matter within the tick are not measured.
   CubeOnSlab rig;
-  rig.proxy.reset(at(Vec3(0, 0, 0.021)));
+  rig.reset(at(Vec3(0, 0, 0.021)));
   const Pose target = at(Vec3(0.002, 0.001, 0.018));  // 3 mm deep, sideways
-  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+  rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
                   target);
   const auto pairs = static_cast<int64_t>(rig.proxy.certificate().pairs.size());
   REQUIRE(pairs >= 4);
@@ -258,7 +265,7 @@ TEST_CASE("a tick starts from the last tick's check: each solved pair is measure
   // A certificate found where the proxy is lists the same pairs: all
   // carried. Resting on the face 2.4 mm from the last anchor, every pair
   // could matter; at this one only the bottom's can.
-  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+  rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
                   target);
   REQUIRE(static_cast<int64_t>(rig.proxy.certificate().pairs.size()) == pairs);
   const HapticSolveStats after_offer = rig.proxy.step(target);
@@ -269,8 +276,8 @@ TEST_CASE("a tick starts from the last tick's check: each solved pair is measure
   CHECK(after_offer.pairs_evaluated == solved * (1 + after_offer.corrections));
   // A band wider than the cube adds its top features, out of reach of the
   // tick: not measured at all.
-  rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), 10 * rig.settings.haptic_band_m),
-                  rig.proxy.pose(), target);
+  rig.proxy.offer(rig.certify(rig.proxy.pose(), 10 * rig.settings.haptic_band_m), rig.proxy.pose(),
+                  target);
   REQUIRE(static_cast<int64_t>(rig.proxy.certificate().pairs.size()) > pairs);
   const HapticSolveStats widened = rig.proxy.step(target);
   CHECK(widened.pairs_solved == solved);
@@ -304,13 +311,13 @@ TEST_CASE("a box face slides over the seams of a tiled floor without catching on
   // the standoff, the proxy could not move and the coupling would stretch.
   // 6 × 6 tiles 0.2 mm apart under a 3 cm box.
   ProxyRig rig(tiled_floor_context(6, 0.0102, Vec3(0.03, 0.03, 0.02)));
-  rig.proxy.reset(at(Vec3(-0.005, -0.005, 0.0105)));
+  rig.reset(at(Vec3(-0.005, -0.005, 0.0105)));
   for (int tick = 0; tick <= 600; ++tick) {
     // Pressed 1 mm, then slid 1 cm along x over 500 ms.
     const double x = -0.005 + 0.01 * std::clamp((tick - 100) / 500.0, 0.0, 1.0);
     const Pose target = at(Vec3(x, -0.005, 0.0095));
-    rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                    rig.proxy.pose(), target);
+    rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                    target);
     rig.proxy.step(target);
   }
   INFO("listed pairs " << rig.proxy.certificate().pairs.size() << ", clearance "
@@ -325,14 +332,14 @@ TEST_CASE("a 10 cm box face resting on 121 touching tiles slides with the device
   // listed the certificate had no reach left and the proxy stayed put
   // while the device slid 5 mm (a 9 N pull on a frictionless floor).
   ProxyRig rig(tiled_floor_context(12, 0.01, Vec3(0.1, 0.1, 0.02)));
-  rig.proxy.reset(at(Vec3(0, 0, 0.0105)));
+  rig.reset(at(Vec3(0, 0, 0.0105)));
   const Vec3 slide = Vec3(1, 0.5, 0).normalized() * 0.005;
   for (int tick = 0; tick <= 250; ++tick) {
     // Pressed 1 mm, then slid 5 mm over 200 ms.
     const double along = std::clamp((tick - 50) / 200.0, 0.0, 1.0);
     const Pose target = at(Vec3(0, 0, 0.0095) + along * slide);
-    rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                    rig.proxy.pose(), target);
+    rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                    target);
     rig.proxy.step(target);
   }
   INFO("listed pairs " << rig.proxy.certificate().pairs.size() << ", clearance "
@@ -355,8 +362,8 @@ TEST_CASE("a tick solving only the pairs that can matter moves as one solving ev
   ProxyRig culled(tiled_floor_context(6, 0.0102, Vec3(0.03, 0.03, 0.02)));
   ProxyRig every(tiled_floor_context(6, 0.0102, Vec3(0.03, 0.03, 0.02)), all_pairs);
   const Pose start = at(Vec3(-0.005, -0.005, 0.0105));
-  culled.proxy.reset(start);
-  every.proxy.reset(start);
+  culled.reset(start);
+  every.reset(start);
   std::mt19937 random(3);
   std::uniform_real_distribution<double> jitter(-2e-5, 2e-5);
   int64_t solved = 0, listed = 0;
@@ -371,9 +378,9 @@ TEST_CASE("a tick solving only the pairs that can matter moves as one solving ev
                       Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()) *
                            Eigen::AngleAxisd(0.01 * std::sin(20 * t), Vec3::UnitX()))};
     if (tick % 4 == 0) {
-      culled.proxy.offer(culled.proxy.certify(culled.proxy.pose(), culled.settings.haptic_band_m),
+      culled.proxy.offer(culled.certify(culled.proxy.pose(), culled.settings.haptic_band_m),
                          culled.proxy.pose(), target);
-      every.proxy.offer(every.proxy.certify(every.proxy.pose(), every.settings.haptic_band_m),
+      every.proxy.offer(every.certify(every.proxy.pose(), every.settings.haptic_band_m),
                         every.proxy.pose(), target);
     }
     const HapticSolveStats stats = culled.proxy.step(target);
@@ -408,19 +415,19 @@ TEST_CASE("a certificate lists the first 256 pairs unless they crowd the standof
   ProxyRig rig(tiled_floor_context(12, 0.01, Vec3(0.1, 0.1, 0.02)));
   const double band = rig.settings.haptic_band_m;
   const Pose hover = at(Vec3(0, 0, 0.012)), rest = at(Vec3(0, 0, 0.01 + 0.5e-4));
-  const ProximityCertificate before = rig.proxy.certify(hover, band);
+  const ProximityCertificate before = rig.certify(hover, band);
   CHECK(before.pairs.size() == kFirstListedPairs);
   CHECK(before.clearance_m == Approx(0.002).margin(1e-9));
   CHECK(before.clearance_m - rig.settings.standoff_m >= band / 3);
-  const ProximityCertificate resting = rig.proxy.certify(rest, band);
+  const ProximityCertificate resting = rig.certify(rest, band);
   CHECK(resting.pairs.size() > kFirstListedPairs);
   CHECK(resting.clearance_m - rig.settings.standoff_m >= band / 3);
-  const ProximityCertificate lifted = rig.proxy.certify(hover, band);
+  const ProximityCertificate lifted = rig.certify(hover, band);
   CHECK(lifted.pairs.size() > kFirstListedPairs);  // listed at once, still a certificate
   CHECK(lifted.clearance_m >= before.clearance_m);
   // Which 256 of the tied pairs (every tile vertex 2 mm below the face) is
   // the list's choice; how many and the clearance are not.
-  const ProximityCertificate again = rig.proxy.certify(hover, band);
+  const ProximityCertificate again = rig.certify(hover, band);
   CHECK(again.pairs.size() == before.pairs.size());
   CHECK(again.clearance_m == Approx(before.clearance_m).margin(1e-12));
 }
@@ -441,7 +448,7 @@ TEST_CASE("a certificate answered from the last search's pairs lists what a new 
                     Eigen::AngleAxisd(0.002 * std::sin(20 * t), Vec3::UnitX()));
     const Pose pose = at(Vec3(0.01 * t, 0.005 * t, 0.0125 - 0.0025 * std::min(1.0, 2 * t)), turn);
     const double band = k % 3 == 0 ? rig.settings.haptic_band_m : 0.002;
-    const ProximityCertificate listed = rig.proxy.certify(pose, band);
+    const ProximityCertificate listed = rig.certify(pose, band);
     searches += listed.searches;
     ++queries;
     const std::size_t limit = listed.pairs.size() > kFirstListedPairs ? most : kFirstListedPairs;
@@ -468,17 +475,17 @@ TEST_CASE("a certificate answered from the last search's pairs lists what a new 
   INFO(searches << " searches for " << queries << " certificates");
   CHECK(searches * 4 < queries);
   // A jump past what the last search looked at takes a new one.
-  CHECK(rig.proxy.certify(at(Vec3(0.03, 0, 0.02)), rig.settings.haptic_band_m).searches >= 1);
+  CHECK(rig.certify(at(Vec3(0.03, 0, 0.02)), rig.settings.haptic_band_m).searches >= 1);
 }
 
 TEST_CASE("a cube pressed into the face rests on it at the standoff") {
   CubeOnSlab rig;
-  rig.proxy.reset(at(Vec3(0, 0, 0.021)));         // 1 mm above the face
+  rig.reset(at(Vec3(0, 0, 0.021)));               // 1 mm above the face
   const Pose target = at(Vec3(0.001, 0, 0.016));  // 4 mm deep
   for (int tick = 0; tick < 50; ++tick) {
     if (tick % 5 == 0)
-      rig.proxy.offer(rig.proxy.certify(rig.proxy.pose(), rig.settings.haptic_band_m),
-                      rig.proxy.pose(), target);
+      rig.proxy.offer(rig.certify(rig.proxy.pose(), rig.settings.haptic_band_m), rig.proxy.pose(),
+                      target);
     rig.proxy.step(target);
   }
   CHECK(rig.lowest_vertex_z() >= 0.0);
@@ -495,9 +502,11 @@ TEST_CASE(
   CubeOnSlab rig;
   HapticProxy proxy(rig.solver.geometry().ccd(), rig.context.coupling, rig.settings,
                     rig.context.tool.mass.centre_of_mass, {mu});
-  proxy.reset(at(Vec3(0, 0, 0.021)));
+  ProximityCertifier::QueryWorkspace queries;
+  proxy.reset(at(Vec3(0, 0, 0.021)), queries);
   auto step_to = [&](const Pose& target, int tick) {
-    if (tick % 5 == 0) proxy.offer(proxy.certify(proxy.pose(), 0.004), proxy.pose(), target);
+    if (tick % 5 == 0)
+      proxy.offer(proxy.certify(queries, proxy.pose(), 0.004), proxy.pose(), target);
     proxy.step(target);
   };
   for (int tick = 0; tick < 50; ++tick) step_to(at(Vec3(0, 0, 0.02 - depth)), tick);
