@@ -50,7 +50,7 @@ struct ConstrainedDynamicsSettings {
   /// Contact discovery: standoff, contact distance, certificate bands and
   /// pair limit, as for the god-object.
   ContactSettings contacts;
-  FrictionalContactOptions solver;   ///< "solver_sweeps", "solver_tolerance" (m/s)
+  FrictionalContactSettings solver;  ///< "solver_sweeps", "solver_tolerance" (m/s)
   double stabilisation = 0.2;        ///< "stabilisation": β in (0, 1]
   double max_correction_mps = 0.05;  ///< "max_correction_speed": v_max (m/s)
   double proxy_mass_kg = 0;          ///< "proxy_mass_kg" (proxy_settings.h)

@@ -9,8 +9,8 @@
 
 namespace hb {
 
-ConstrainedStepSolver::ConstrainedStepSolver(const FrictionalContactOptions& options)
-    : frictional_(options), tolerance_(options.tolerance) {}
+ConstrainedStepSolver::ConstrainedStepSolver(const FrictionalContactSettings& settings)
+    : frictional_(settings), tolerance_(settings.tolerance) {}
 
 namespace {
 

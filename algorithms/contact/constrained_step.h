@@ -57,8 +57,8 @@ constexpr double kCoulombResidualTolerance = 1e-4;
 
 class ConstrainedStepSolver {
  public:
-  /// options: the frictional solver's sweeps and tolerance (in a's units).
-  explicit ConstrainedStepSolver(const FrictionalContactOptions& options = {300, 1e-9});
+  /// settings: the frictional solver's sweeps and tolerance (in a's units).
+  explicit ConstrainedStepSolver(const FrictionalContactSettings& settings = {300, 1e-9});
 
   /// metric: M, symmetric positive definite. friction: one μ per constraint
   /// (empty: all frictionless). warm_active: the previous active set of the

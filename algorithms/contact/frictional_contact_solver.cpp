@@ -305,7 +305,7 @@ bool FrictionalContactSolver::left_out_clear(std::span<const FrictionalContactRo
                                              const Vec6& velocity) const {
   for (std::size_t k = 0; k < contacts.size(); ++k)
     if (!std::binary_search(taken_.begin(), taken_.end(), static_cast<int>(k)) &&
-        jacobians_[k].row(0).dot(velocity) - contacts[k].bound < -options_.tolerance)
+        jacobians_[k].row(0).dot(velocity) - contacts[k].bound < -settings_.tolerance)
       return false;
   return true;
 }
@@ -318,7 +318,7 @@ double FrictionalContactSolver::clear_stick_slip(
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const FrictionalContactRow& c = contacts[k];
     const Vec3 rates = jacobians_[k] * s.velocity;
-    if (rates.x() - c.bound < -options_.stick_slip) return kNot;
+    if (rates.x() - c.bound < -settings_.stick_slip) return kNot;
     const Vec3& impulse = s.impulses[k];
     if (!(impulse.x() > 0) || !(c.friction > 0)) continue;
     if (impulse.tail<2>().norm() > kClearStickShare * c.friction * impulse.x()) return kNot;
@@ -327,8 +327,8 @@ double FrictionalContactSolver::clear_stick_slip(
   return largest < 0 ? kNot : largest;
 }
 
-FrictionalContactSolver::FrictionalContactSolver(const FrictionalContactOptions& options)
-    : options_(options) {}
+FrictionalContactSolver::FrictionalContactSolver(const FrictionalContactSettings& settings)
+    : settings_(settings) {}
 
 // What the sweeps' stopping and polishing decisions carry from one sweep
 // to the next.
@@ -354,7 +354,7 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
   if (count == 0) return s;
 
   SweepHistory history;
-  for (int sweep = 0; sweep < options_.max_sweeps; ++sweep) {
+  for (int sweep = 0; sweep < settings_.max_sweeps; ++sweep) {
     const Vec6 velocity_before = s.velocity;
     // Sweep: each contact's block solved exactly with the others held.
     for (std::size_t k = 0; k < count; ++k) {
@@ -365,9 +365,9 @@ const FrictionalContactSolution& FrictionalContactSolver::solve(
     const double largest_change = largest_point_change(s.velocity - velocity_before);
     s.sweeps = sweep + 1;
     s.residual = largest_change;
-    if (largest_change <= options_.tolerance) return s;
+    if (largest_change <= settings_.tolerance) return s;
     // Stuck: every loaded contact clearly sticks (only when asked).
-    if (options_.stick_slip > 0 && clearly_stuck(contacts, history)) return s;
+    if (settings_.stick_slip > 0 && clearly_stuck(contacts, history)) return s;
     // Polish: a semismooth Newton solve of the loaded contacts where the sweeps are slow.
     polish_if_slow(contacts, free_velocity, largest_change, history);
     history.last_change = largest_change;
@@ -472,7 +472,7 @@ bool FrictionalContactSolver::clearly_stuck(std::span<const FrictionalContactRow
                                             SweepHistory& history) {
   FrictionalContactSolution& s = solution_;
   const double slip = clear_stick_slip(contacts);
-  if (s.sweeps >= kFirstPolishSweep && slip <= options_.stick_slip && slip <= history.last_slip) {
+  if (s.sweeps >= kFirstPolishSweep && slip <= settings_.stick_slip && slip <= history.last_slip) {
     s.converged = false;
     s.stuck = true;
     return true;

@@ -39,7 +39,7 @@ struct FrictionalContactRow {
   double friction = 0;  ///< Coulomb μ ≥ 0 (0: frictionless)
 };
 
-struct FrictionalContactOptions {
+struct FrictionalContactSettings {
   int max_sweeps = 200;  ///< upper bound on Gauss–Seidel sweeps
   /// Converged when a sweep changed no contact point's velocity by more
   /// than this (m/s, or m for a displacement problem); 0 runs every sweep.
@@ -71,7 +71,7 @@ struct FrictionalContactSolution {
 Vec3 perpendicular_unit(const Vec3& n);
 
 /// The share of its disk a clearly sticking contact's tangential impulse
-/// stays inside (FrictionalContactOptions::stick_slip).
+/// stays inside (FrictionalContactSettings::stick_slip).
 inline constexpr double kClearStickShare = 0.9;
 
 /// Contacts carrying load that a polish (see above) takes at most.
@@ -81,7 +81,7 @@ inline constexpr int kPolishContacts = 6;
 /// they have grown.
 class FrictionalContactSolver {
  public:
-  explicit FrictionalContactSolver(const FrictionalContactOptions& options = {});
+  explicit FrictionalContactSolver(const FrictionalContactSettings& settings = {});
 
   /// response: R, 6 × 6, symmetric positive definite (kg⁻¹, (kg·m²)⁻¹
   /// blocks). free_velocity: u_free. warm: impulses to start from,
@@ -120,7 +120,7 @@ class FrictionalContactSolver {
   /// tangential) for the change `change` of u.
   double largest_point_change(const Vec6& change) const;
   /// Marks the solution stuck (true) when every loaded contact clearly
-  /// sticks (FrictionalContactOptions::stick_slip), sliding no more than at
+  /// sticks (FrictionalContactSettings::stick_slip), sliding no more than at
   /// the sweep before.
   bool clearly_stuck(std::span<const FrictionalContactRow> contacts, SweepHistory& history);
   /// Polishes when the sweeps converge slowly: from kFirstPolishSweep on,
@@ -129,11 +129,11 @@ class FrictionalContactSolver {
   void polish_if_slow(std::span<const FrictionalContactRow> contacts, const Vec6& free_velocity,
                       double largest_change, SweepHistory& history);
   /// Where every loaded contact with friction sticks clearly and none is
-  /// below its bound by more than FrictionalContactOptions::stick_slip, the
+  /// below its bound by more than FrictionalContactSettings::stick_slip, the
   /// largest slip of a loaded contact (m/s, or m); else infinity.
   double clear_stick_slip(std::span<const FrictionalContactRow> contacts) const;
 
-  FrictionalContactOptions options_;
+  FrictionalContactSettings settings_;
   std::vector<int> taken_;  ///< the contacts a polish solves
   std::vector<Eigen::Matrix<double, 3, 6>> jacobians_;
   std::vector<Eigen::Matrix<double, 6, 3>> responses_;  ///< R J_kᵀ

@@ -166,8 +166,8 @@ Mat6 rigid_body_mass_matrix(double mass_kg, const Mat3& inertia_world) {
   return mass;
 }
 
-GaussLeastConstraintSolver::GaussLeastConstraintSolver(const GaussOptions& options)
-    : options_(options) {}
+GaussLeastConstraintSolver::GaussLeastConstraintSolver(const GaussSettings& settings)
+    : settings_(settings) {}
 
 // The dual iteration's state between its phases: the active rows'
 // factorisation, the point z = Lᵀ(a − a^u) and the scratch of its steps.
@@ -192,7 +192,7 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
   bool known_feasible = true;  // a = 0 satisfies every constraint when all rhs ≤ 0
   const double scale =
       prepare_rows(lower_, lower_inverse_, unconstrained, constraints, known_feasible);
-  const double violation_tolerance = options_.feasibility_tolerance * scale;
+  const double violation_tolerance = settings_.feasibility_tolerance * scale;
 
   GaussSolution& solution = solution_;
   solution.iterations = 0;
@@ -243,7 +243,7 @@ void GaussLeastConstraintSolver::warm_start(DualIterate& iterate,
   for (const int index : warm_active) {
     if (in_active_set_[index]) continue;
     iterate.factorisation.split(unit_rows_[index], iterate.coefficients, iterate.orthogonal);
-    if (iterate.orthogonal.norm() <= options_.dependence_tolerance) continue;
+    if (iterate.orthogonal.norm() <= settings_.dependence_tolerance) continue;
     iterate.factorisation.append(unit_rows_[index]);
     working_set_.push_back(index);
     in_active_set_[index] = 1;
@@ -302,7 +302,7 @@ bool GaussLeastConstraintSolver::add_constraint(DualIterate& iterate, int added,
     if (!within_budget()) return false;
     ++solution_.iterations;
     factorisation.split(unit_rows_[added], iterate.coefficients, iterate.orthogonal);
-    const bool dependent = iterate.orthogonal.norm() <= options_.dependence_tolerance;
+    const bool dependent = iterate.orthogonal.norm() <= settings_.dependence_tolerance;
     if (dependent) iterate.orthogonal.setZero();
 
     int blocking = -1;  // the first active multiplier to reach zero
@@ -361,7 +361,7 @@ bool GaussLeastConstraintSolver::set_aside_dependent(int added, bool known_feasi
 }
 
 bool GaussLeastConstraintSolver::within_budget() const {
-  return solution_.iterations < options_.max_iterations;
+  return solution_.iterations < settings_.max_iterations;
 }
 
 void GaussLeastConstraintSolver::remove_from_working_set(int position) {
@@ -417,8 +417,8 @@ void GaussLeastConstraintSolver::finish(const Vec6& unconstrained, const Mat6& l
 GaussSolution solve_least_constraint(const Mat6& mass, const Vec6& unconstrained,
                                      std::span<const GaussConstraint> constraints,
                                      std::span<const int> warm_active,
-                                     const GaussOptions& options) {
-  GaussLeastConstraintSolver solver(options);
+                                     const GaussSettings& settings) {
+  GaussLeastConstraintSolver solver(settings);
   return solver.solve(mass, unconstrained, constraints, warm_active);
 }
 

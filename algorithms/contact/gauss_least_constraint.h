@@ -38,7 +38,7 @@ Vec6 constraint_row(const GaussConstraint& constraint);
 /// mass in kg, inertia about the centre of mass in world axes (kg·m²).
 Mat6 rigid_body_mass_matrix(double mass_kg, const Mat3& inertia_world);
 
-struct GaussOptions {
+struct GaussSettings {
   /// Upper bound on add/drop steps; reaching it returns converged = false.
   int max_iterations = 1000;
   /// A constraint counts as violated when it misses its bound by more than
@@ -80,7 +80,7 @@ struct GaussSolution {
 /// the haptic loop does not allocate once the buffers have grown.
 class GaussLeastConstraintSolver {
  public:
-  explicit GaussLeastConstraintSolver(const GaussOptions& options = {});
+  explicit GaussLeastConstraintSolver(const GaussSettings& settings = {});
 
   /// mass: symmetric positive definite 6×6 (kg, kg·m²; diagonal blocks as in
   /// rigid_body_mass_matrix, a general SPD matrix is accepted).
@@ -95,7 +95,7 @@ class GaussLeastConstraintSolver {
                              std::span<const int> warm_active = {});
 
  private:
-  GaussOptions options_;
+  GaussSettings settings_;
   // Per constraint, in the metric z = Lᵀ(a − a^u): unit row ĝ_k and bound ĥ_k
   // of ĝ_k · z ≥ ĥ_k, and the factor |L⁻¹ J_kᵀ| that scaled them.
   std::vector<Vec6> unit_rows_;
@@ -148,6 +148,6 @@ class GaussLeastConstraintSolver {
 GaussSolution solve_least_constraint(const Mat6& mass, const Vec6& unconstrained,
                                      std::span<const GaussConstraint> constraints,
                                      std::span<const int> warm_active = {},
-                                     const GaussOptions& options = {});
+                                     const GaussSettings& settings = {});
 
 }  // namespace hb

@@ -98,9 +98,9 @@ class PenaltyAnalyticRenderer : public Renderer, public SlowLoop {
         gains_(settings.gains),
         finder_(context.scene, context.tool, body_) {
     if (settings.quasi_static) {
-      QuasiStaticOptions options;
-      options.length_scale_m = std::max(finder_.tool_radius_m(), 1e-3);
-      quasi_static_proxy_.emplace(body_, context.coupling, dt_s_, options);
+      QuasiStaticSettings solver_settings;
+      solver_settings.length_scale_m = std::max(finder_.tool_radius_m(), 1e-3);
+      quasi_static_proxy_.emplace(body_, context.coupling, dt_s_, solver_settings);
     } else {
       dynamic_proxy_.emplace(body_, context.coupling, settings.proxy.integrator, dt_s_);
       dynamic_proxy_->follow_device_in_free_space({.tool_radius_m = finder_.tool_radius_m()});

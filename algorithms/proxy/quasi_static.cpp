@@ -22,13 +22,13 @@ RigidBodyState displaced(const RigidBodyState& state, const Vec6& step) {
 }  // namespace
 
 QuasiStaticSolution solve_quasi_static(ForceModel& springs, const RigidBodyState& start,
-                                       const QuasiStaticOptions& options) {
+                                       const QuasiStaticSettings& settings) {
   QuasiStaticSolution solution;
   solution.state = start;
   ForceEvaluation current = springs.evaluate(start, true);
-  double current_residual = residual(current.wrench, options.length_scale_m);
-  while (solution.iterations < options.max_iterations) {
-    if (current_residual <= options.force_tolerance_n) {
+  double current_residual = residual(current.wrench, settings.length_scale_m);
+  while (solution.iterations < settings.max_iterations) {
+    if (current_residual <= settings.force_tolerance_n) {
       solution.converged = true;
       break;
     }
@@ -43,7 +43,7 @@ QuasiStaticSolution solve_quasi_static(ForceModel& springs, const RigidBodyState
     for (int halving = 0; halving < 12; ++halving) {
       const RigidBodyState trial = displaced(solution.state, step);
       ForceEvaluation evaluation = springs.evaluate(trial, true);
-      const double trial_residual = residual(evaluation.wrench, options.length_scale_m);
+      const double trial_residual = residual(evaluation.wrench, settings.length_scale_m);
       if (trial_residual < current_residual) {
         solution.state = trial;
         current = evaluation;
@@ -54,19 +54,19 @@ QuasiStaticSolution solve_quasi_static(ForceModel& springs, const RigidBodyState
       step *= 0.5;
     }
     if (!accepted) break;  // no descent along the Newton direction: as close as it gets
-    if (step.head<3>().norm() < options.step_tolerance_m &&
-        step.tail<3>().norm() < options.step_tolerance_rad) {
+    if (step.head<3>().norm() < settings.step_tolerance_m &&
+        step.tail<3>().norm() < settings.step_tolerance_rad) {
       solution.converged = true;
       break;
     }
   }
-  if (!solution.converged) solution.converged = current_residual <= options.force_tolerance_n;
+  if (!solution.converged) solution.converged = current_residual <= settings.force_tolerance_n;
   return solution;
 }
 
 QuasiStaticProxy::QuasiStaticProxy(const RigidBody& frame, const CouplingGains& gains, double dt_s,
-                                   const QuasiStaticOptions& options)
-    : frame_(frame), gains_(gains), dt_s_(dt_s), options_(options) {}
+                                   const QuasiStaticSettings& settings)
+    : frame_(frame), gains_(gains), dt_s_(dt_s), settings_(settings) {}
 
 void QuasiStaticProxy::reset(const Pose& pose) {
   state_ = state_at_rest(frame_, pose);
@@ -83,7 +83,7 @@ Wrench QuasiStaticProxy::advance(const DeviceSample& device, ForceModel* contact
   CouplingWithContacts springs(
       CouplingForce(CouplingGains{gains_.k_t, 0, gains_.k_r, 0}, frame_, device.pose, Twist{}),
       contact_springs);
-  const QuasiStaticSolution solution = solve_quasi_static(springs, state_, options_);
+  const QuasiStaticSolution solution = solve_quasi_static(springs, state_, settings_);
   newton_steps += solution.iterations;
   converged_ = solution.converged;
 

@@ -67,10 +67,10 @@ const char* stability_check_name(StabilityCheck check) {
   return "";
 }
 
-StabilityResult judge_stability(const RunMetrics& metrics, const StabilityRequest& request) {
+StabilityResult judge_stability(const RunMetrics& metrics, const StabilityOptions& options) {
   const StabilityMetrics& s = metrics.stability;
-  const bool passivity = request.criterion != StabilityCriterion::kOscillation;
-  const bool oscillation = request.criterion != StabilityCriterion::kPassivity;
+  const bool passivity = options.criterion != StabilityCriterion::kOscillation;
+  const bool oscillation = options.criterion != StabilityCriterion::kPassivity;
   // In closed loop the energy the hand put in, else the port energy.
   const double energy_min_j =
       metrics.closed_loop ? metrics.closed_loop->display_energy_min_j : s.passivity_energy_min_j;
@@ -89,7 +89,7 @@ StabilityResult judge_stability(const RunMetrics& metrics, const StabilityReques
                                    : std::string("diverged"));
   if (s.tunnelled && *s.tunnelled > 0)
     return fail(StabilityCheck::kTunnelled, "tunnelled " + std::to_string(*s.tunnelled) + "×");
-  if (passivity && energy_min_j < -request.epsilon_j)
+  if (passivity && energy_min_j < -options.epsilon_j)
     return fail(StabilityCheck::kPassivity,
                 "passivity " + formatted("%.3g", energy_min_j * 1e3) + " mJ");
   if (oscillation && s.chatters)

@@ -30,7 +30,7 @@ const char* stability_criterion_name(StabilityCriterion criterion);
 std::string stability_criterion_text(StabilityCriterion criterion, double epsilon_j);
 
 /// How to judge.
-struct StabilityRequest {
+struct StabilityOptions {
   StabilityCriterion criterion = StabilityCriterion::kAll;
   double epsilon_j = 1e-6;  ///< J: how far below zero the energy minimum may go
 };
@@ -60,6 +60,6 @@ struct StabilityResult {
 };
 
 /// The verdict on one run's metrics.
-StabilityResult judge_stability(const RunMetrics& metrics, const StabilityRequest& request = {});
+StabilityResult judge_stability(const RunMetrics& metrics, const StabilityOptions& options = {});
 
 }  // namespace hb

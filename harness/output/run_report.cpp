@@ -102,7 +102,7 @@ void write_table_metrics(json& out, const RunMetrics& m) {
 // the criterion it applied, and whether the run passes it (stable, or
 // unstable where that is expected, and why).
 json stability_verdict_json(const AlgorithmRun& run) {
-  const StabilityRequest request;
+  const StabilityOptions options;
   const StabilityResult verdict = run_stability(run);
   return {
       {"stable", verdict.stable},
@@ -110,8 +110,8 @@ json stability_verdict_json(const AlgorithmRun& run) {
                      ? json(nullptr)
                      : json(stability_check_name(verdict.failed))},
       {"reason", verdict.reason},
-      {"criterion", stability_criterion_name(request.criterion)},
-      {"epsilon_j", request.epsilon_j},
+      {"criterion", stability_criterion_name(options.criterion)},
+      {"epsilon_j", options.epsilon_j},
       {"expected_unstable", run.unstable_expected ? json(*run.unstable_expected) : json(nullptr)},
       {"pass", stability_passes(run)}};
 }

@@ -212,7 +212,7 @@ class RigidProxyReference {
   /// the sweeps' error cannot keep an update creeping; it stops at a clear
   /// stick at 0.1 µm of slip, the threshold at which the update holds every
   /// loaded contact with the exact stick step (kStickSlipM in the .cpp).
-  FrictionalContactSolver friction_solver_{FrictionalContactOptions{200, 1e-12, 1e-7}};
+  FrictionalContactSolver friction_solver_{FrictionalContactSettings{200, 1e-12, 1e-7}};
   std::vector<FrictionalContactRow> friction_rows_;  ///< scratch
   std::vector<Row> stick_rows_;                      ///< scratch: the stick step's rows
   /// The last frictional solve's rows (point, m, world; unit normal) and

@@ -17,13 +17,15 @@
 
 namespace hb {
 
-struct QuasiStaticOptions {
+struct QuasiStaticSettings {
   int max_iterations = 20;            ///< Newton steps per solve
   double force_tolerance_n = 1e-9;    ///< stop when |F| + |τ|/length_scale_m is below (N)
   double step_tolerance_m = 1e-12;    ///< stop when a step moves the COM less (m) ...
   double step_tolerance_rad = 1e-10;  ///< ... and turns the proxy less (rad)
   double length_scale_m = 0.05;       ///< converts torque to force in the residual (m)
 };
+/// The earlier name, kept so that renderers built against it still compile.
+using QuasiStaticOptions [[deprecated("use QuasiStaticSettings")]] = QuasiStaticSettings;
 
 struct QuasiStaticSolution {
   RigidBodyState state;  ///< the equilibrium found (velocities as given at the start)
@@ -35,14 +37,14 @@ struct QuasiStaticSolution {
 /// Newton step solves K Δ = −(F, τ) (minimum-norm when K is singular) and is
 /// halved until the residual decreases.
 QuasiStaticSolution solve_quasi_static(ForceModel& springs, const RigidBodyState& start,
-                                       const QuasiStaticOptions& options);
+                                       const QuasiStaticSettings& settings);
 
 /// A massless proxy on the virtual coupling's springs. `frame` supplies only
 /// the centre of mass the wrenches are taken about; mass and inertia are unused.
 class QuasiStaticProxy {
  public:
   QuasiStaticProxy(const RigidBody& frame, const CouplingGains& gains, double dt_s,
-                   const QuasiStaticOptions& options);
+                   const QuasiStaticSettings& settings);
 
   /// Puts the proxy's tool frame at `pose`, at rest.
   void reset(const Pose& pose);
@@ -65,7 +67,7 @@ class QuasiStaticProxy {
   RigidBody frame_;
   CouplingGains gains_;
   double dt_s_;
-  QuasiStaticOptions options_;
+  QuasiStaticSettings settings_;
   RigidBodyState state_;
   bool converged_ = true;
 };

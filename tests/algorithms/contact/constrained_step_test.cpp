@@ -42,7 +42,7 @@ Mat6 spinning_cube_system(double gyroscopic) {
 ConstrainedStep solve_with_sweeps(int sweeps, const Mat6& metric, const Vec6& unconstrained,
                                   const std::vector<GaussConstraint>& constraints,
                                   const std::vector<double>& friction) {
-  ConstrainedStepSolver solver(FrictionalContactOptions{sweeps, 1e-12});
+  ConstrainedStepSolver solver(FrictionalContactSettings{sweeps, 1e-12});
   std::vector<int> active;
   return solver.solve(metric, unconstrained, constraints, friction, active);
 }

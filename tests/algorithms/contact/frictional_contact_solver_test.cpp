@@ -156,7 +156,7 @@ void check_conditions(const FrictionalContactSolution& s,
 TEST_CASE("random problems meet the complementarity conditions", "[frictional_contact]") {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  FrictionalContactOptions options;
+  FrictionalContactSettings options;
   options.max_sweeps = 5000;
   options.tolerance = 1e-12;
   FrictionalContactSolver solver(options);
@@ -188,7 +188,7 @@ TEST_CASE("a point pressed on two faces a few degrees apart converges in a few s
   // sliding on both, besides a second corner on a third plane: the normal
   // impulses of the crease push each other, and the sweeps alone took
   // 43 (2°) to 1,165 (20°) sweeps to a change of 1e-12.
-  FrictionalContactOptions options;
+  FrictionalContactSettings options;
   options.max_sweeps = 5000;
   options.tolerance = 1e-12;
   FrictionalContactSolver solver(options);

@@ -31,7 +31,7 @@ RigidBody offset_frame() {
 
 TEST_CASE("in free space the massless proxy sits on the device", "[quasi_static]") {
   const RigidBody frame = offset_frame();
-  QuasiStaticProxy proxy(frame, CouplingGains{2000, 0, 5, 0}, 1e-3, QuasiStaticOptions{});
+  QuasiStaticProxy proxy(frame, CouplingGains{2000, 0, 5, 0}, 1e-3, QuasiStaticSettings{});
   proxy.reset(Pose{});
   DeviceSample device;
   device.pose =
@@ -56,7 +56,7 @@ TEST_CASE("in free space the massless proxy sits on the device", "[quasi_static]
 
 TEST_CASE("the coupling dampers see the massless proxy's motion over the tick", "[quasi_static]") {
   const RigidBody frame = offset_frame();
-  QuasiStaticProxy proxy(frame, CouplingGains{2000, 5, 5, 0.05}, 1e-3, QuasiStaticOptions{});
+  QuasiStaticProxy proxy(frame, CouplingGains{2000, 5, 5, 0.05}, 1e-3, QuasiStaticSettings{});
   proxy.reset(Pose{});
   DeviceSample device;
   device.pose.p = Vec3(0.001, -0.002, 0.0005);  // moved, not turned, device reports no velocity
@@ -73,7 +73,7 @@ TEST_CASE("against a plane the massless proxy settles where the springs balance 
   const RigidBody frame = offset_frame();
   const double k_t = 2000;
   const double k_c = 3000;
-  QuasiStaticProxy proxy(frame, CouplingGains{k_t, 0, 5, 0}, 1e-3, QuasiStaticOptions{});
+  QuasiStaticProxy proxy(frame, CouplingGains{k_t, 0, 5, 0}, 1e-3, QuasiStaticSettings{});
   proxy.reset(Pose{});
   // The tool's frame origin touches the plane z = 0 (normal +z).
   ContactPlane plane;
@@ -102,7 +102,7 @@ TEST_CASE("an off-centre contact makes the proxy turn until the couple balances"
           "[quasi_static]") {
   RigidBody frame;  // COM at the tool origin
   const double k_r = 5;
-  QuasiStaticProxy proxy(frame, CouplingGains{2000, 0, k_r, 0}, 1e-3, QuasiStaticOptions{});
+  QuasiStaticProxy proxy(frame, CouplingGains{2000, 0, k_r, 0}, 1e-3, QuasiStaticSettings{});
   proxy.reset(Pose{});
   // A contact point 5 cm out along x, its plane pressing down along −z with a stiff spring.
   ContactPlane plane;
