@@ -6,48 +6,63 @@
 #include <string>
 #include <vector>
 
+#include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/progress/progress_display.h"
 #include "harness/replay/instruction_count.h"
 #include "harness/run/instruction_counting.h"
 
 namespace hb {
 
-int count_instructions_command(const std::vector<std::string>& args) {
+namespace {
+
+struct CountArguments {
   std::string scenario_path, schedule_dir, out;
   AlgorithmSelection only;
-  ProgressStyle progress_style = ProgressStyle::kNone;  // its stderr is a file
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--progress" && i + 1 < args.size() && progress_style_named(args[i + 1])) {
-      progress_style = *progress_style_named(args[++i]);
-    } else if (a == "--algo" && i + 1 < args.size()) {
-      only.push_back(args[++i]);
-    } else if ((a == "--schedule" || a == "--out") && i + 1 < args.size()) {
-      (a == "--schedule" ? schedule_dir : out) = args[++i];
-    } else if (scenario_path.empty() && a.rfind("--", 0) != 0) {
-      scenario_path = a;
-    } else {
-      std::cerr << "count-instructions: unexpected argument " << a << "\n";
-      return kExitBadInput;
-    }
-  }
-  if (scenario_path.empty() || schedule_dir.empty() || out.empty()) {
-    std::cerr << "usage (internal, started by run --instructions): hapticbench "
-                 "count-instructions SCENARIO --schedule DIR --out FILE [--algo NAME]\n"
-                 "                          [--progress bar|plain|none]\n";
-    return kExitBadInput;
-  }
+  std::optional<ProgressStyle> progress;
+};
+
+using Table = OptionTable<CountArguments>;
+
+const Table& count_instructions_table() {
+  static const Table table(
+      {"count-instructions",
+       {"Internal: started under valgrind's callgrind by `hapticbench run --instructions`."},
+       {},
+       {}},
+      {Table::positional("SCENARIO", "the scenario file", 1, 1, &CountArguments::scenario_path),
+       Table::value("--schedule", "DIR", "the folder of the slow-loop schedules to follow",
+                    &CountArguments::schedule_dir)
+           .required(),
+       Table::value("--out", "FILE", "the counts, as JSON", &CountArguments::out).required(),
+       Table::value("--algo", "NAME", "count only this algorithm (name, label or pattern)",
+                    &CountArguments::only),
+       Table::progress(&CountArguments::progress).with_default("none: its stderr is a file")});
+  return table;
+}
+
+}  // namespace
+
+int count_instructions_command(const std::vector<std::string>& args) {
+  int exit_code = 0;
+  const std::optional<CountArguments> parsed =
+      parse_command_line([&] { return count_instructions_table().parse(args); },
+                         count_instructions_table().usage(), exit_code);
+  if (!parsed) return exit_code;
   if (!running_on_valgrind()) {
     std::cerr << "count-instructions: must run under valgrind --tool=callgrind (use "
                  "`hapticbench run --instructions`)\n";
     return kExitBadInput;
   }
   ProgressSettings settings;
-  settings.style = progress_style;
+  settings.style = parsed->progress.value_or(ProgressStyle::kNone);
   ProgressDisplay progress(std::cerr, std::move(settings));
-  count_instructions_here(scenario_path, only, schedule_dir, out, &progress);
+  count_instructions_here(parsed->scenario_path, parsed->only, parsed->schedule_dir, parsed->out,
+                          &progress);
   return kExitOk;
 }
+
+const CommandSyntax& count_instructions_syntax() { return count_instructions_table().syntax(); }
 
 }  // namespace hb

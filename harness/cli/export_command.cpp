@@ -15,6 +15,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/cli/run_folder_search.h"
 #include "harness/metrics/metric_table.h"
 #include "harness/output/output_ownership.h"
@@ -26,13 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-constexpr const char* kExportUsage =
-    "usage: hapticbench export --format gbench RUN_DIR... [--out FILE]\n"
-    "  RUN_DIR: a run folder or a folder of run folders (a suite, a sweep)\n"
-    "  --format gbench  Google Benchmark's JSON (the only format so far)\n"
-    "  --out FILE       write there (default: standard output); replaces only a file\n"
-    "                   export wrote\n";
 
 // A JSON value at `path` in `document`, or null where any key is missing.
 Json at(const Json& document, std::initializer_list<const char*> path) {
@@ -98,33 +92,32 @@ struct ExportArguments {
   std::optional<fs::path> out;
 };
 
-// Throws UsageError or HelpRequested.
-ExportArguments parse_export_arguments(const std::vector<std::string>& args) {
-  ExportArguments parsed;
-  std::string format;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    check_help(a);
-    if (a == "--format")
-      format = option_value(args, i);
-    else if (a == "--out")
-      parsed.out = option_value(args, i);
-    else if (a.rfind("--", 0) == 0)
-      throw UsageError{"unknown option " + a};
-    else
-      parsed.inputs.emplace_back(a);
-  }
-  if (format != "gbench") throw UsageError{"--format: expected gbench, got \"" + format + "\""};
-  if (parsed.inputs.empty()) throw UsageError{"missing RUN_DIR"};
-  return parsed;
+using Table = OptionTable<ExportArguments>;
+
+const Table& export_table() {
+  static const Table table(
+      {"export", {}, {}, {}},
+      {Table::positional("RUN_DIR", "a run folder or a folder of run folders (a suite, a sweep)", 1,
+                         kAnyCount, &ExportArguments::inputs),
+       Table::value("--format", "FORMAT",
+                    "gbench: Google Benchmark's JSON (the only format so far)",
+                    [](ExportArguments&, const std::string& format) {
+                      if (format != "gbench")
+                        throw UsageError{"--format: expected gbench, got \"" + format + "\""};
+                    })
+           .required(),
+       Table::value("--out", "FILE",
+                    "write there (default: standard output); replaces only a file export wrote",
+                    &ExportArguments::out)});
+  return table;
 }
 
 }  // namespace
 
 int export_command(const std::vector<std::string>& args) {
   int exit_code = 0;
-  const auto parse_result =
-      parse_command_line([&] { return parse_export_arguments(args); }, kExportUsage, exit_code);
+  const auto parse_result = parse_command_line([&] { return export_table().parse(args); },
+                                               export_table().usage(), exit_code);
   if (!parse_result) return exit_code;
   const ExportArguments& parsed = *parse_result;
   const std::vector<fs::path>& inputs = parsed.inputs;
@@ -176,5 +169,7 @@ int export_command(const std::vector<std::string>& args) {
   std::cerr << "export: " << benchmarks.size() << " benchmarks -> " << out->string() << "\n";
   return kExitOk;
 }
+
+const CommandSyntax& export_syntax() { return export_table().syntax(); }
 
 }  // namespace hb

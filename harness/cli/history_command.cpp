@@ -6,6 +6,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/compare/comparison.h"
 #include "harness/history/history_store.h"
 
@@ -14,17 +15,6 @@ namespace hb {
 namespace fs = std::filesystem;
 
 namespace {
-
-const std::string kHistoryUsage =
-    "usage: hapticbench history add HISTORY_DIR RUN_DIR... [--commit ID]\n"
-    "       hapticbench history show HISTORY_DIR [--rel-tol X] [--tolerances FILE]\n"
-    "  add   keeps the runs' summaries (run folders or suites) as the entry of their\n"
-    "        commit (--commit: another name for it); the same commit again replaces\n"
-    "        its entry, a new one is appended (entries in the order added)\n"
-    "  show  lists the entries and, per scenario, label and check, the first entry at\n"
-    "        which it moved beyond its tolerance against the entry before (compare's\n"
-    "        accuracy, stability and instruction checks; no wall-clock times)\n"
-    "  `hapticbench report --history HISTORY_DIR` draws each metric's trend\n";
 
 struct HistoryArguments {
   std::string action;
@@ -35,34 +25,42 @@ struct HistoryArguments {
   CompareOptions options;
 };
 
+using Table = OptionTable<HistoryArguments>;
+
+const Table& history_table() {
+  static const Table table(
+      {"history",
+       {"add: keeps the runs' summaries (run folders or suites) as the entry of their commit; the "
+        "same commit again replaces its entry, a new one is appended (entries in the order "
+        "added).",
+        "show: lists the entries and, per scenario, label and check, the first entry at which it "
+        "moved beyond its tolerance against the entry before (compare's accuracy, stability and "
+        "instruction checks; no wall-clock times)."},
+       {"`hapticbench report --history HISTORY_DIR` draws each metric's trend."},
+       {}},
+      {Table::positional("add|show", "what to do", 1, 1,
+                         [](HistoryArguments& parsed, const std::string& action) {
+                           if (action != "add" && action != "show")
+                             throw UsageError{"expected add or show, got \"" + action + "\""};
+                           parsed.action = action;
+                         })
+           .missing("add or show"),
+       Table::positional("HISTORY_DIR", "the history folder", 1, 1, &HistoryArguments::history_dir),
+       Table::positional("RUN_DIR", "add: a run folder or a suite of them", 0, kAnyCount,
+                         &HistoryArguments::run_dirs),
+       Table::value("--commit", "ID", "add: another name for the runs' commit",
+                    &HistoryArguments::commit),
+       Table::number("--rel-tol", "X", "show: tolerance relative to the entry before", at_least(0),
+                     member_of(&HistoryArguments::options, &CompareOptions::rel_tol))
+           .with_default("0.05"),
+       Table::value("--tolerances", "FILE",
+                    "show: per-metric tolerances in place of the defaults (as compare's)",
+                    &HistoryArguments::tolerances_file)});
+  return table;
+}
+
 HistoryArguments parse_history_arguments(const std::vector<std::string>& args) {
-  HistoryArguments parsed;
-  std::vector<std::string> positional;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    check_help(args[i]);
-    if (args[i] == "--commit") {
-      parsed.commit = option_value(args, i);
-    } else if (args[i] == "--tolerances") {
-      parsed.tolerances_file = option_value(args, i);
-    } else if (args[i] == "--rel-tol") {
-      const std::string& value = option_value(args, i);
-      const std::optional<double> number = parse_number(value);
-      if (!number || !(*number >= 0))
-        throw UsageError{"--rel-tol: expected a number >= 0, got \"" + value + "\""};
-      parsed.options.rel_tol = *number;
-    } else if (args[i].rfind("--", 0) == 0) {
-      throw UsageError{"unknown option " + args[i]};
-    } else {
-      positional.push_back(args[i]);
-    }
-  }
-  if (positional.empty()) throw UsageError{"expected add or show"};
-  parsed.action = positional[0];
-  if (parsed.action != "add" && parsed.action != "show")
-    throw UsageError{"expected add or show, got \"" + parsed.action + "\""};
-  if (positional.size() < 2) throw UsageError{"missing HISTORY_DIR"};
-  parsed.history_dir = positional[1];
-  for (std::size_t i = 2; i < positional.size(); ++i) parsed.run_dirs.emplace_back(positional[i]);
+  HistoryArguments parsed = history_table().parse(args);
   if (parsed.action == "add" && parsed.run_dirs.empty()) throw UsageError{"missing RUN_DIR"};
   if (parsed.action == "show" && !parsed.run_dirs.empty())
     throw UsageError{"show takes the history folder only"};
@@ -103,8 +101,8 @@ int show(const HistoryArguments& arguments) {
 
 int history_command(const std::vector<std::string>& args) {
   int exit_code = 0;
-  const std::optional<HistoryArguments> parsed =
-      parse_command_line([&] { return parse_history_arguments(args); }, kHistoryUsage, exit_code);
+  const std::optional<HistoryArguments> parsed = parse_command_line(
+      [&] { return parse_history_arguments(args); }, history_table().usage(), exit_code);
   if (!parsed) return exit_code;
   if (parsed->action == "show") return show(*parsed);
   const HistoryEntry entry = add_to_history(parsed->history_dir, parsed->run_dirs, parsed->commit);
@@ -112,5 +110,7 @@ int history_command(const std::vector<std::string>& args) {
             << entry.scenarios.size() << " scenarios of commit " << entry.commit << ")\n";
   return kExitOk;
 }
+
+const CommandSyntax& history_syntax() { return history_table().syntax(); }
 
 }  // namespace hb

@@ -1,20 +1,24 @@
 // hapticbench list [SCENARIO_DIR]: algorithms, generators and the scenarios
-// shipped in scenarios/. The tables the docs hold, as Markdown: list
-// --metrics (docs/metric-table.md), --generators (the generators'
-// parameters, traces/README.md), --params (the algorithms' parameters,
-// docs/algorithms/README.md), --limits (the plausible ranges,
-// docs/limits.md).
+// shipped in scenarios/. The tables the docs hold, as Markdown
+// (doc_tables.h): list --metrics (docs/metric-table.md), --generators (the
+// generators' parameters, traces/README.md), --params (the algorithms'
+// parameters, docs/algorithms/README.md), --limits (the plausible ranges,
+// docs/limits.md), --commands (every command's reference,
+// docs/command-line.md).
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "algorithms/registry.h"
 #include "hapticbench/input_error.h"
+#include "harness/cli/command_line.h"
+#include "harness/cli/command_table.h"
 #include "harness/cli/commands.h"
-#include "harness/metrics/metric_table.h"
-#include "harness/scenario/scenario.h"
+#include "harness/cli/doc_tables.h"
+#include "harness/cli/option_table.h"
 #include "harness/trace/generators.h"
-#include "harness/trace/trace.h"
 
 namespace hb {
 
@@ -22,96 +26,80 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* better_text(Better better) { return better == Better::kLower ? "lower" : "higher"; }
+// The tables of the docs `list` prints, by the option that asks for each.
+enum class DocTable { kNone, kMetrics, kGenerators, kParams, kLimits, kCommands };
 
-void print_metric_table(std::ostream& out) {
-  out << "| metric (budget name) | unit (budget, console, report) | summary.json, in a run | "
-         "its unit | better | budget | compare | what it is |\n"
-         "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  for (const MetricDefinition& m : metric_table()) {
-    const std::string_view unit = m.budget_unit.empty() ? m.unit : m.budget_unit;
-    out << "| `" << m.name << "` | " << unit << " | `" << m.json_pointer << "` | " << m.unit
-        << " | " << better_text(m.better) << " | " << (m.budget ? "yes" : "-") << " | "
-        << compare_rule_meaning(m.compare) << (m.compare_when_present ? " (when present)" : "")
-        << " | " << m.description << " |\n";
-  }
+struct ListArguments {
+  std::optional<std::string> scenario_root;
+  DocTable table = DocTable::kNone;
+};
+
+using Table = OptionTable<ListArguments>;
+
+Table::Row table_flag(std::string name, std::string help, DocTable table) {
+  return Table::flag(std::move(name), std::move(help), [table](ListArguments& parsed) {
+    if (parsed.table != DocTable::kNone && parsed.table != table)
+      throw UsageError{"one table at a time"};
+    parsed.table = table;
+  });
 }
 
-// Every generator's parameters as its code asks for them: each generator
-// runs once, for a 1 s trace, with no parameters given.
-void print_generator_parameters(std::ostream& out) {
-  out << "| generator | parameter | default (1 s trace) | accepted |\n| --- | --- | --- | --- |\n";
-  for (const GeneratorEntry& entry : generator_table()) {
-    GeneratorRequest request;
-    request.params = ParamSet("/trace/params");
-    make_generated_trace(std::string(entry.name), request, "/trace/generator");
-    for (const ParamDeclaration& p : request.params.declared())
-      out << "| `" << entry.name << "` | `" << p.key << "` | " << p.default_value << " | "
-          << p.accepted << " |\n";
-  }
+const Table& list_table() {
+  static const Table table(
+      {"list",
+       {"Lists the algorithms, the generators, and the scenario and sweep files in SCENARIO_DIR; "
+        "with a table option, prints that table of the docs as Markdown instead."},
+       {},
+       {}},
+      {Table::positional("SCENARIO_DIR", "a folder of scenario files", 0, 1,
+                         &ListArguments::scenario_root)
+           .with_default("scenarios"),
+       table_flag("--metrics", "every metric (docs/metric-table.md)", DocTable::kMetrics),
+       table_flag("--generators", "the generators' parameters (traces/README.md)",
+                  DocTable::kGenerators),
+       table_flag("--params", "the algorithms' parameters (docs/algorithms/README.md)",
+                  DocTable::kParams),
+       table_flag("--limits", "the plausible ranges (docs/limits.md)", DocTable::kLimits),
+       table_flag("--commands", "every command's reference (docs/command-line.md)",
+                  DocTable::kCommands)});
+  return table;
 }
 
-// The scene every algorithm is built on to list its parameters: defaults that
-// depend on the tool (the proxy mass is the tool's mass) are this tool's.
-constexpr const char* kParameterProbeScenario = R"({
-  "name": "parameter_probe",
-  "scene": [{ "shape": { "type": "box", "size": [0.1, 0.1, 0.02] },
-              "pose": { "p": [0, 0, -0.01], "q": [1, 0, 0, 0] } }],
-  "tool": { "shape": { "type": "sphere", "radius": 0.02, "subdivisions": 2 }, "density": 1000 },
-  "trace": { "generator": "rest", "duration_s": 0.01, "params": { "p": [0, 0, 0.03] } },
-  "algorithms": [{ "name": "coupling_only" }]
-})";
-
-// Every algorithm's parameters as its code asks for them: each algorithm is
-// built once on the probe scene with no parameters given. A parameter read
-// only under another parameter's non-default value is not listed.
-void print_algorithm_parameters(std::ostream& out) {
-  const Scenario probe =
-      load_scenario_json(kParameterProbeScenario, "parameter probe scenario", fs::path());
-  out << "| algorithm | parameter | default (a 2 cm sphere tool, 1000 kg/m³) | accepted |\n"
-         "| --- | --- | --- | --- |\n";
-  for (const AlgorithmEntry& entry : algorithm_table()) {
-    const ParamSet params("/algorithms/0/params");
-    entry.create(probe.context, params);
-    for (const ParamDeclaration& p : params.declared())
-      out << "| `" << entry.name << "` | `" << p.key << "` | " << p.default_value << " | "
-          << p.accepted << " |\n";
-  }
-}
-
-void print_plausible_ranges(std::ostream& out) {
-  out << "| field | plausible range | unit | why |\n| --- | --- | --- | --- |\n";
-  for (const PlausibleRange& range : plausible_ranges())
-    out << "| `" << range.pointer << "` | " << range.low << " – " << range.high << " | "
-        << range.unit << " | " << range.why << " |\n";
-  out << "\n| trace file | plausible up to | unit | why |\n| --- | --- | --- | --- |\n";
-  for (const TracePlausibleLimit& limit : trace_plausible_limits())
-    out << "| " << limit.quantity << " | " << limit.high << " | " << limit.unit << " | "
-        << limit.why << " |\n";
+ListArguments parse_list_arguments(const std::vector<std::string>& args) {
+  ListArguments parsed = list_table().parse(args);
+  if (parsed.table != DocTable::kNone && parsed.scenario_root)
+    throw UsageError{"a table of the docs takes no SCENARIO_DIR"};
+  return parsed;
 }
 
 }  // namespace
 
 int list_command(const std::vector<std::string>& args) {
-  if (args.size() == 1 && args.front() == "--metrics") {
-    print_metric_table(std::cout);
-    return kExitOk;
+  int exit_code = 0;
+  const std::optional<ListArguments> parsed = parse_command_line(
+      [&] { return parse_list_arguments(args); }, list_table().usage(), exit_code);
+  if (!parsed) return exit_code;
+  switch (parsed->table) {
+    case DocTable::kMetrics:
+      print_metric_table(std::cout);
+      return kExitOk;
+    case DocTable::kGenerators:
+      print_generator_parameters(std::cout);
+      return kExitOk;
+    case DocTable::kParams:
+      print_algorithm_parameters(std::cout);
+      return kExitOk;
+    case DocTable::kLimits:
+      print_plausible_ranges(std::cout);
+      return kExitOk;
+    case DocTable::kCommands:
+      std::cout << command_reference_markdown();
+      return kExitOk;
+    case DocTable::kNone:
+      break;
   }
-  if (args.size() == 1 && args.front() == "--generators") {
-    print_generator_parameters(std::cout);
-    return kExitOk;
-  }
-  if (args.size() == 1 && args.front() == "--params") {
-    print_algorithm_parameters(std::cout);
-    return kExitOk;
-  }
-  if (args.size() == 1 && args.front() == "--limits") {
-    print_plausible_ranges(std::cout);
-    return kExitOk;
-  }
-  std::string scenario_root = "scenarios";
-  if (!args.empty()) {
-    scenario_root = args.front();
+  const std::string scenario_root = parsed->scenario_root.value_or("scenarios");
+  if (parsed->scenario_root) {
     std::error_code error;
     // A folder the user names must exist; the default may be absent.
     if (!fs::is_directory(scenario_root, error))
@@ -149,5 +137,7 @@ int list_command(const std::vector<std::string>& args) {
   for (const std::string& file : sweeps) std::cout << "  " << file << "\n";
   return kExitOk;
 }
+
+const CommandSyntax& list_syntax() { return list_table().syntax(); }
 
 }  // namespace hb

@@ -13,6 +13,7 @@
 #include "algorithms/core/build_progress.h"
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
+#include "harness/cli/command_table.h"
 #include "harness/cli/commands.h"
 #include "harness/output/run_context.h"
 #include "harness/plugins/plugin_loader.h"
@@ -21,35 +22,6 @@
 #include "harness/process/memory_limit.h"
 
 namespace {
-constexpr const char* kUsage =
-    "usage: hapticbench COMMAND [ARGS]   (hapticbench --version: this build)\n"
-    "  run SCENARIO... [--algo NAME]... [--out DIR] [--repeat N] [--instructions] [--schedule P]\n"
-    "                                              replay scenarios, write run folders\n"
-    "  validate FILE...                            check a scenario, mesh or trace file\n"
-    "  init FILE.json [--scene S] [--tool T]       write a scenario to start from\n"
-    "  list [SCENARIO_DIR]                         algorithms, generators, scenarios\n"
-    "  list --metrics | --generators | --params | --limits   a table of the docs (Markdown)\n"
-    "  generate NAME --duration S --out FILE.csv   write a synthetic trace\n"
-    "  report RUN_DIR... [--out report.html]       one HTML page with figures from run folders\n"
-    "  compare BASELINE CANDIDATE [--gate] [--out DIR]   regression gate against a baseline\n"
-    "  history add DIR RUN_DIR... | show DIR       runs kept by commit; where a metric moved\n"
-    "  sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]   run a grid of jobs\n"
-    "  stability SCENARIO.json --label L --param PTR --range LO HI [--tolerance R] [--out DIR]\n"
-    "                                              largest stable value of one parameter\n"
-    "  zwidth SCENARIO.json --label L --x PTR --x-values V,.. --y PTR --y-range LO HI\n"
-    "                                              stable region over two parameters (Z-width)\n"
-    "  ccd QUERIES.csv... [--json]                 primitive CCD on query files: FN/FP, ns/query\n"
-    "  export --format gbench RUN_DIR... [--out FILE]   Google Benchmark JSON of run folders\n"
-    "every command: --memory-limit MB   the most memory it may use (default: half of the\n"
-    "                                   machine's); an input that needs more is exit 2\n"
-    "               --plugin PATH.so    load renderers built outside hapticbench (repeatable;\n"
-    "                                   also HAPTICBENCH_PLUGINS=/abs/A.so:/abs/B.so;\n"
-    "                                   docs/plugins.md)\n"
-    "               --allow-scenario-plugins   load the plugins scenario files name (a\n"
-    "                                   scenario alone never loads code; validate never does)\n"
-    "exit codes: 0 ok, 1 a budget, a stability verdict or a regression failed, 2 bad input or\n"
-    "            usage, 3 internal error\n";
-
 // Takes `--memory-limit MB` out of the arguments (anywhere after the
 // command): MB, or the default when absent; 0 with a message on stderr when
 // the value is not a whole number in [64, 2^40].
@@ -91,7 +63,7 @@ void load_plugins(const std::string& command, std::vector<std::string>& args) {
 
 static int run_command_line(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << kUsage;
+    std::cerr << hb::top_level_usage();
     return hb::kExitBadInput;
   }
   const std::string command = argv[1];
@@ -102,7 +74,7 @@ static int run_command_line(int argc, char** argv) {
   if (memory_limit_mb == 0) return hb::kExitBadInput;
   hb::apply_memory_limit(memory_limit_mb);
   if (command == "-h" || command == "--help" || command == "help") {
-    std::cout << kUsage;  // loads no plugin: a bad one must not hide the help
+    std::cout << hb::top_level_usage();  // loads no plugin: a bad one must not hide the help
     return hb::kExitOk;
   }
   if (command == "--version" || command == "version") {
@@ -111,21 +83,9 @@ static int run_command_line(int argc, char** argv) {
   }
   try {
     load_plugins(command, args);
-    if (command == "run") return hb::run_command(args);
-    if (command == "validate") return hb::validate_command(args);
-    if (command == "init") return hb::init_command(args);
-    if (command == "history") return hb::history_command(args);
-    if (command == "list") return hb::list_command(args);
-    if (command == "generate") return hb::generate_command(args);
-    if (command == "report") return hb::report_command(args);
-    if (command == "compare") return hb::compare_command(args);
-    if (command == "sweep") return hb::sweep_command(args);
-    if (command == "ccd") return hb::ccd_command(args);
-    if (command == "stability") return hb::stability_command(args);
-    if (command == "zwidth") return hb::zwidth_command(args);
-    if (command == "export") return hb::export_command(args);
-    if (command == "count-instructions") return hb::count_instructions_command(args);
-    std::cerr << "error: unknown command \"" << command << "\"\n" << kUsage;
+    const hb::CommandEntry* entry = hb::find_command(command);
+    if (entry != nullptr) return entry->run(args);
+    std::cerr << "error: unknown command \"" << command << "\"\n" << hb::top_level_usage();
     return hb::kExitBadInput;
   } catch (const hb::Interrupted& interrupted) {
     // Unwinding removed the staging folders and stopped the workers.

@@ -1,16 +1,14 @@
 #include "harness/cli/plugin_isolation.h"
 
-#include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <cstdlib>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 
 #include "algorithms/registry.h"
+#include "harness/cli/child_line_pipe.h"
 #include "harness/cli/commands.h"
 #include "harness/process/activity_report.h"
 #include "harness/process/child_process.h"
@@ -26,41 +24,21 @@ namespace {
 struct ChildActivity {
   std::string label, origin;      // the last "running" line
   std::optional<int> ended_with;  // "ended <code>": main returned normally
-  std::string partial;            // a line not yet ended by '\n'
 
-  void take(const std::string& bytes) {
-    partial += bytes;
-    for (std::size_t end; (end = partial.find('\n')) != std::string::npos;) {
-      const std::string line = partial.substr(0, end);
-      partial.erase(0, end + 1);
-      if (line.rfind("running ", 0) == 0) {
-        const std::string rest = line.substr(8);
-        const std::size_t tab = rest.find('\t');
-        label = rest.substr(0, tab);
-        origin = tab == std::string::npos ? "" : rest.substr(tab + 1);
-      } else if (line.rfind("ended ", 0) == 0) {
-        ended_with = std::atoi(line.c_str() + 6);
-      } else if (line == "idle") {
-        label.clear();
-        origin.clear();
-      }
+  void take(const std::string& line) {
+    if (line.rfind("running ", 0) == 0) {
+      const std::string rest = line.substr(8);
+      const std::size_t tab = rest.find('\t');
+      label = rest.substr(0, tab);
+      origin = tab == std::string::npos ? "" : rest.substr(tab + 1);
+    } else if (line.rfind("ended ", 0) == 0) {
+      ended_with = std::atoi(line.c_str() + 6);
+    } else if (line == "idle") {
+      label.clear();
+      origin.clear();
     }
   }
 };
-
-// Reads what is there without blocking; false at end of file.
-bool read_available(int fd, ChildActivity& activity) {
-  char buffer[4096];
-  for (;;) {
-    const ssize_t got = ::read(fd, buffer, sizeof buffer);
-    if (got > 0) {
-      activity.take(std::string(buffer, static_cast<std::size_t>(got)));
-      continue;
-    }
-    if (got == 0) return false;
-    return errno == EINTR || errno == EAGAIN;
-  }
-}
 
 std::string running_text(const ChildActivity& activity) {
   if (activity.label.empty()) return "outside any algorithm's code";
@@ -78,8 +56,10 @@ bool should_isolate_plugins(const std::vector<std::string>& algorithm_names) {
 }
 
 int run_plugins_isolated(const std::string& command, const std::vector<std::string>& args) {
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) {
+  std::optional<ChildLinePipe> pipe;
+  try {
+    pipe.emplace();
+  } catch (const std::runtime_error&) {
     std::cerr << "internal error: cannot make a pipe for the plugin's process\n";
     return kExitInternal;
   }
@@ -93,24 +73,20 @@ int run_plugins_isolated(const std::string& command, const std::vector<std::stri
   ::setenv(kActivityFdVariable, std::to_string(kChildFd).c_str(), 1);
   std::optional<ChildProcess> child;
   try {
-    child.emplace(argv, ChildOptions{{}, {}, false, {{fds[1], kChildFd}}, true});
+    child.emplace(argv, ChildOptions{{}, {}, false, {pipe->child_end(kChildFd)}, true});
   } catch (...) {
     ::unsetenv(kActivityFdVariable);
-    ::close(fds[0]);
-    ::close(fds[1]);
     throw;
   }
   ::unsetenv(kActivityFdVariable);
-  ::close(fds[1]);
-  ::fcntl(fds[0], F_SETFL, O_NONBLOCK);
+  pipe->close_write_end();
 
   ChildActivity activity;
+  const auto take = [&activity](const std::string& line) { activity.take(line); };
   bool open = true, passed_on = false;
   std::optional<ProcessEnd> end;
   for (;;) {
-    pollfd waiting{fds[0], POLLIN, 0};
-    ::poll(&waiting, open ? 1 : 0, 50);
-    if (open) open = read_available(fds[0], activity);
+    open = pipe->read_lines(50, take);
     // A signal sent to this process only (timeout, a job scheduler) goes on
     // to the child, which stops as a run does.
     if (const int signal = interrupt_signal(); signal != 0 && !passed_on) {
@@ -120,11 +96,10 @@ int run_plugins_isolated(const std::string& command, const std::vector<std::stri
     if ((end = child->poll())) {
       // What the child wrote before it ended is in the pipe; a process it
       // started may still hold the pipe open, so do not wait for its end.
-      if (open) read_available(fds[0], activity);
+      if (open) pipe->read_lines(0, take);
       break;
     }
   }
-  ::close(fds[0]);
 
   if (end->exited && activity.ended_with && *activity.ended_with == end->exit_code) {
     if (end->exit_code == kExitInternal && !activity.origin.empty())

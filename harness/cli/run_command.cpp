@@ -1,6 +1,6 @@
-// hapticbench run SCENARIO... [--algo NAME] [--out DIR]
-#include <fnmatch.h>
-
+// hapticbench run SCENARIO... [--algo NAME] [--out DIR]: reads, builds and
+// runs each scenario (harness/run/run_request.h) and writes its run folder;
+// the arguments: run_arguments.h.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +11,7 @@
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/plugin_isolation.h"
+#include "harness/cli/run_arguments.h"
 #include "harness/output/output_ownership.h"
 #include "harness/output/run_table.h"
 #include "harness/run/instruction_counting.h"
@@ -23,130 +24,10 @@ namespace hb {
 
 namespace fs = std::filesystem;
 
-namespace {
-const std::string kRunUsage =
-    "usage: hapticbench run SCENARIO.json... [--algo NAME]... [--scenario PATTERN]...\n"
-    "                      [--out DIR] [--repeat N] [--instructions] [--schedule PATH]\n"
-    "                      [--expect-unstable LABEL] [--progress STYLE] [--quiet]\n"
-    "       hapticbench run --explain\n"
-    "  --algo NAME     run only the algorithms with this name or label, or a pattern\n"
-    "                  over them ('vps*'); repeatable\n"
-    "  --scenario PATTERN\n"
-    "                  run only the scenario files whose name (without .json) or path\n"
-    "                  matches the shell pattern ('*press*'); repeatable\n"
-    "  --explain       print what each column of the run table means, its unit and the\n"
-    "                  summary.json field it shows, and exit\n"
-    "  --out DIR       run folder (one scenario) or parent of <scenario name>/ (several);\n"
-    "                  default out/<scenario name>/\n"
-    "  --repeat N      N timing passes per algorithm; the summary gives the spread of\n"
-    "                  their step time p50 and p99 (the first pass's times are the metrics)\n"
-    "  --instructions  also count the instructions of step() and of slow-loop updates\n"
-    "                  under valgrind's callgrind (deterministic; needs valgrind)\n"
-    "  --schedule PATH multi-rate algorithms follow the slow-loop schedule recorded in\n"
-    "                  PATH: a schedule_<label>.csv, a run folder or a suite of them\n"
-    "  --expect-unstable LABEL\n"
-    "                  an unstable run of LABEL (\"all\": of every label) does not fail the\n"
-    "                  command (exit 1 otherwise); repeatable. A scenario says it with\n"
-    "                  \"expected_unstable\": {LABEL: why}\n" +
-    std::string(kProgressUsage);
-
-constexpr int kMaxRepeat = 1000;
-
-struct RunArguments {
-  std::vector<std::string> scenarios;
-  AlgorithmSelection algos;                    ///< --algo NAME, each; empty: every algorithm
-  std::vector<std::string> scenario_patterns;  ///< --scenario PATTERN, each; empty: every file
-  bool explain = false;
-  std::optional<std::string> out;
-  std::optional<std::string> schedule;
-  bool instructions = false;
-  std::vector<std::string> expect_unstable;  ///< labels, or "all"
-  std::optional<ProgressStyle> progress;
-  RunOptions options;
-};
-
-constexpr const char* kExpectedOnCommandLine = "expected on the command line (--expect-unstable)";
-
-// Whether the shell pattern matches the scenario file's stem or its path.
-bool matches_file_pattern(const std::string& pattern, const std::string& path) {
-  const std::string stem = fs::path(path).stem().string();
-  return ::fnmatch(pattern.c_str(), stem.c_str(), 0) == 0 ||
-         ::fnmatch(pattern.c_str(), path.c_str(), 0) == 0;
-}
-
-// Throws UsageError or HelpRequested.
-RunArguments parse_run_arguments(const std::vector<std::string>& args) {
-  RunArguments parsed;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    check_help(a);
-    if (a == "--algo") {
-      parsed.algos.push_back(option_value(args, i));
-    } else if (a == "--scenario") {
-      parsed.scenario_patterns.push_back(option_value(args, i));
-    } else if (a == "--explain") {
-      parsed.explain = true;
-    } else if (a == "--out" || a == "--schedule" || a == "--repeat") {
-      const std::string& value = option_value(args, i);
-      if (a == "--repeat") {
-        const std::optional<long long> repeat = parse_whole_number(value, 1, kMaxRepeat);
-        if (!repeat)
-          throw UsageError{"--repeat: expected a whole number in [1, " +
-                           std::to_string(kMaxRepeat) + "], got \"" + value + "\""};
-        parsed.options.repeat = static_cast<int>(*repeat);
-      } else {
-        (a == "--out" ? parsed.out : parsed.schedule) = value;
-      }
-    } else if (a == "--expect-unstable") {
-      parsed.expect_unstable.push_back(option_value(args, i));
-    } else if (a == "--instructions") {
-      parsed.instructions = true;
-    } else if (parse_progress_option(args, i, parsed.progress)) {
-    } else if (a.rfind("--", 0) == 0) {
-      throw UsageError{"unknown option " + a};
-    } else {
-      parsed.scenarios.push_back(a);
-    }
-  }
-  if (parsed.explain) return parsed;
-  if (parsed.scenarios.empty()) throw UsageError{"no scenario given"};
-  if (!parsed.scenario_patterns.empty()) {
-    std::vector<std::string> kept;
-    for (const std::string& path : parsed.scenarios)
-      for (const std::string& pattern : parsed.scenario_patterns)
-        if (matches_file_pattern(pattern, path)) {
-          kept.push_back(path);
-          break;
-        }
-    if (kept.empty())
-      throw UsageError{"--scenario: no scenario file of the " +
-                       std::to_string(parsed.scenarios.size()) +
-                       " given matches the patterns (a pattern matches a file's name without "
-                       ".json, e.g. 'sphere_*', or its path)"};
-    parsed.scenarios = std::move(kept);
-  }
-  return parsed;
-}
-
-// Marks the runs whose instability the command line expects.
-void apply_expected_instability(const RunArguments& args, ScenarioRun& report) {
-  for (AlgorithmRun& run : report.runs)
-    for (const std::string& label : args.expect_unstable)
-      if ((label == "all" || label == run.label) && !run.unstable_expected)
-        run.unstable_expected = kExpectedOnCommandLine;
-}
-
-fs::path run_folder_for(const RunArguments& args, const Scenario& scenario) {
-  if (!args.out) return fs::path("out") / scenario.name;
-  if (args.scenarios.size() == 1) return fs::path(*args.out);
-  return fs::path(*args.out) / scenario.name;
-}
-}  // namespace
-
 int run_command(const std::vector<std::string>& args) {
   int exit_code = 0;
   const std::optional<RunArguments> parsed =
-      parse_command_line([&] { return parse_run_arguments(args); }, kRunUsage, exit_code);
+      parse_command_line([&] { return parse_run_arguments(args); }, run_usage(), exit_code);
   if (!parsed) return exit_code;
   if (parsed->explain) {
     print_run_table_legend(std::cout);
@@ -199,16 +80,7 @@ int run_command(const std::vector<std::string>& args) {
                            "scenario name \"" + scenarios.back().name + "\" is also used by " +
                                scenarios[i].path + "; run folders would collide");
     }
-    // An --expect-unstable label that no scenario has is most likely a typo.
-    for (const std::string& label : parsed->expect_unstable) {
-      bool found = label == "all";
-      for (const Scenario& scenario : scenarios)
-        for (const AlgorithmSpec& spec : scenario.algorithms) found = found || spec.label == label;
-      if (!found)
-        throw InputError(
-            "", "--expect-unstable",
-            "no scenario given has the label \"" + label + "\" (\"all\" stands for every label)");
-    }
+    check_expected_labels(*parsed, scenarios);
     // Plugins run in a child that this process watches (plugin_isolation.h).
     std::vector<std::string> names;
     for (const Scenario& scenario : scenarios)

@@ -17,16 +17,17 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
 #include "harness/drivers/stability_search.h"
 #include "harness/output/run_folder.h"
-#include "harness/scenario/json_pointer.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace hb {
@@ -36,57 +37,47 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-const std::string kStabilityUsage =
-    "usage: hapticbench stability SCENARIO.json --label LABEL --param JSON_POINTER --range LO HI\n"
-    "                             [--tolerance REL] [--epsilon J] [--out DIR]\n"
-    "                             [--criterion all|passivity|oscillation]\n"
-    "                             [--progress STYLE] [--quiet]\n"
-    "  finds the largest value of the scenario field at JSON_POINTER (e.g. /coupling/k_t,\n"
-    "  /algorithms/2/params/contact_stiffness) in [LO, HI] at which algorithm LABEL is\n"
-    "  stable, by bracketing and bisection on a log scale; each probe is a full run.\n" +
-    std::string(kStabilitySearchUsage) +
-    "  --out DIR        folder for stability.json (default out/stability/<scenario>__<label>)\n" +
-    std::string(kProgressUsage);
-
 struct StabilityArguments {
   StabilitySearchOptions search;
   std::string pointer;
   double low = 0, high = 0;
 };
 
-// Throws UsageError or HelpRequested.
-StabilityArguments parse_stability_arguments(const std::vector<std::string>& args) {
-  StabilityArguments parsed;
-  bool have_range = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    check_help(a);
-    if (a == "--param") {
-      parsed.pointer = option_value(args, i);
-    } else if (a == "--range") {
-      parsed.low = finite_number_option("--range LO", option_value(args, i), true);
-      parsed.high = finite_number_option("--range HI", option_value(args, i), true);
-      have_range = true;
-    } else if (!parse_stability_search_option(args, i, parsed.search)) {
-      throw UsageError{"unknown option " + a};
-    }
-  }
-  require_stability_search_options(parsed.search);
-  if (parsed.pointer.empty()) throw UsageError{"--param JSON_POINTER is required"};
-  if (!json_pointer_tokens(parsed.pointer))
-    throw UsageError{"--param: expected a JSON pointer such as /coupling/k_t, got \"" +
-                     parsed.pointer + "\""};
-  if (!have_range) throw UsageError{"--range LO HI is required"};
-  if (!(parsed.low < parsed.high)) throw UsageError{"--range: expected LO < HI"};
-  return parsed;
+using Table = OptionTable<StabilityArguments>;
+
+const Table& stability_table() {
+  constexpr auto search = &StabilityArguments::search;
+  static const Table table(
+      {"stability",
+       {"Finds the largest value of the scenario field at JSON_POINTER (e.g. /coupling/k_t, "
+        "/algorithms/2/params/contact_stiffness) in [LO, HI] at which algorithm LABEL is "
+        "stable, by bracketing and bisection on a log scale; each probe is a full run."},
+       {},
+       {}},
+      rows_then(stability_target_rows(search),
+                rows_then({Table::value("--param", "JSON_POINTER", "the scenario field searched",
+                                        [](StabilityArguments& parsed, const std::string& pointer) {
+                                          parsed.pointer = json_pointer_option("--param", pointer);
+                                        })
+                               .required(),
+                           Table::values("--range", "LO HI", "the values searched, 0 < LO < HI",
+                                         [](StabilityArguments& parsed,
+                                            const std::vector<std::string>& values) {
+                                           std::tie(parsed.low, parsed.high) =
+                                               range_option("--range", values);
+                                         })
+                               .required()},
+                          stability_search_rows(search, "stability.json",
+                                                "`out/stability/<scenario>__<label>`"))));
+  return table;
 }
 
 }  // namespace
 
 int stability_command(const std::vector<std::string>& args) {
   int exit_code = 0;
-  const auto parsed = parse_command_line([&] { return parse_stability_arguments(args); },
-                                         kStabilityUsage, exit_code);
+  const auto parsed = parse_command_line([&] { return stability_table().parse(args); },
+                                         stability_table().usage(), exit_code);
   if (!parsed) return exit_code;
   ProgressDisplay progress = make_progress_display(parsed->search.progress, 1.0);
   try {
@@ -174,5 +165,7 @@ int stability_command(const std::vector<std::string>& args) {
     return kExitBadInput;
   }
 }
+
+const CommandSyntax& stability_syntax() { return stability_table().syntax(); }
 
 }  // namespace hb

@@ -1,61 +1,38 @@
 #include "harness/cli/stability_options.h"
 
-#include <cmath>
-
 #include "harness/cli/command_line.h"
 #include "harness/process/interrupt.h"
+#include "harness/scenario/json_pointer.h"
 
 namespace hb {
 
-const char* const kStabilitySearchUsage =
-    "  stable: not diverged, no non-finite wrench, and by --criterion (default all):\n"
-    "    passivity    the port energy minimum >= -EPSILON; in closed loop (docs/closed-loop.md)\n"
-    "                 the energy the hand put into the device, display_energy_min_j\n"
-    "    oscillation  no chatter at the end of the run (proxy_chatter_m, docs/metrics.md);\n"
-    "                 in closed loop no limit cycle of the device either\n"
-    "    all          both\n"
-    "  --tolerance REL  stop when smallest_unstable / largest_stable - 1 <= REL (default 0.02)\n"
-    "  --epsilon J      passivity allowance, J (default 1e-6)\n";
+const char* const kStabilityCriterionHelp =
+    "stable means not diverged, no non-finite wrench, and by the criterion: passivity, the port "
+    "energy minimum >= -J (--epsilon; in closed loop, docs/closed-loop.md, the energy the hand "
+    "put into the device, display_energy_min_j); oscillation, no chatter at the end of the run "
+    "(proxy_chatter_m, docs/metrics.md; in closed loop no limit cycle of the device either); "
+    "all, both";
 
-double finite_number_option(const std::string& option, const std::string& text, bool positive) {
-  const double value = parse_number(text).value_or(-1);
-  if (!(positive ? value > 0 : value >= 0))
-    throw UsageError{option + ": expected a finite number " + (positive ? "> 0" : ">= 0") +
-                     ", got \"" + text + "\""};
-  return value;
+StabilityCriterion stability_criterion_option(const std::string& name) {
+  const std::optional<StabilityCriterion> criterion = stability_criterion_named(name);
+  if (!criterion)
+    throw UsageError{"--criterion: expected all, passivity or oscillation, got \"" + name + "\""};
+  return *criterion;
 }
 
-bool parse_stability_search_option(const std::vector<std::string>& args, std::size_t& i,
-                                   StabilitySearchOptions& options) {
-  const std::string& a = args[i];
-  if (a == "--label") {
-    options.label = option_value(args, i);
-  } else if (a == "--tolerance") {
-    options.tolerance = finite_number_option(a, option_value(args, i), true);
-  } else if (a == "--epsilon") {
-    options.epsilon_j = finite_number_option(a, option_value(args, i), true);
-  } else if (a == "--criterion") {
-    const std::string name = option_value(args, i);
-    const std::optional<StabilityCriterion> criterion = stability_criterion_named(name);
-    if (!criterion)
-      throw UsageError{"--criterion: expected all, passivity or oscillation, got \"" + name + "\""};
-    options.criterion = *criterion;
-  } else if (a == "--out") {
-    options.out = option_value(args, i);
-  } else if (parse_progress_option(args, i, options.progress)) {
-  } else if (a.rfind("--", 0) == 0) {
-    return false;
-  } else if (!options.scenario.empty()) {
-    throw UsageError{"one scenario at a time (got " + options.scenario + " and " + a + ")"};
-  } else {
-    options.scenario = a;
-  }
-  return true;
+const std::string& json_pointer_option(const std::string& option, const std::string& pointer) {
+  if (!json_pointer_tokens(pointer))
+    throw UsageError{option + ": expected a JSON pointer such as /coupling/k_t, got \"" + pointer +
+                     "\""};
+  return pointer;
 }
 
-void require_stability_search_options(const StabilitySearchOptions& options) {
-  if (options.scenario.empty()) throw UsageError{"no scenario given"};
-  if (options.label.empty()) throw UsageError{"--label LABEL is required"};
+std::pair<double, double> range_option(const std::string& option,
+                                       const std::vector<std::string>& values) {
+  const double low = number_in(option + " LO", values.at(0), above(0));
+  const double high = number_in(option + " HI", values.at(1), above(0));
+  if (!(low < high)) throw UsageError{option + ": expected LO < HI"};
+  return {low, high};
 }
 
 StabilityBracket SearchKeepingRuns::search(const std::function<StabilityProbe(double)>& probe,

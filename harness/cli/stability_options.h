@@ -1,6 +1,6 @@
-// The options `hapticbench stability` and `hapticbench zwidth` share: the
-// scenario, the algorithm, the search's tolerance and criterion, the output
-// folder and the progress display.
+// The options `hapticbench stability` and `hapticbench zwidth` share, as
+// rows of their option tables: the scenario, the algorithm, the search's
+// tolerance and criterion, the output folder and the progress display.
 #pragma once
 
 #include <functional>
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/cli/option_table.h"
 #include "harness/drivers/stability_search.h"
 #include "harness/output/run_folder.h"
 #include "harness/progress/progress_display.h"
@@ -25,21 +26,58 @@ struct StabilitySearchOptions {
   std::optional<ProgressStyle> progress;
 };
 
-/// Usage lines of the shared options.
-extern const char* const kStabilitySearchUsage;
+/// What --criterion's values mean.
+extern const char* const kStabilityCriterionHelp;
 
-/// Takes args[i] (and its value) when it is a shared option or the
-/// scenario; false for anything else. Throws UsageError for a bad value, an
-/// unknown option or a second scenario.
-bool parse_stability_search_option(const std::vector<std::string>& args, std::size_t& i,
-                                   StabilitySearchOptions& options);
+/// The criterion --criterion names; throws UsageError naming the criteria.
+StabilityCriterion stability_criterion_option(const std::string& name);
 
-/// Throws UsageError when the scenario or the label is missing.
-void require_stability_search_options(const StabilitySearchOptions& options);
+/// A JSON pointer given to `option`; throws UsageError when it is not one.
+const std::string& json_pointer_option(const std::string& option, const std::string& pointer);
 
-/// `text` as a finite number, > 0 (positive) or >= 0; throws UsageError
-/// naming `option` otherwise.
-double finite_number_option(const std::string& option, const std::string& text, bool positive);
+/// The two values of `option` LO HI: numbers > 0, LO < HI; throws UsageError otherwise.
+std::pair<double, double> range_option(const std::string& option,
+                                       const std::vector<std::string>& values);
+
+/// The rows of the scenario and the algorithm, for a command whose
+/// arguments hold the shared options in `search`.
+template <class Args>
+std::vector<typename OptionTable<Args>::Row> stability_target_rows(
+    StabilitySearchOptions Args::*search) {
+  using Table = OptionTable<Args>;
+  using Options = StabilitySearchOptions;
+  return {Table::positional("SCENARIO.json", "the scenario whose runs are the probes", 1, 1,
+                            member_of(search, &Options::scenario)),
+          Table::value("--label", "LABEL", "the algorithm searched: its label in the scenario",
+                       member_of(search, &Options::label))
+              .required()};
+}
+
+/// The rows of the search's options; `result` names the file --out's
+/// folder holds ("stability.json"), `default_out` that folder by default.
+template <class Args>
+std::vector<typename OptionTable<Args>::Row> stability_search_rows(
+    StabilitySearchOptions Args::*search, const std::string& result,
+    const std::string& default_out) {
+  using Table = OptionTable<Args>;
+  using Options = StabilitySearchOptions;
+  return {
+      Table::number("--tolerance", "REL", "stop when smallest_unstable / largest_stable - 1 <= REL",
+                    above(0), member_of(search, &Options::tolerance))
+          .with_default("0.02"),
+      Table::number("--epsilon", "J", "passivity allowance, J", above(0),
+                    member_of(search, &Options::epsilon_j))
+          .with_default("1e-6"),
+      Table::value("--criterion", "all|passivity|oscillation", kStabilityCriterionHelp,
+                   [search](Args& args, const std::string& name) {
+                     (args.*search).criterion = stability_criterion_option(name);
+                   })
+          .with_default("all"),
+      Table::value("--out", "DIR", "the folder for " + result, member_of(search, &Options::out))
+          .with_default(default_out),
+      Table::progress(member_of(search, &Options::progress)),
+      Table::quiet(member_of(search, &Options::progress))};
+}
 
 /// Stability searches whose finished runs outlive a stop signal: when one
 /// ends a search, the runs finished so far (across every search made

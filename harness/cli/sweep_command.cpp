@@ -8,6 +8,7 @@
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/drivers/sweep_runner.h"
 #include "harness/sweep/sweep_shard.h"
 
@@ -15,76 +16,53 @@ namespace hb {
 
 namespace {
 
-const std::string kSweepUsage =
-    "usage: hapticbench sweep SWEEP.json [--jobs N] [--shard I/N] [--out DIR]\n"
-    "                         [--progress STYLE] [--quiet]\n"
-    "  --jobs N     run up to N jobs at a time, each in its own process (default 1);\n"
-    "               concurrent jobs share the cores, so compare timings from --jobs 1 runs\n"
-    "  --shard I/N  run only the jobs whose index % N == I (one task of a job array)\n"
-    "  --out DIR    one run folder per job, DIR/<job name>/, and DIR/sweep.json;\n"
-    "               default out/sweeps/<sweep name>/\n"
-    "  --run-job K  run job K alone, in this process (what each worker runs)\n"
-    "  every job is validated before any runs; a job whose run folder already has\n"
-    "  summary.json is skipped, so running the command again resumes the sweep.\n" +
-    std::string(kProgressUsage);
-
-constexpr std::size_t kMaxParallelJobs = 1024;
+constexpr long long kMaxParallelJobs = 1024;
 
 struct SweepArguments {
-  SweepRunSettings settings;
+  SweepRunOptions settings;
   std::optional<std::size_t> run_job;
   std::optional<ProgressStyle> progress;
 };
 
-std::optional<std::size_t> whole_number(const std::string& text, std::size_t min, std::size_t max) {
-  if (text.empty() || text.size() > 9) return std::nullopt;
-  std::size_t value = 0;
-  for (char c : text) {
-    if (c < '0' || c > '9') return std::nullopt;
-    value = value * 10 + static_cast<std::size_t>(c - '0');
-  }
-  if (value < min || value > max) return std::nullopt;
-  return value;
+using Table = OptionTable<SweepArguments>;
+
+const Table& sweep_table() {
+  const auto in_settings = [](auto field) { return member_of(&SweepArguments::settings, field); };
+  static const Table table(
+      {"sweep",
+       {},
+       {"Every job is validated before any runs; a job whose run folder already has "
+        "summary.json is skipped, so running the command again resumes the sweep."},
+       {}},
+      {Table::positional("SWEEP.json", "the sweep file: scenarios and a grid of parameters", 1, 1,
+                         in_settings(&SweepRunOptions::sweep_file)),
+       Table::whole("--jobs", "N",
+                    "run up to N jobs at a time, each in its own process; concurrent jobs share "
+                    "the cores, so compare timings from --jobs 1 runs",
+                    {1, kMaxParallelJobs, ""}, in_settings(&SweepRunOptions::jobs))
+           .with_default("1"),
+       Table::value("--shard", "I/N",
+                    "run only the jobs whose index % N == I (one task of a job "
+                    "array)",
+                    [](SweepArguments& parsed, const std::string& value) {
+                      try {
+                        parsed.settings.shard = parse_sweep_shard(value);
+                      } catch (const InputError& error) {
+                        throw UsageError{std::string(error.what())};
+                      }
+                    }),
+       Table::value("--out", "DIR", "one run folder per job, DIR/<job name>/, and DIR/sweep.json",
+                    in_settings(&SweepRunOptions::out))
+           .with_default("`out/sweeps/<sweep name>/`"),
+       Table::whole("--run-job", "K", "run job K alone, in this process (what each worker runs)",
+                    {0, 999999999, "a job index >= 0"}, &SweepArguments::run_job),
+       Table::progress(&SweepArguments::progress), Table::quiet(&SweepArguments::progress)});
+  return table;
 }
 
 // Throws UsageError or HelpRequested.
 SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
-  SweepArguments parsed;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    check_help(a);
-    if (a == "--jobs" || a == "--shard" || a == "--out" || a == "--run-job") {
-      const std::string& value = option_value(args, i);
-      if (a == "--jobs") {
-        const std::optional<std::size_t> jobs = whole_number(value, 1, kMaxParallelJobs);
-        if (!jobs)
-          throw UsageError{"--jobs: expected a whole number in [1, " +
-                           std::to_string(kMaxParallelJobs) + "], got \"" + value + "\""};
-        parsed.settings.jobs = *jobs;
-      } else if (a == "--shard") {
-        try {
-          parsed.settings.shard = parse_sweep_shard(value);
-        } catch (const InputError& error) {
-          throw UsageError{std::string(error.what())};
-        }
-      } else if (a == "--out") {
-        parsed.settings.out = value;
-      } else {
-        parsed.run_job = whole_number(value, 0, 999999999);
-        if (!parsed.run_job)
-          throw UsageError{"--run-job: expected a job index >= 0, got \"" + value + "\""};
-      }
-    } else if (parse_progress_option(args, i, parsed.progress)) {
-    } else if (a.rfind("--", 0) == 0) {
-      throw UsageError{"unknown option " + a};
-    } else if (!parsed.settings.sweep_file.empty()) {
-      throw UsageError{"one sweep file at a time (got " + parsed.settings.sweep_file + " and " + a +
-                       ")"};
-    } else {
-      parsed.settings.sweep_file = a;
-    }
-  }
-  if (parsed.settings.sweep_file.empty()) throw UsageError{"no sweep file given"};
+  SweepArguments parsed = sweep_table().parse(args);
   parsed.settings.progress = parsed.progress.value_or(default_progress_style());
   if (parsed.run_job && (parsed.settings.shard || parsed.settings.jobs != 1))
     throw UsageError{"--run-job runs one job; it takes no --jobs or --shard"};
@@ -95,8 +73,8 @@ SweepArguments parse_sweep_arguments(const std::vector<std::string>& args) {
 
 int sweep_command(const std::vector<std::string>& args) {
   int exit_code = 0;
-  const auto parse_result =
-      parse_command_line([&] { return parse_sweep_arguments(args); }, kSweepUsage, exit_code);
+  const auto parse_result = parse_command_line([&] { return parse_sweep_arguments(args); },
+                                               sweep_table().usage(), exit_code);
   if (!parse_result) return exit_code;
   const SweepArguments& parsed = *parse_result;
   try {
@@ -107,5 +85,7 @@ int sweep_command(const std::vector<std::string>& args) {
     return kExitBadInput;
   }
 }
+
+const CommandSyntax& sweep_syntax() { return sweep_table().syntax(); }
 
 }  // namespace hb

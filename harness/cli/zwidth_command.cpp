@@ -11,16 +11,17 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "hapticbench/input_error.h"
 #include "harness/cli/command_line.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/option_table.h"
 #include "harness/cli/plugin_isolation.h"
 #include "harness/cli/stability_options.h"
 #include "harness/drivers/stability_search.h"
 #include "harness/output/run_folder.h"
-#include "harness/scenario/json_pointer.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace hb {
@@ -29,20 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-const std::string kZwidthUsage =
-    "usage: hapticbench zwidth SCENARIO.json --label LABEL --x JSON_POINTER --x-values V,V,...\n"
-    "                          --y JSON_POINTER --y-range LO HI [--tolerance REL]\n"
-    "                          [--criterion all|passivity|oscillation] [--epsilon J]\n"
-    "                          [--out DIR] [--progress STYLE] [--quiet]\n"
-    "  maps the stable region of algorithm LABEL over two scenario fields (a Z-width,\n"
-    "  Colgate & Brown 1994): for each value of the field at --x, the largest stable\n"
-    "  value of the field at --y in [LO, HI], searched as `hapticbench stability` does\n"
-    "  (the same criterion and options); each probe is a full run.\n"
-    "  e.g. --x /coupling/b_t --x-values 0,2,5,10 --y /coupling/k_t --y-range 1000 100000\n" +
-    std::string(kStabilitySearchUsage) +
-    "  --out DIR        folder for zwidth.json (default out/zwidth/<scenario>__<label>)\n" +
-    std::string(kProgressUsage);
 
 struct ZwidthArguments {
   StabilitySearchOptions search;
@@ -53,51 +40,61 @@ struct ZwidthArguments {
 
 constexpr std::size_t kMaxXValues = 256;
 
-void check_pointer(const std::string& option, const std::string& pointer) {
-  if (pointer.empty()) throw UsageError{option + " JSON_POINTER is required"};
-  if (!json_pointer_tokens(pointer))
-    throw UsageError{option + ": expected a JSON pointer such as /coupling/k_t, got \"" + pointer +
-                     "\""};
-}
+using Table = OptionTable<ZwidthArguments>;
 
-// Throws UsageError or HelpRequested.
-ZwidthArguments parse_zwidth_arguments(const std::vector<std::string>& args) {
-  ZwidthArguments parsed;
-  bool have_range = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    check_help(a);
-    if (a == "--x") {
-      parsed.x_pointer = option_value(args, i);
-    } else if (a == "--y") {
-      parsed.y_pointer = option_value(args, i);
-    } else if (a == "--x-values") {
-      const std::string list = option_value(args, i);
-      for (std::size_t start = 0; start <= list.size();) {
-        const std::size_t comma = std::min(list.find(',', start), list.size());
-        parsed.x_values.push_back(
-            finite_number_option("--x-values", list.substr(start, comma - start), false));
-        start = comma + 1;
-      }
-    } else if (a == "--y-range") {
-      parsed.y_low = finite_number_option("--y-range LO", option_value(args, i), true);
-      parsed.y_high = finite_number_option("--y-range HI", option_value(args, i), true);
-      have_range = true;
-    } else if (!parse_stability_search_option(args, i, parsed.search)) {
-      throw UsageError{"unknown option " + a};
-    }
+void add_x_values(ZwidthArguments& parsed, const std::string& list) {
+  for (std::size_t start = 0; start <= list.size();) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    parsed.x_values.push_back(
+        number_in("--x-values", list.substr(start, comma - start), at_least(0)));
+    start = comma + 1;
   }
-  require_stability_search_options(parsed.search);
-  check_pointer("--x", parsed.x_pointer);
-  check_pointer("--y", parsed.y_pointer);
-  if (parsed.x_pointer == parsed.y_pointer) throw UsageError{"--x and --y name the same field"};
-  if (parsed.x_values.empty()) throw UsageError{"--x-values V,V,... is required"};
   // Each x value is a whole search of runs: a list of thousands is a typo.
   if (parsed.x_values.size() > kMaxXValues)
     throw UsageError{"--x-values: " + std::to_string(parsed.x_values.size()) + " values; at most " +
                      std::to_string(kMaxXValues) + " (each is a search of several full runs)"};
-  if (!have_range) throw UsageError{"--y-range LO HI is required"};
-  if (!(parsed.y_low < parsed.y_high)) throw UsageError{"--y-range: expected LO < HI"};
+}
+
+const Table& zwidth_table() {
+  constexpr auto search = &ZwidthArguments::search;
+  static const Table table(
+      {"zwidth",
+       {"Maps the stable region of algorithm LABEL over two scenario fields (a Z-width, Colgate & "
+        "Brown 1994): for each value of the field at --x, the largest stable value of the field "
+        "at --y in [LO, HI], searched as `hapticbench stability` does (the same criterion and "
+        "options); each probe is a full run.",
+        "e.g. `--x /coupling/b_t --x-values 0,2,5,10 --y /coupling/k_t --y-range 1000 100000`"},
+       {},
+       {}},
+      rows_then(
+          stability_target_rows(search),
+          rows_then(
+              {Table::value("--x", "JSON_POINTER", "the scenario field set to each x value",
+                            [](ZwidthArguments& parsed, const std::string& pointer) {
+                              parsed.x_pointer = json_pointer_option("--x", pointer);
+                            })
+                   .required(),
+               Table::value("--x-values", "V,V,...", "the x values, each >= 0", add_x_values)
+                   .required(),
+               Table::value("--y", "JSON_POINTER", "the scenario field searched at each x",
+                            [](ZwidthArguments& parsed, const std::string& pointer) {
+                              parsed.y_pointer = json_pointer_option("--y", pointer);
+                            })
+                   .required(),
+               Table::values("--y-range", "LO HI", "the y values searched, 0 < LO < HI",
+                             [](ZwidthArguments& parsed, const std::vector<std::string>& values) {
+                               std::tie(parsed.y_low, parsed.y_high) =
+                                   range_option("--y-range", values);
+                             })
+                   .required()},
+              stability_search_rows(search, "zwidth.json", "`out/zwidth/<scenario>__<label>`"))));
+  return table;
+}
+
+// Throws UsageError or HelpRequested.
+ZwidthArguments parse_zwidth_arguments(const std::vector<std::string>& args) {
+  ZwidthArguments parsed = zwidth_table().parse(args);
+  if (parsed.x_pointer == parsed.y_pointer) throw UsageError{"--x and --y name the same field"};
   return parsed;
 }
 
@@ -107,8 +104,8 @@ Json or_null(const std::optional<double>& value) { return value ? Json(*value) :
 
 int zwidth_command(const std::vector<std::string>& args) {
   int exit_code = 0;
-  const auto parsed =
-      parse_command_line([&] { return parse_zwidth_arguments(args); }, kZwidthUsage, exit_code);
+  const auto parsed = parse_command_line([&] { return parse_zwidth_arguments(args); },
+                                         zwidth_table().usage(), exit_code);
   if (!parsed) return exit_code;
   ProgressDisplay progress = make_progress_display(parsed->search.progress, 1.0);
   try {
@@ -193,5 +190,7 @@ int zwidth_command(const std::vector<std::string>& args) {
     return kExitBadInput;
   }
 }
+
+const CommandSyntax& zwidth_syntax() { return zwidth_table().syntax(); }
 
 }  // namespace hb

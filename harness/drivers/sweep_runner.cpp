@@ -42,13 +42,13 @@ RunRequest sweep_job_request(const SweepJob& job) {
 // Exit codes of a sweep and its workers (harness/cli/commands.h has the list).
 constexpr int kSweepOk = 0, kSweepBudgetFailed = 1, kSweepFailed = 2, kSweepCrashed = 3;
 
-fs::path output_folder(const SweepRunSettings& args, const SweepSpec& spec) {
+fs::path output_folder(const SweepRunOptions& args, const SweepSpec& spec) {
   return args.out ? fs::path(*args.out) : fs::path("out") / "sweeps" / spec.name;
 }
 
 }  // namespace
 
-int run_sweep_job(const SweepRunSettings& args, std::size_t job_index) {
+int run_sweep_job(const SweepRunOptions& args, std::size_t job_index) {
   const SweepSpec spec = load_sweep_spec(args.sweep_file);
   const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
   if (job_index >= jobs.size())
@@ -167,7 +167,7 @@ SweepPlan plan_sweep(const std::vector<SweepJob>& jobs,
 }
 
 // One worker process per job to run: this program, `sweep FILE --run-job I`.
-std::vector<WorkerLaunch> worker_launches(const SweepRunSettings& args,
+std::vector<WorkerLaunch> worker_launches(const SweepRunOptions& args,
                                           const std::vector<std::size_t>& to_run,
                                           const fs::path& out_dir) {
   const std::string executable = this_executable().string();
@@ -242,7 +242,7 @@ int sweep_exit_code(const SweepTally& tally, const std::vector<SweepJob>& jobs,
 
 }  // namespace
 
-int run_sweep(const SweepRunSettings& args) {
+int run_sweep(const SweepRunOptions& args) {
   const SweepSpec spec = load_sweep_spec(args.sweep_file);
   const std::vector<SweepJob> jobs = expand_sweep_jobs(spec);
   const std::vector<std::string> scenario_hashes = validate_jobs(spec, jobs);

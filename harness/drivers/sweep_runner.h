@@ -14,7 +14,7 @@
 
 namespace hb {
 
-struct SweepRunSettings {
+struct SweepRunOptions {
   std::string sweep_file;
   std::size_t jobs = 1;             ///< worker processes at a time
   std::optional<SweepShard> shard;  ///< only these jobs; all when empty
@@ -26,12 +26,12 @@ struct SweepRunSettings {
 /// Runs job `job_index` alone, in this process (what each worker runs):
 /// load, build, replay, write its run folder. Returns the exit code (0, or
 /// 1 when a budget failed); throws InputError for bad input.
-int run_sweep_job(const SweepRunSettings& settings, std::size_t job_index);
+int run_sweep_job(const SweepRunOptions& options, std::size_t job_index);
 
 /// Runs the sweep: validates every job, writes sweep.json and runs the
 /// shard's missing jobs in worker processes. Returns the exit code: 0, 1
 /// when a budget failed, 3 when a worker crashed; throws InputError for
 /// bad input (before anything runs).
-int run_sweep(const SweepRunSettings& settings);
+int run_sweep(const SweepRunOptions& options);
 
 }  // namespace hb

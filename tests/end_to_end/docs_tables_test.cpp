@@ -1,9 +1,9 @@
 // End-to-end: the tables the docs repeat from the code are what `hapticbench
 // list` prints from it, so they cannot drift: the generators' parameters in
 // traces/README.md, the algorithms' parameters in docs/algorithms/README.md,
-// the plausible ranges in docs/limits.md (the metric
-// table: metric_table_doc_test.cpp); and the generators' motion table names
-// every generator once.
+// the plausible ranges in docs/limits.md, every command's reference in
+// docs/command-line.md (the metric table: metric_table_doc_test.cpp); and
+// the generators' motion table names every generator once.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <set>
@@ -69,6 +69,31 @@ TEST_CASE("docs/limits.md holds the plausible ranges as list --limits prints the
   check_doc_holds(kSource / "docs/limits.md", listed.stdout_text.substr(0, gap + 1));
   check_doc_holds(kSource / "docs/limits.md", listed.stdout_text.substr(gap + 2));
   CHECK(listed.stdout_text.find("| speed between consecutive samples |") != std::string::npos);
+}
+
+TEST_CASE("docs/command-line.md holds every command's reference as list --commands prints it") {
+  const hb::test::ScratchDir work("e2e_command_reference");
+  const auto listed = hb::test::run_hapticbench("list --commands", work.path());
+  REQUIRE(listed.exit_code == 0);
+  check_doc_holds(kSource / "docs/command-line.md", listed.stdout_text);
+  // Every command the top-level usage lists ("  <name> <synopsis>" lines)
+  // has its section, whose synopsis is the one its --help prints.
+  const std::string usage = hb::test::run_hapticbench("--help", work.path()).stdout_text;
+  int commands = 0;
+  for (std::size_t at = usage.find("\n  "); at != std::string::npos;
+       at = usage.find("\n  ", at + 1)) {
+    const std::string name = usage.substr(at + 3, usage.find(' ', at + 3) - at - 3);
+    if (name.empty() || name[0] == '-' || name[0] == ' ') continue;
+    INFO(name);
+    CHECK(listed.stdout_text.find("\n## hapticbench " + name + "\n") != std::string::npos);
+    const auto help = hb::test::run_hapticbench(name + " --help", work.path());
+    CHECK(help.exit_code == 0);
+    const std::string synopsis = help.stdout_text.substr(0, help.stdout_text.find('\n'));
+    REQUIRE(synopsis.rfind("usage: ", 0) == 0);
+    CHECK(listed.stdout_text.find("```text\n" + synopsis.substr(7)) != std::string::npos);
+    ++commands;
+  }
+  CHECK(commands >= 13);
 }
 
 TEST_CASE("traces/README.md describes the motion of every generator, once") {
