@@ -394,8 +394,8 @@ void FrictionalContactSolver::start_solve(std::size_t count, const Vec6& free_ve
   s.stuck = false;
 }
 
-void FrictionalContactSolver::build_contact(std::size_t k, const FrictionalContactRow& c,
-                                            const Mat6& response) {
+[[gnu::always_inline]] inline void FrictionalContactSolver::build_contact(
+    std::size_t k, const FrictionalContactRow& c, const Mat6& response) {
   const Vec3 t1 = perpendicular_unit(c.normal);
   const Vec3 t2 = c.normal.cross(t1);
   solution_.tangent1[k] = t1;
@@ -408,8 +408,8 @@ void FrictionalContactSolver::build_contact(std::size_t k, const FrictionalConta
   tangential_inverses_[k] = blocks_[k].bottomRightCorner<2, 2>().inverse();
 }
 
-void FrictionalContactSolver::warm_start_contact(std::size_t k, const FrictionalContactRow& c,
-                                                 const Vec3& warm) {
+[[gnu::always_inline]] inline void FrictionalContactSolver::warm_start_contact(
+    std::size_t k, const FrictionalContactRow& c, const Vec3& warm) {
   FrictionalContactSolution& s = solution_;
   Vec3 start = warm;
   start.x() = std::max(0.0, start.x());
@@ -420,7 +420,8 @@ void FrictionalContactSolver::warm_start_contact(std::size_t k, const Frictional
   s.velocity += responses_[k] * start;
 }
 
-double FrictionalContactSolver::relax_normal(std::size_t k, const FrictionalContactRow& c) {
+[[gnu::always_inline]] inline double FrictionalContactSolver::relax_normal(
+    std::size_t k, const FrictionalContactRow& c) {
   FrictionalContactSolution& s = solution_;
   Vec3& impulse = s.impulses[k];
   const double normal_velocity = jacobians_[k].row(0).dot(s.velocity) - c.bound;
@@ -433,8 +434,8 @@ double FrictionalContactSolver::relax_normal(std::size_t k, const FrictionalCont
   return normal;
 }
 
-void FrictionalContactSolver::relax_tangential(std::size_t k, const FrictionalContactRow& c,
-                                               double normal) {
+[[gnu::always_inline]] inline void FrictionalContactSolver::relax_tangential(
+    std::size_t k, const FrictionalContactRow& c, double normal) {
   FrictionalContactSolution& s = solution_;
   Vec3& impulse = s.impulses[k];
   // A point without friction or normal force keeps none.
@@ -461,7 +462,8 @@ void FrictionalContactSolver::relax_tangential(std::size_t k, const FrictionalCo
   }
 }
 
-double FrictionalContactSolver::largest_point_change(const Vec6& change) const {
+[[gnu::always_inline]] inline double FrictionalContactSolver::largest_point_change(
+    const Vec6& change) const {
   double largest_squared = 0;
   for (const Eigen::Matrix<double, 3, 6>& j : jacobians_)
     largest_squared = std::max(largest_squared, (j * change).squaredNorm());

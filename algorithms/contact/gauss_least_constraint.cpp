@@ -222,7 +222,7 @@ const GaussSolution& GaussLeastConstraintSolver::solve(const Mat6& mass, const V
 
 // The factors of the last mass, kept while the mass stays the same bit for
 // bit (a solve repeated with other bounds or a shifted a^u).
-void GaussLeastConstraintSolver::factor(const Mat6& mass) {
+[[gnu::always_inline]] inline void GaussLeastConstraintSolver::factor(const Mat6& mass) {
   if (factored_ && std::memcmp(mass.data(), factored_mass_.data(), sizeof(Mat6)) == 0) return;
   factored_ = false;
   const Eigen::LLT<Mat6> cholesky(mass);
@@ -237,8 +237,8 @@ void GaussLeastConstraintSolver::factor(const Mat6& mass) {
 }
 
 // Warm start: takes the suggested rows that are independent of each other.
-void GaussLeastConstraintSolver::warm_start(DualIterate& iterate,
-                                            std::span<const int> warm_active) {
+[[gnu::always_inline]] inline void GaussLeastConstraintSolver::warm_start(
+    DualIterate& iterate, std::span<const int> warm_active) {
   iterate.factorisation.compute(unit_rows_, working_set_);
   for (const int index : warm_active) {
     if (in_active_set_[index]) continue;
@@ -255,7 +255,8 @@ void GaussLeastConstraintSolver::warm_start(DualIterate& iterate,
 // a negative one (a poor warm-start guess, or rounding) is dropped, which
 // keeps the pair (z, working set) dual feasible. False when the iteration
 // budget ran out first.
-bool GaussLeastConstraintSolver::drop_negative_multipliers(DualIterate& iterate) {
+[[gnu::always_inline]] inline bool GaussLeastConstraintSolver::drop_negative_multipliers(
+    DualIterate& iterate) {
   ActiveSetFactorisation& factorisation = iterate.factorisation;
   while (true) {
     factorisation.compute(unit_rows_, working_set_);
@@ -275,7 +276,8 @@ bool GaussLeastConstraintSolver::drop_negative_multipliers(DualIterate& iterate)
 
 // The most violated constraint at z, as a distance in the kinetic metric;
 // −1 when none misses its bound by more than the tolerance.
-int GaussLeastConstraintSolver::most_violated(const Vec6& z, int count, double tolerance) const {
+[[gnu::always_inline]] inline int GaussLeastConstraintSolver::most_violated(
+    const Vec6& z, int count, double tolerance) const {
   int added = -1;
   double worst = tolerance;
   for (int k = 0; k < count; ++k) {
@@ -294,8 +296,9 @@ int GaussLeastConstraintSolver::most_violated(const Vec6& z, int count, double t
 // orthogonal to the active rows) and the active multipliers change by −t r.
 // Ends with the constraint added or set aside; false when the solve stops
 // (budget spent, or infeasible).
-bool GaussLeastConstraintSolver::add_constraint(DualIterate& iterate, int added,
-                                                bool known_feasible) {
+[[gnu::always_inline]] inline bool GaussLeastConstraintSolver::add_constraint(DualIterate& iterate,
+                                                                              int added,
+                                                                              bool known_feasible) {
   ActiveSetFactorisation& factorisation = iterate.factorisation;
   double added_multiplier = 0;
   while (true) {
@@ -331,7 +334,8 @@ bool GaussLeastConstraintSolver::add_constraint(DualIterate& iterate, int added,
 // The step t at which the first active multiplier reaches zero as the
 // added one rises (infinity when none falls), and its position `blocking`
 // in the working set (−1 for none).
-double GaussLeastConstraintSolver::blocking_step(const DualIterate& iterate, int& blocking) const {
+[[gnu::always_inline]] inline double GaussLeastConstraintSolver::blocking_step(
+    const DualIterate& iterate, int& blocking) const {
   const ActiveVector& coefficients = iterate.coefficients;
   double partial_step = kInfinity;
   for (int i = 0; i < iterate.factorisation.size(); ++i) {
@@ -351,7 +355,8 @@ double GaussLeastConstraintSolver::blocking_step(const DualIterate& iterate, int
 // of rounding size too (bounded by the dependence tolerance times the
 // scale): it is left out of this solve (true: the solve goes on). Otherwise
 // the problem is infeasible (false).
-bool GaussLeastConstraintSolver::set_aside_dependent(int added, bool known_feasible) {
+[[gnu::always_inline]] inline bool GaussLeastConstraintSolver::set_aside_dependent(
+    int added, bool known_feasible) {
   if (known_feasible) {
     set_aside_[added] = 1;
     return true;
@@ -360,11 +365,12 @@ bool GaussLeastConstraintSolver::set_aside_dependent(int added, bool known_feasi
   return false;
 }
 
-bool GaussLeastConstraintSolver::within_budget() const {
+[[gnu::always_inline]] inline bool GaussLeastConstraintSolver::within_budget() const {
   return solution_.iterations < settings_.max_iterations;
 }
 
-void GaussLeastConstraintSolver::remove_from_working_set(int position) {
+[[gnu::always_inline]] inline void GaussLeastConstraintSolver::remove_from_working_set(
+    int position) {
   const int index = working_set_[position];
   in_active_set_[index] = 0;
   unit_multipliers_[index] = 0;
@@ -375,10 +381,9 @@ void GaussLeastConstraintSolver::remove_from_working_set(int position) {
 // problem becomes the projection of z = 0 onto {z : ĝ_k · z ≥ ĥ_k}. Unit
 // rows make every violation a distance, so one tolerance fits all rows
 // whatever their lever arms.
-double GaussLeastConstraintSolver::prepare_rows(const Mat6& lower, const Mat6& lower_inverse,
-                                                const Vec6& unconstrained,
-                                                std::span<const GaussConstraint> constraints,
-                                                bool& known_feasible) {
+[[gnu::always_inline]] inline double GaussLeastConstraintSolver::prepare_rows(
+    const Mat6& lower, const Mat6& lower_inverse, const Vec6& unconstrained,
+    std::span<const GaussConstraint> constraints, bool& known_feasible) {
   const int count = static_cast<int>(constraints.size());
   unit_rows_.resize(count);
   unit_rhs_.resize(count);
@@ -402,8 +407,9 @@ double GaussLeastConstraintSolver::prepare_rows(const Mat6& lower, const Mat6& l
 }
 
 // Back to accelerations: a = a^u + L⁻ᵀ z, λ_k = λ̂_k / |L⁻¹ J_kᵀ|.
-void GaussLeastConstraintSolver::finish(const Vec6& unconstrained, const Mat6& lower_inverse,
-                                        const Vec6& z, int count) {
+[[gnu::always_inline]] inline void GaussLeastConstraintSolver::finish(const Vec6& unconstrained,
+                                                                      const Mat6& lower_inverse,
+                                                                      const Vec6& z, int count) {
   GaussSolution& solution = solution_;
   solution.acceleration = unconstrained + lower_inverse.transpose() * z;
   solution.active.assign(working_set_.begin(), working_set_.end());

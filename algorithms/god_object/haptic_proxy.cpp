@@ -201,8 +201,10 @@ bool HapticProxy::solve_near(std::size_t near, const Pose& start, const Vec6& un
   return true;
 }
 
-void HapticProxy::build_near_constraints(std::size_t near, const Pose& start, bool carried,
-                                         HapticSolveStats& stats) {
+[[gnu::always_inline]] inline void HapticProxy::build_near_constraints(std::size_t near,
+                                                                       const Pose& start,
+                                                                       bool carried,
+                                                                       HapticSolveStats& stats) {
   // One constraint per near pair at the current pose, asking for the
   // standoff (a pair found closer is pushed back out: the gap a rotation's
   // second-order motion took is recovered). The last tick's final check
@@ -224,8 +226,9 @@ void HapticProxy::build_near_constraints(std::size_t near, const Pose& start, bo
   end_distances_.assign(constraints_.size(), 0);
 }
 
-Vec6 HapticProxy::solve_step(std::size_t near, const Pose& start, const Vec6& unconstrained,
-                             HapticSolveStats& stats) {
+[[gnu::always_inline]] inline Vec6 HapticProxy::solve_step(std::size_t near, const Pose& start,
+                                                           const Vec6& unconstrained,
+                                                           HapticSolveStats& stats) {
   // The warm start: the last solve's impulses per listed pair, the pairs
   // left out at zero (none after a jump).
   const std::size_t listed = certificate_.pairs.size();
@@ -245,7 +248,8 @@ Vec6 HapticProxy::solve_step(std::size_t near, const Pose& start, const Vec6& un
   return solved.feasible ? solved.step : Vec6::Zero();
 }
 
-void HapticProxy::cut_step(const Pose& start, Vec6& moved, HapticSolveStats& stats) {
+[[gnu::always_inline]] inline void HapticProxy::cut_step(const Pose& start, Vec6& moved,
+                                                         HapticSolveStats& stats) {
   // The start keeps every pair above its floor: bisect the fraction.
   double safe = 0, unsafe = 1;
   for (int i = 0; i < kCutBisections; ++i) {
