@@ -173,76 +173,126 @@ struct EpaScratch {
 };
 thread_local EpaScratch epa_scratch;
 
-EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale) {
-  const double tiny = kDegenerateTolerance * scale;
-  EpaScratch& scratch = epa_scratch;
-  std::vector<DifferencePoint>& points = scratch.points;
-  points.clear();
-  const auto independent = [&](const Vec3& w) {
-    if (points.empty()) return true;
-    const Vec3 e1 = points.size() > 1 ? Vec3(points[1].w - points[0].w) : Vec3::Zero();
-    switch (points.size()) {
-      case 1:
-        return (w - points[0].w).norm() > tiny;
-      case 2:
-        return e1.cross(w - points[0].w).norm() > tiny * e1.norm();
-      default: {
-        const Vec3 n = e1.cross(points[2].w - points[0].w);
-        return std::abs(n.dot(w - points[0].w)) > tiny * n.norm();
-      }
+// Whether w (m) lies off the span of the polytope's points so far (none to
+// three) by more than `tiny` (m).
+bool independent(const std::vector<DifferencePoint>& points, const Vec3& w, double tiny) {
+  if (points.empty()) return true;
+  const Vec3 e1 = points.size() > 1 ? Vec3(points[1].w - points[0].w) : Vec3::Zero();
+  switch (points.size()) {
+    case 1:
+      return (w - points[0].w).norm() > tiny;
+    case 2:
+      return e1.cross(w - points[0].w).norm() > tiny * e1.norm();
+    default: {
+      const Vec3 n = e1.cross(points[2].w - points[0].w);
+      return std::abs(n.dot(w - points[0].w)) > tiny * n.norm();
     }
-  };
-  const auto add_support = [&](const Vec3& d) {
-    if (points.size() >= 4) return;
-    const DifferencePoint p = difference_support(a, b, d);
-    if (independent(p.w)) points.push_back(p);
-  };
+  }
+}
+
+// Adds the support point of b - a along d while the polytope has fewer than
+// four points, when it is independent of them.
+void add_support(const Body& a, const Body& b, const Vec3& d, double tiny,
+                 std::vector<DifferencePoint>& points) {
+  if (points.size() >= 4) return;
+  const DifferencePoint p = difference_support(a, b, d);
+  if (independent(points, p.w, tiny)) points.push_back(p);
+}
+
+// Fills `points` with four independent points of b - a: GJK's simplex, then
+// support points along the axes, around a segment and off a triangle.
+// Returns false when b - a is flat (coplanar pieces).
+bool seed_tetrahedron(const Body& a, const Body& b, const GjkResult& start, double tiny,
+                      std::vector<DifferencePoint>& points) {
+  points.clear();
   for (int i = 0; i < start.size; ++i)
-    if (points.size() < 4 && independent(start.simplex[static_cast<std::size_t>(i)].w))
+    if (points.size() < 4 &&
+        independent(points, start.simplex[static_cast<std::size_t>(i)].w, tiny))
       points.push_back(start.simplex[static_cast<std::size_t>(i)]);
   for (const Vec3& d : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1),
                         Vec3(0, 0, -1)})
-    if (points.size() < 2) add_support(d);
+    if (points.size() < 2) add_support(a, b, d, tiny, points);
   if (points.size() == 2) {
     const Vec3 axis = (points[1].w - points[0].w).normalized();
     const Vec3 helper = std::abs(axis.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
     const Vec3 e1 = axis.cross(helper).normalized(), e2 = axis.cross(e1);
     for (int k = 0; k < 6 && points.size() < 3; ++k)
-      add_support(std::cos(k * std::numbers::pi / 3) * e1 +
-                  std::sin(k * std::numbers::pi / 3) * e2);
+      add_support(a, b,
+                  std::cos(k * std::numbers::pi / 3) * e1 + std::sin(k * std::numbers::pi / 3) * e2,
+                  tiny, points);
   }
   if (points.size() == 3) {
     const Vec3 n = (points[1].w - points[0].w).cross(points[2].w - points[0].w);
-    add_support(n);
-    add_support(-n);
+    add_support(a, b, n, tiny, points);
+    add_support(a, b, -n, tiny, points);
   }
-  if (points.size() < 4) return {};  // b - a is flat: coplanar pieces
+  return points.size() >= 4;
+}
+
+// Appends the face (i, j, k) of the polytope, turned outward (away from
+// `interior`, m); false when it is degenerate (|(w_j − w_i) × (w_k − w_i)|
+// at most `tiny`², m²).
+[[gnu::always_inline]] inline bool add_face(const std::vector<DifferencePoint>& points,
+                                            const Vec3& interior, double tiny, int i, int j, int k,
+                                            std::vector<EpaFace>& faces) {
+  const Vec3& wi = points[static_cast<std::size_t>(i)].w;
+  Vec3 n = (points[static_cast<std::size_t>(j)].w - wi)
+               .cross(points[static_cast<std::size_t>(k)].w - wi);
+  const double length = n.norm();
+  if (!(length > tiny * tiny)) return false;
+  n /= length;
+  if (n.dot(wi - interior) < 0) {
+    n = -n;
+    std::swap(j, k);
+  }
+  faces.push_back(EpaFace{{i, j, k}, n, n.dot(wi), true});
+  return true;
+}
+
+// The live face nearest the origin (the first of equals), nullptr when none is left.
+const EpaFace* nearest_face(const std::vector<EpaFace>& faces) {
+  const EpaFace* nearest = nullptr;
+  for (const EpaFace& f : faces)
+    if (f.alive && (nearest == nullptr || f.d < nearest->d)) nearest = &f;
+  return nearest;
+}
+
+// Removes the live faces that the new point w (m) sees and lists their
+// edges in `edges`; then the horizon, the edges whose reverse is not listed,
+// in `horizon`.
+void remove_visible(const std::vector<DifferencePoint>& points, const Vec3& w,
+                    std::vector<EpaFace>& faces, std::vector<std::pair<int, int>>& edges,
+                    std::vector<std::pair<int, int>>& horizon) {
+  edges.clear();
+  for (EpaFace& f : faces) {
+    if (!f.alive || f.n.dot(w - points[static_cast<std::size_t>(f.v[0])].w) <= 0) continue;
+    f.alive = false;
+    for (int e = 0; e < 3; ++e)
+      edges.emplace_back(f.v[static_cast<std::size_t>(e)],
+                         f.v[static_cast<std::size_t>((e + 1) % 3)]);
+  }
+  horizon.clear();
+  for (const auto& [i, j] : edges)
+    if (std::find(edges.begin(), edges.end(), std::make_pair(j, i)) == edges.end())
+      horizon.emplace_back(i, j);
+}
+
+EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale) {
+  const double tiny = kDegenerateTolerance * scale;
+  EpaScratch& scratch = epa_scratch;
+  std::vector<DifferencePoint>& points = scratch.points;
+  if (!seed_tetrahedron(a, b, start, tiny, points)) return {};  // b - a is flat: coplanar pieces
 
   std::vector<EpaFace>& faces = scratch.faces;
   faces.clear();
   const Vec3 interior = 0.25 * (points[0].w + points[1].w + points[2].w + points[3].w);
-  const auto add_face = [&](int i, int j, int k) {
-    const Vec3& wi = points[static_cast<std::size_t>(i)].w;
-    Vec3 n = (points[static_cast<std::size_t>(j)].w - wi)
-                 .cross(points[static_cast<std::size_t>(k)].w - wi);
-    const double length = n.norm();
-    if (!(length > tiny * tiny)) return false;
-    n /= length;
-    if (n.dot(wi - interior) < 0) {
-      n = -n;
-      std::swap(j, k);
-    }
-    faces.push_back(EpaFace{{i, j, k}, n, n.dot(wi), true});
-    return true;
-  };
-  if (!add_face(0, 1, 2) || !add_face(0, 1, 3) || !add_face(0, 2, 3) || !add_face(1, 2, 3))
+  if (!add_face(points, interior, tiny, 0, 1, 2, faces) ||
+      !add_face(points, interior, tiny, 0, 1, 3, faces) ||
+      !add_face(points, interior, tiny, 0, 2, 3, faces) ||
+      !add_face(points, interior, tiny, 1, 2, 3, faces))
     return {};
-  std::vector<std::pair<int, int>>& edges = scratch.edges;
-  std::vector<std::pair<int, int>>& horizon = scratch.horizon;
   for (int iteration = 0; iteration < 256; ++iteration) {
-    const EpaFace* nearest = nullptr;
-    for (const EpaFace& f : faces)
-      if (f.alive && (nearest == nullptr || f.d < nearest->d)) nearest = &f;
+    const EpaFace* nearest = nearest_face(faces);
     if (nearest == nullptr) return {};
     const Vec3 n = nearest->n;
     const double d = nearest->d;
@@ -250,20 +300,9 @@ EpaResult epa(const Body& a, const Body& b, const GjkResult& start, double scale
     if (n.dot(p.w) - d <= kEpaGap * scale) return EpaResult{true, -n, d};
     const int m = static_cast<int>(points.size());
     points.push_back(p);
-    edges.clear();
-    for (EpaFace& f : faces) {
-      if (!f.alive || f.n.dot(p.w - points[static_cast<std::size_t>(f.v[0])].w) <= 0) continue;
-      f.alive = false;
-      for (int e = 0; e < 3; ++e)
-        edges.emplace_back(f.v[static_cast<std::size_t>(e)],
-                           f.v[static_cast<std::size_t>((e + 1) % 3)]);
-    }
-    horizon.clear();
-    for (const auto& [i, j] : edges)
-      if (std::find(edges.begin(), edges.end(), std::make_pair(j, i)) == edges.end())
-        horizon.emplace_back(i, j);
-    for (const auto& [i, j] : horizon)
-      if (!add_face(i, j, m)) return {};
+    remove_visible(points, p.w, faces, scratch.edges, scratch.horizon);
+    for (const auto& [i, j] : scratch.horizon)
+      if (!add_face(points, interior, tiny, i, j, m, faces)) return {};
   }
   return {};
 }

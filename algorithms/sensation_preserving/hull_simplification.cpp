@@ -234,79 +234,114 @@ class SolidSimplifier {
     queue_.push(Candidate{height, a, b, stamp_[at(a)], stamp_[at(b)], best, true});
   }
 
-  void collapse_if_valid(const Candidate& candidate) {
-    const int a = candidate.a, b = candidate.b;
-    const Vec3& c = candidate.point;
+  // A collapse of edge (a, b) being checked: the triangles around a or b
+  // (sorted), the edge's two and their apexes, and the star's other
+  // triangles as they become with a and b replaced by the new vertex.
+  struct Collapse {
+    int a = 0, b = 0;
+    int c_index = 0;  // the new vertex
     std::vector<int> faces;
-    star(a, b, faces);
-    // The edge's two triangles and their apexes; the link condition.
     std::vector<int> edge_faces, apexes;
-    for (const int t : faces) {
+    std::vector<std::pair<int, std::array<int, 3>>> changed;
+    std::vector<Plane> changed_planes;
+  };
+
+  // Collapses the candidate's edge to its point when the result stays a
+  // closed manifold with every vertex on or behind every face.
+  void collapse_if_valid(const Candidate& candidate) {
+    Collapse collapse;
+    collapse.a = candidate.a;
+    collapse.b = candidate.b;
+    const Vec3& c = candidate.point;
+    star(collapse.a, collapse.b, collapse.faces);
+    if (!link_holds(collapse)) return;
+    collapse.c_index = static_cast<int>(position_.size());
+    position_.push_back(c);  // provisional; removed again on rejection
+    if (!changed_faces_hold(collapse) || !kept_faces_hold(c, collapse.faces)) {
+      position_.pop_back();
+      return;
+    }
+    commit(collapse);
+    requeue_around(collapse.c_index, candidate.cost);
+  }
+
+  // Finds the edge's two triangles and their apexes; whether the link
+  // condition holds (two triangles, distinct apexes, two common neighbours).
+  bool link_holds(Collapse& collapse) const {
+    const int a = collapse.a, b = collapse.b;
+    for (const int t : collapse.faces) {
       const auto& tri = triangle_[at(t)];
       const bool has_a = std::find(tri.begin(), tri.end(), a) != tri.end();
       const bool has_b = std::find(tri.begin(), tri.end(), b) != tri.end();
       if (has_a && has_b) {
-        edge_faces.push_back(t);
+        collapse.edge_faces.push_back(t);
         for (const int v : tri)
-          if (v != a && v != b) apexes.push_back(v);
+          if (v != a && v != b) collapse.apexes.push_back(v);
       }
     }
-    if (edge_faces.size() != 2 || apexes[0] == apexes[1]) return;
-    {
-      const std::vector<int> na = neighbours(a), nb = neighbours(b);
-      std::vector<int> common;
-      std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
-      if (common.size() != 2) return;
-    }
-    // The star's other triangles with a, b replaced by c: non-degenerate,
-    // and every vertex (a and b included) on or behind them.
-    std::vector<std::pair<int, std::array<int, 3>>> changed;
-    std::vector<Plane> changed_planes;
-    const int c_index = static_cast<int>(position_.size());
-    position_.push_back(c);  // provisional; removed again on rejection
-    auto reject = [&] { position_.pop_back(); };
-    for (const int t : faces) {
-      if (t == edge_faces[0] || t == edge_faces[1]) continue;
+    if (collapse.edge_faces.size() != 2 || collapse.apexes[0] == collapse.apexes[1]) return false;
+    const std::vector<int> na = neighbours(a), nb = neighbours(b);
+    std::vector<int> common;
+    std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+    return common.size() == 2;
+  }
+
+  // The star's other triangles with a, b replaced by the new vertex (already
+  // in position_): whether each is non-degenerate with every vertex (a and b
+  // included) on or behind it. Lists them with their planes.
+  bool changed_faces_hold(Collapse& collapse) const {
+    for (const int t : collapse.faces) {
+      if (t == collapse.edge_faces[0] || t == collapse.edge_faces[1]) continue;
       std::array<int, 3> tri = triangle_[at(t)];
       for (int& v : tri)
-        if (v == a || v == b) v = c_index;
+        if (v == collapse.a || v == collapse.b) v = collapse.c_index;
       const Vec3& p = position_[at(tri[0])];
       const Vec3 cross = (position_[at(tri[1])] - p).cross(position_[at(tri[2])] - p);
-      if (!(cross.norm() > min_double_area_)) return reject();
+      if (!(cross.norm() > min_double_area_)) return false;
       const Vec3 normal = cross.normalized();
       const Plane plane{normal, normal.dot(p)};
       for (std::size_t v = 0; v + 1 < position_.size(); ++v)
         if (alive_vertex_[v] && plane.normal.dot(position_[v]) > plane.offset + tolerance_)
-          return reject();
-      changed.emplace_back(t, tri);
-      changed_planes.push_back(plane);
+          return false;
+      collapse.changed.emplace_back(t, tri);
+      collapse.changed_planes.push_back(plane);
     }
-    // c on or behind every face that keeps its plane.
+    return true;
+  }
+
+  // Whether c (m) lies on or behind every live face outside the star
+  // (`faces`, sorted): those keep their planes.
+  bool kept_faces_hold(const Vec3& c, const std::vector<int>& faces) const {
     for (std::size_t t = 0; t < triangle_.size(); ++t) {
       if (!alive_triangle_[t] ||
           std::binary_search(faces.begin(), faces.end(), static_cast<int>(t)))
         continue;
-      if (plane_[t].normal.dot(c) > plane_[t].offset + tolerance_) return reject();
+      if (plane_[t].normal.dot(c) > plane_[t].offset + tolerance_) return false;
     }
+    return true;
+  }
 
-    // Commit.
+  // Replaces a and b with the new vertex: drops the edge's two triangles and
+  // rewrites the others of the star.
+  void commit(const Collapse& collapse) {
+    const int a = collapse.a, b = collapse.b, c_index = collapse.c_index;
     alive_vertex_.push_back(true);
     stamp_.push_back(0);
     incident_.emplace_back();
     alive_vertex_[at(a)] = alive_vertex_[at(b)] = false;
     incident_[at(a)].clear();
     incident_[at(b)].clear();
-    for (const int t : edge_faces) {
+    for (const int t : collapse.edge_faces) {
       alive_triangle_[at(t)] = false;
       for (const int v : triangle_[at(t)]) {
         auto& list = incident_[at(v)];
         list.erase(std::remove(list.begin(), list.end(), t), list.end());
       }
     }
-    for (std::size_t k = 0; k < changed.size(); ++k) {
-      const int t = changed[k].first;
-      triangle_[at(t)] = changed[k].second;
-      plane_[at(t)] = changed_planes[k];
+    for (std::size_t k = 0; k < collapse.changed.size(); ++k) {
+      const int t = collapse.changed[k].first;
+      triangle_[at(t)] = collapse.changed[k].second;
+      plane_[at(t)] = collapse.changed_planes[k];
       const auto& tri = triangle_[at(t)];
       area_[at(t)] = 0.5 * (position_[at(tri[1])] - position_[at(tri[0])])
                                .cross(position_[at(tri[2])] - position_[at(tri[0])])
@@ -314,6 +349,11 @@ class SolidSimplifier {
       incident_[at(c_index)].push_back(t);
     }
     --alive_count_;
+  }
+
+  // Marks the ring around the new vertex changed and queues every edge
+  // touching the ring for evaluation, at the collapse's cost.
+  void requeue_around(int c_index, double cost) {
     const std::vector<int> ring = neighbours(c_index);
     for (const int v : ring) ++stamp_[at(v)];
     std::vector<std::pair<int, int>> edges;
@@ -321,8 +361,7 @@ class SolidSimplifier {
       for (const int w : neighbours(v)) edges.emplace_back(std::min(v, w), std::max(v, w));
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const auto& [v, w] : edges)
-      queue_.push(Candidate{candidate.cost, v, w, 0, 0, Vec3::Zero(), false});
+    for (const auto& [v, w] : edges) queue_.push(Candidate{cost, v, w, 0, 0, Vec3::Zero(), false});
   }
 
   static uint64_t edge_key(int a, int b) {

@@ -243,6 +243,64 @@ void find_pointshell_hits(const PointShell& shell, const VoxelLookup& voxmap,
   work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
 }
 
+namespace {
+
+// Appends a node to the new front with its slack (m; −1: looked up), and
+// while the scene is beyond the parent's sphere too (the bound drops at most
+// by the distance between the centres) coarsens the front to the parent.
+// Returns skip_until raised past the subtrees lifted.
+[[gnu::always_inline]] inline int32_t push_and_lift(const PointShell& shell,
+                                                    std::vector<PointShellFront::Entry>& next,
+                                                    int32_t node, double slack,
+                                                    int32_t skip_until) {
+  next.push_back({node, slack > 0 ? slack : -1});
+  if (!(slack > 0)) return skip_until;
+  while (next.back().slack > 0) {
+    const PointShell::Node& child = shell.nodes[next.back().node];
+    if (child.parent < 0) break;
+    const PointShell::Node& parent = shell.nodes[child.parent];
+    const double parent_slack =
+        next.back().slack + child.radius - child.parent_distance - parent.radius;
+    if (!(parent_slack > 0)) break;
+    while (!next.empty() && next.back().node >= child.parent) next.pop_back();
+    next.push_back({child.parent, parent_slack});
+    skip_until = std::max(skip_until, parent.skip);
+  }
+  return skip_until;
+}
+
+// Looks up a leaf of the last front again at the pose (x, rotation),
+// skipping the points that were free with room to spare while they have it
+// (and those the stride leaves out, which keep the leaf in the front).
+// Returns whether every point looked up is clear.
+[[gnu::always_inline]] inline bool revisit_leaf_points(
+    const PointShell& shell, const VoxelLookup& voxmap, const PointShellGains& gains, const Vec3& x,
+    const Mat3& rotation, const PointShell::Node& node, int32_t stride, PointShellHits& hits,
+    DescentWork& counts, PointReserves& reserves) {
+  bool all_clear = stride == 1;
+  for (int32_t i = first_sampled(node.first, stride); i < node.first + node.count; i += stride) {
+    if (reserves.still_free(i, shell.levers[i])) continue;
+    ++counts.looked_up;
+    const double slack = look_up_point(shell, voxmap, gains, x, rotation, i, hits, true);
+    reserves.keep(i, slack, shell.levers[i]);
+    if (!(slack > 0)) all_clear = false;
+  }
+  return all_clear;
+}
+
+// Adds what a search from the front did to the work counters.
+void add_front_work(const DescentWork& counts, int32_t stride, int64_t candidates,
+                    std::size_t front_entries, std::size_t braking, WorkCounters& work) {
+  work.add(PointShellWork::kSphereTests, counts.tests);
+  work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
+  work.add(PointShellWork::kBudgetSkipped, candidates - counts.looked_up);
+  work.add(PointShellWork::kBudgetTicks, stride > 1 ? 1 : 0);
+  work.add(PointShellWork::kFrontEntries, static_cast<int64_t>(front_entries));
+  work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(braking));
+}
+
+}  // namespace
+
 void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& voxmap,
                                    const PointShellGains& gains, const RigidBodyState& state,
                                    int64_t point_budget, PointShellFront& front,
@@ -269,30 +327,13 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
     reserves.shift += shift;
     reserves.turn += turn;
     int32_t skip_until = 0;  // input entries below this node lie in a subtree lifted
-    // Coarsens the front's last entry while the scene is beyond its
-    // parent's sphere too (the bound drops at most by the distance between
-    // the centres).
-    const auto lift = [&] {
-      while (next.back().slack > 0) {
-        const PointShell::Node& child = shell.nodes[next.back().node];
-        if (child.parent < 0) break;
-        const PointShell::Node& parent = shell.nodes[child.parent];
-        const double parent_slack =
-            next.back().slack + child.radius - child.parent_distance - parent.radius;
-        if (!(parent_slack > 0)) break;
-        while (!next.empty() && next.back().node >= child.parent) next.pop_back();
-        next.push_back({child.parent, parent_slack});
-        skip_until = std::max(skip_until, parent.skip);
-      }
-    };
     for (const PointShellFront::Entry& entry : front.entries_) {
       if (entry.node < skip_until) continue;
       const PointShell::Node& node = shell.nodes[entry.node];
       if (entry.slack > 0) {
         const double slack = entry.slack - (shift + turn * node.lever);
         if (slack > 0) {
-          next.push_back({entry.node, slack});
-          lift();
+          skip_until = push_and_lift(shell, next, entry.node, slack, skip_until);
         } else {
           // The scene may have come within the sphere: search the subtree again.
           descend(shell, voxmap, gains, state.x, rotation, entry.node, node.skip, stride, hits,
@@ -300,18 +341,9 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
         }
         continue;
       }
-      // A leaf looked up last time: its points again, skipping those that
-      // were free with room to spare while they have it (and those the
-      // stride leaves out, which keep the leaf in the front).
-      bool all_clear = stride == 1;
-      for (int32_t i = first_sampled(node.first, stride); i < node.first + node.count;
-           i += stride) {
-        if (reserves.still_free(i, shell.levers[i])) continue;
-        ++counts.looked_up;
-        const double slack = look_up_point(shell, voxmap, gains, state.x, rotation, i, hits, true);
-        reserves.keep(i, slack, shell.levers[i]);
-        if (!(slack > 0)) all_clear = false;
-      }
+      // A leaf looked up last time: its points again.
+      const bool all_clear = revisit_leaf_points(shell, voxmap, gains, state.x, rotation, node,
+                                                 stride, hits, counts, reserves);
       // Every point clear: the leaf's sphere may be too.
       double leaf_slack = -1;
       if (all_clear) {
@@ -319,8 +351,7 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
         leaf_slack =
             voxmap.clearance(state.x + rotation * node.centre) - node.radius - kRoundingMargin;
       }
-      next.push_back({entry.node, leaf_slack > 0 ? leaf_slack : -1});
-      if (leaf_slack > 0) lift();
+      skip_until = push_and_lift(shell, next, entry.node, leaf_slack, skip_until);
     }
   }
   front.entries_.swap(next);
@@ -333,12 +364,7 @@ void find_pointshell_hits_coherent(const PointShell& shell, const VoxelLookup& v
   const int64_t candidates = counts.looked_up * stride;
   front.candidates_ = candidates;
   front.stride_ = stride;
-  work.add(PointShellWork::kSphereTests, counts.tests);
-  work.add(PointShellWork::kPointsLookedUp, counts.looked_up);
-  work.add(PointShellWork::kBudgetSkipped, candidates - counts.looked_up);
-  work.add(PointShellWork::kBudgetTicks, stride > 1 ? 1 : 0);
-  work.add(PointShellWork::kFrontEntries, static_cast<int64_t>(front.entries_.size()));
-  work.add(PointShellWork::kBrakingPoints, static_cast<int64_t>(hits.braking.size()));
+  add_front_work(counts, stride, candidates, front.entries_.size(), hits.braking.size(), work);
 }
 
 void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxmap,
@@ -350,32 +376,43 @@ void find_pointshell_hits_flat(const PointShell& shell, const VoxelLookup& voxma
     look_up_point(shell, voxmap, gains, state.x, rotation, static_cast<int32_t>(i), hits, false);
 }
 
-ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,
-                                  const PointShellGains& gains, const RigidBodyState& state,
-                                  bool with_jacobians) {
-  ForceEvaluation result;
-  const Mat3 rotation = state.q.toRotationMatrix();
-  const double k = gains.stiffness;
+namespace {
 
-  // Every sum below is taken in tool axes (subscript t: R⁻¹ of the world
-  // vector) and turned into the world once at the end, X = R X_t Rᵀ, so a
-  // point costs one rotation instead of three; the points' moments
-  // m_i = r_i × n_i are the shell's own.
-  // Contacts. Per point, with a = ∂d/∂x and c = ∂d/∂δθ, m = s × n:
-  //   ∂F/∂x = K n aᵀ, ∂τ/∂x = K m aᵀ, and
-  //   tangent plane (n the point's normal, turning with the body): a = −n,
-  //     c = n × (C − x), ∂F/∂δθ = K n cᵀ − K d [n]×, ∂τ/∂δθ = K m cᵀ − K d [m]×;
-  //     the d-terms sum to −K [Σ d n]× and −K [Σ d m]×;
-  //   field (n = ∇φ, fixed in the world; φ's second derivatives left out):
-  //     a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ, ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×,
-  //     with [n]×[s]× = s nᵀ − (n·s) I.
-  const Mat3 to_tool = rotation.transpose();
-  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // Σ d n, Σ d m (tool)
+// The pose's rotation both ways: every sum of the wrench is taken in tool
+// axes (subscript t: R⁻¹ of the world vector) and turned into the world once
+// at the end, so a point costs one rotation instead of three.
+struct ToolAxes {
+  Mat3 rotation;  ///< R, tool to world
+  Mat3 to_tool;   ///< Rᵀ, world to tool
+  /// A 3×3 sum in tool axes as it reads in the world: X = R X_t Rᵀ.
+  Mat3 to_world(const Mat3& tool) const { return rotation * tool * to_tool; }
+};
+
+// The contacts' sums over their points, in tool axes; the points' moments
+// m_i = r_i × n_i are the shell's own. Per point, with a = ∂d/∂x and
+// c = ∂d/∂δθ, m = s × n:
+//   ∂F/∂x = K n aᵀ, ∂τ/∂x = K m aᵀ, and
+//   tangent plane (n the point's normal, turning with the body): a = −n,
+//     c = n × (C − x), ∂F/∂δθ = K n cᵀ − K d [n]×, ∂τ/∂δθ = K m cᵀ − K d [m]×;
+//     the d-terms sum to −K [Σ d n]× and −K [Σ d m]×;
+//   field (n = ∇φ, fixed in the world; φ's second derivatives left out):
+//     a = −∇φ, c = ∇φ × s, ∂F/∂δθ = K n cᵀ, ∂τ/∂δθ = K m cᵀ + K d [n]×[s]×,
+//     with [n]×[s]× = s nᵀ − (n·s) I.
+struct ContactSums {
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // Σ d n, Σ d m
   Vec3 plane_force = Vec3::Zero(), plane_torque = Vec3::Zero();  // over tangent-plane hits
   // Σ [n; m] [n; c]ᵀ: blocks n nᵀ, n cᵀ (row 0), m nᵀ, m cᵀ (row 1).
-  OuterSums<6, 6> contact_sums;
-  OuterSums<3, 3> d_s_n;  // Σ d s nᵀ over field hits (tool)
+  OuterSums<6, 6> outer;
+  OuterSums<3, 3> d_s_n;  // Σ d s nᵀ over field hits
   double d_n_s = 0;       // Σ d n·s over field hits
+};
+
+// Sums the contacts at the centre of mass x (m, world); the outer products
+// only with Jacobians. Out of line, as sum_braking: on its own the loop
+// takes fewer instructions a hit than inlined into pointshell_wrench.
+[[gnu::noinline]] void sum_contacts(const PointShell& shell, const PointShellHits& hits,
+                                    const Vec3& x, const Mat3& to_tool, bool with_jacobians,
+                                    ContactSums& sums) {
   for (const PointHit& hit : hits.contacts) {
     // A flat spot of φ (a point deep in a uniform block) adds nothing to any
     // sum below; it still counts for McNeely's averaging.
@@ -389,104 +426,145 @@ ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits&
       n = shell.normals[hit.point];
       m = shell.moments[hit.point];
     }
-    force += hit.depth * n;
-    torque += hit.depth * m;
+    sums.force += hit.depth * n;
+    sums.torque += hit.depth * m;
     if (!with_jacobians) continue;
     Vec3 c;
     if (!hit.field) {
-      c = n.cross(to_tool * (hit.reference - state.x));
-      plane_force += hit.depth * n;
-      plane_torque += hit.depth * m;
+      c = n.cross(to_tool * (hit.reference - x));
+      sums.plane_force += hit.depth * n;
+      sums.plane_torque += hit.depth * m;
     } else {
       c = -m;  // ∇φ × s
-      d_s_n.add(hit.depth * r, n);
-      d_n_s += hit.depth * n.dot(r);
+      sums.d_s_n.add(hit.depth * r, n);
+      sums.d_n_s += hit.depth * n.dot(r);
     }
-    contact_sums.add(stacked(n, m), stacked(n, c));
+    sums.outer.add(stacked(n, m), stacked(n, c));
   }
+}
+
+// Sets the contacts' wrench (N, N·m, world) and, with Jacobians and any
+// contact, their stiffness blocks.
+void set_contact_wrench(const PointShell& shell, const PointShellHits& hits,
+                        const PointShellGains& gains, const ToolAxes& axes, const ContactSums& sums,
+                        bool with_jacobians, ForceEvaluation& result) {
+  const double k = gains.stiffness;
   const double weight = hits.weight;
   const double contact_scale =
       k * weight /
       (gains.signed_distance
            ? signed_distance_divisor(shell.points.size())
            : averaging_divisor(weight * static_cast<double>(hits.contacts.size())));
-  result.wrench.force = contact_scale * (rotation * force);
-  result.wrench.torque = contact_scale * (rotation * torque);
-  auto to_world = [&](const Mat3& tool) -> Mat3 { return rotation * tool * to_tool; };
-  if (with_jacobians && !hits.contacts.empty()) {
-    const Mat3 n_n = contact_sums.block(0, 0), n_c = contact_sums.block(0, 1);
-    const Mat3 m_n = contact_sums.block(1, 0), m_c = contact_sums.block(1, 1);
-    const Mat3 force_turn = -skew(plane_force);
-    const Mat3 torque_turn = -skew(plane_torque) + d_s_n.sum - d_n_s * Mat3::Identity();
-    result.stiffness.block<3, 3>(0, 0) = -contact_scale * to_world(n_n);
-    result.stiffness.block<3, 3>(0, 3) = contact_scale * to_world(n_c + force_turn);
-    result.stiffness.block<3, 3>(3, 0) = -contact_scale * to_world(m_n);
-    result.stiffness.block<3, 3>(3, 3) = contact_scale * to_world(m_c + torque_turn);
-  }
+  result.wrench.force = contact_scale * (axes.rotation * sums.force);
+  result.wrench.torque = contact_scale * (axes.rotation * sums.torque);
+  if (!with_jacobians || hits.contacts.empty()) return;
+  const Mat3 n_n = sums.outer.block(0, 0), n_c = sums.outer.block(0, 1);
+  const Mat3 m_n = sums.outer.block(1, 0), m_c = sums.outer.block(1, 1);
+  const Mat3 force_turn = -skew(sums.plane_force);
+  const Mat3 torque_turn =
+      -skew(sums.plane_torque) + sums.d_s_n.sum - sums.d_n_s * Mat3::Identity();
+  result.stiffness.block<3, 3>(0, 0) = -contact_scale * axes.to_world(n_n);
+  result.stiffness.block<3, 3>(0, 3) = contact_scale * axes.to_world(n_c + force_turn);
+  result.stiffness.block<3, 3>(3, 0) = -contact_scale * axes.to_world(m_n);
+  result.stiffness.block<3, 3>(3, 3) = contact_scale * axes.to_world(m_c + torque_turn);
+}
 
-  // Braking: F = b c u with c = n·u < 0, u = v + ω × s. With A = ∂F/∂u =
-  // b (u nᵀ + c I), p = n × s, q = u × n + s × (ω × n), and
-  // [a]×[b]× = b aᵀ − (a·b) I, every block is a sum of outer products:
-  //   ∂F/∂v = A                        = b (u nᵀ + c I)
-  //   ∂F/∂ω = −A [s]×                  = −b (u pᵀ + c [s]×)
-  //   ∂F/∂δθ = −b u uᵀ[n]× − A[ω]×[s]× = −b (u qᵀ + c s ωᵀ − c (ω·s) I)
-  //   ∂τ/∂v = [s]× A                   = b ((s × u) nᵀ + c [s]×)
-  //   ∂τ/∂ω = −[s]× A [s]×             = −b ((s × u) pᵀ + c (s sᵀ − |s|² I))
-  //   ∂τ/∂δθ = [s]× ∂F/∂δθ + [F]×[s]×  = −b (s × u) qᵀ + b c (ω·s) [s]×
-  //                                      + b c (s uᵀ − (u·s) I)
-  // (in tool axes too: s = r_i, n = n_i, p = −m_i, and v, ω turned once).
-  const double b = gains.braking_viscosity;
-  if (!(b > 0) || hits.braking.empty()) return result;
-  const Vec3 v = to_tool * state.v;
-  const Vec3 w = to_tool * state.w;
-  Vec3 brake_force = Vec3::Zero(), brake_torque = Vec3::Zero();
+// The braking points' sums, in tool axes (s = r_i, n = n_i, p = −m_i, and
+// v, ω turned once). Braking: F = b c u with c = n·u < 0, u = v + ω × s.
+// With A = ∂F/∂u = b (u nᵀ + c I), p = n × s, q = u × n + s × (ω × n), and
+// [a]×[b]× = b aᵀ − (a·b) I, every block is a sum of outer products:
+//   ∂F/∂v = A                        = b (u nᵀ + c I)
+//   ∂F/∂ω = −A [s]×                  = −b (u pᵀ + c [s]×)
+//   ∂F/∂δθ = −b u uᵀ[n]× − A[ω]×[s]× = −b (u qᵀ + c s ωᵀ − c (ω·s) I)
+//   ∂τ/∂v = [s]× A                   = b ((s × u) nᵀ + c [s]×)
+//   ∂τ/∂ω = −[s]× A [s]×             = −b ((s × u) pᵀ + c (s sᵀ − |s|² I))
+//   ∂τ/∂δθ = [s]× ∂F/∂δθ + [F]×[s]×  = −b (s × u) qᵀ + b c (ω·s) [s]×
+//                                      + b c (s uᵀ − (u·s) I)
+struct BrakingSums {
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();  // Σ c u, Σ c s × u
   // Σ [u; s×u] [n; p; q]ᵀ: blocks u nᵀ, u pᵀ, u qᵀ (row 0), (s×u) nᵀ, … (row 1).
-  OuterSums<6, 9> brake_sums;
-  OuterSums<3, 6> c_s_sums;  // Σ c s [s; u]ᵀ: blocks c s sᵀ, c s uᵀ
+  OuterSums<6, 9> outer;
+  OuterSums<3, 6> c_s_outer;  // Σ c s [s; u]ᵀ: blocks c s sᵀ, c s uᵀ
   Vec3 c_s = Vec3::Zero(), c_ws_s = Vec3::Zero();
   double c_sum = 0, c_s2 = 0, c_ws = 0, c_us = 0;
-  std::size_t braking = 0;
+  std::size_t acting = 0;  // braking points moving towards the scene
+};
+
+// Sums the braking points that move towards the scene at v (m/s) and ω
+// (rad/s), both in tool axes; the Jacobians' terms only with Jacobians.
+[[gnu::noinline]] void sum_braking(const PointShell& shell, const PointShellHits& hits,
+                                   const Vec3& v, const Vec3& w, bool with_jacobians,
+                                   BrakingSums& sums) {
   for (const int32_t i : hits.braking) {
     const Vec3& s = shell.points[i];
     const Vec3& n = shell.normals[i];
     const Vec3 u = v + w.cross(s);
     const double c = n.dot(u);  // braking_speed(n, s, state), u kept for the sums below
     if (!(c < 0)) continue;
-    ++braking;
+    ++sums.acting;
     const Vec3 s_u = s.cross(u);
-    brake_force += c * u;
-    brake_torque += c * s_u;
+    sums.force += c * u;
+    sums.torque += c * s_u;
     if (!with_jacobians) continue;
     const Vec3 p = -shell.moments[i];
     const Vec3 q = u.cross(n) + s.cross(w.cross(n));
-    brake_sums.add(stacked(u, s_u), stacked(n, p, q));
-    c_s_sums.add(c * s, stacked(s, u));
-    c_s += c * s;
-    c_ws_s += (c * w.dot(s)) * s;
-    c_sum += c;
-    c_s2 += c * s.squaredNorm();
-    c_ws += c * w.dot(s);
-    c_us += c * u.dot(s);
+    sums.outer.add(stacked(u, s_u), stacked(n, p, q));
+    sums.c_s_outer.add(c * s, stacked(s, u));
+    sums.c_s += c * s;
+    sums.c_ws_s += (c * w.dot(s)) * s;
+    sums.c_sum += c;
+    sums.c_s2 += c * s.squaredNorm();
+    sums.c_ws += c * w.dot(s);
+    sums.c_us += c * u.dot(s);
   }
-  const double brake_scale = b * weight / averaging_divisor(weight * static_cast<double>(braking));
-  result.wrench.force += brake_scale * (rotation * brake_force);
-  result.wrench.torque += brake_scale * (rotation * brake_torque);
-  if (with_jacobians && braking > 0) {
-    const Mat3 identity = Mat3::Identity();
-    const Mat3 u_n = brake_sums.block(0, 0), u_p = brake_sums.block(0, 1),
-               u_q = brake_sums.block(0, 2);
-    const Mat3 su_n = brake_sums.block(1, 0), su_p = brake_sums.block(1, 1),
-               su_q = brake_sums.block(1, 2);
-    const Mat3 c_ss = c_s_sums.block(0, 0), c_su = c_s_sums.block(0, 1);
-    result.damping.block<3, 3>(0, 0) += brake_scale * to_world(u_n + c_sum * identity);
-    result.damping.block<3, 3>(0, 3) += -brake_scale * to_world(u_p + skew(c_s));
-    result.damping.block<3, 3>(3, 0) += brake_scale * to_world(su_n + skew(c_s));
-    result.damping.block<3, 3>(3, 3) += -brake_scale * to_world(su_p + c_ss - c_s2 * identity);
-    result.stiffness.block<3, 3>(0, 3) +=
-        -brake_scale * to_world(u_q + c_s * w.transpose() - c_ws * identity);
-    result.stiffness.block<3, 3>(3, 3) +=
-        brake_scale * to_world(-su_q + skew(c_ws_s) + c_su - c_us * identity);
-  }
+}
+
+// Adds the braking wrench (viscosity b, N·s²/m²; each hit standing for
+// `weight` points) and, with Jacobians and any acting point, its damping and
+// stiffness blocks; ω (rad/s) in tool axes.
+void add_braking_wrench(double b, double weight, const ToolAxes& axes, const Vec3& w,
+                        const BrakingSums& sums, bool with_jacobians, ForceEvaluation& result) {
+  const double brake_scale =
+      b * weight / averaging_divisor(weight * static_cast<double>(sums.acting));
+  result.wrench.force += brake_scale * (axes.rotation * sums.force);
+  result.wrench.torque += brake_scale * (axes.rotation * sums.torque);
+  if (!with_jacobians || sums.acting == 0) return;
+  const Mat3 identity = Mat3::Identity();
+  const Mat3 u_n = sums.outer.block(0, 0), u_p = sums.outer.block(0, 1),
+             u_q = sums.outer.block(0, 2);
+  const Mat3 su_n = sums.outer.block(1, 0), su_p = sums.outer.block(1, 1),
+             su_q = sums.outer.block(1, 2);
+  const Mat3 c_ss = sums.c_s_outer.block(0, 0), c_su = sums.c_s_outer.block(0, 1);
+  result.damping.block<3, 3>(0, 0) += brake_scale * axes.to_world(u_n + sums.c_sum * identity);
+  result.damping.block<3, 3>(0, 3) += -brake_scale * axes.to_world(u_p + skew(sums.c_s));
+  result.damping.block<3, 3>(3, 0) += brake_scale * axes.to_world(su_n + skew(sums.c_s));
+  result.damping.block<3, 3>(3, 3) +=
+      -brake_scale * axes.to_world(su_p + c_ss - sums.c_s2 * identity);
+  result.stiffness.block<3, 3>(0, 3) +=
+      -brake_scale * axes.to_world(u_q + sums.c_s * w.transpose() - sums.c_ws * identity);
+  result.stiffness.block<3, 3>(3, 3) +=
+      brake_scale * axes.to_world(-su_q + skew(sums.c_ws_s) + c_su - sums.c_us * identity);
+}
+
+}  // namespace
+
+ForceEvaluation pointshell_wrench(const PointShell& shell, const PointShellHits& hits,
+                                  const PointShellGains& gains, const RigidBodyState& state,
+                                  bool with_jacobians) {
+  ForceEvaluation result;
+  ToolAxes axes;
+  axes.rotation = state.q.toRotationMatrix();
+  axes.to_tool = axes.rotation.transpose();
+  ContactSums contacts;
+  sum_contacts(shell, hits, state.x, axes.to_tool, with_jacobians, contacts);
+  set_contact_wrench(shell, hits, gains, axes, contacts, with_jacobians, result);
+  const double b = gains.braking_viscosity;
+  if (!(b > 0) || hits.braking.empty()) return result;
+  const Vec3 v = axes.to_tool * state.v;
+  const Vec3 w = axes.to_tool * state.w;
+  BrakingSums braking;
+  sum_braking(shell, hits, v, w, with_jacobians, braking);
+  add_braking_wrench(b, hits.weight, axes, w, braking, with_jacobians, result);
   return result;
 }
 

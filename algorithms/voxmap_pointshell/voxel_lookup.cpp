@@ -113,21 +113,88 @@ constexpr uint64_t kZLast = 0x8080808080808080ULL;   // z = 7
 constexpr uint64_t kYFirst = 0xFFULL;                // y = 0
 constexpr int kYLastShift = 56;                      // y = 7 starts at bit 56
 
+// Per near block, the codes of its face neighbours (2 axis + side, side 0
+// towards −axis), −1 where there is none.
+using FaceNeighbours = std::vector<std::array<int32_t, 6>>;
+
+// The bits of near block c's face neighbour along an axis, nullptr if none.
+inline const BlockBits* face(const FaceNeighbours& faces, const std::vector<BlockBits>& bits,
+                             std::size_t c, int axis, int side) {
+  const int32_t n = faces[c][2 * axis + side];
+  return n >= 0 ? &bits[static_cast<std::size_t>(n)] : nullptr;
+}
+
+// Dilates every near block's bits by one voxel along z, across block faces.
+void dilate_along_z(const std::vector<BlockBits>& reached, const FaceNeighbours& faces,
+                    std::vector<BlockBits>& along_z) {
+  for (std::size_t c = 0; c < reached.size(); ++c) {
+    const BlockBits& w = reached[c];
+    const BlockBits* below = face(faces, reached, c, 2, 0);
+    const BlockBits* above = face(faces, reached, c, 2, 1);
+    for (int x = 0; x < VoxelLookup::kBlockEdge; ++x) {
+      uint64_t d = w[x] | ((w[x] << 1) & ~kZFirst) | ((w[x] >> 1) & ~kZLast);
+      if (below) d |= ((*below)[x] & kZLast) >> 7;
+      if (above) d |= ((*above)[x] & kZFirst) << 7;
+      along_z[c][x] = d;
+    }
+  }
+}
+
+// Dilates every near block's bits by one voxel along y, across block faces.
+void dilate_along_y(const std::vector<BlockBits>& along_z, const FaceNeighbours& faces,
+                    std::vector<BlockBits>& along_y) {
+  for (std::size_t c = 0; c < along_z.size(); ++c) {
+    const BlockBits& w = along_z[c];
+    const BlockBits* below = face(faces, along_z, c, 1, 0);
+    const BlockBits* above = face(faces, along_z, c, 1, 1);
+    for (int x = 0; x < VoxelLookup::kBlockEdge; ++x) {
+      uint64_t d = w[x] | (w[x] << 8) | (w[x] >> 8);
+      if (below) d |= (*below)[x] >> kYLastShift;
+      if (above) d |= ((*above)[x] & kYFirst) << kYLastShift;
+      along_y[c][x] = d;
+    }
+  }
+}
+
+// Dilates every near block's bits by one voxel along x, across block faces,
+// into `grown`, and gives the voxels it reaches first (not in `reached`)
+// the Chebyshev distance `distance` in `fine`. Returns whether any was new.
+bool dilate_along_x(const std::vector<BlockBits>& along_y, const FaceNeighbours& faces,
+                    const std::vector<BlockBits>& reached, int distance,
+                    std::vector<BlockBits>& grown, std::vector<uint8_t>& fine) {
+  constexpr int kEdge = VoxelLookup::kBlockEdge;
+  bool any = false;
+  for (std::size_t c = 0; c < along_y.size(); ++c) {
+    const BlockBits& w = along_y[c];
+    const BlockBits* below = face(faces, along_y, c, 0, 0);
+    const BlockBits* above = face(faces, along_y, c, 0, 1);
+    for (int x = 0; x < kEdge; ++x) {
+      uint64_t d = w[x];
+      if (x > 0)
+        d |= w[x - 1];
+      else if (below)
+        d |= (*below)[kEdge - 1];
+      if (x < kEdge - 1)
+        d |= w[x + 1];
+      else if (above)
+        d |= (*above)[0];
+      grown[c][x] = d;
+      // Voxels first reached by this dilation.
+      for (uint64_t fresh = d & ~reached[c][x]; fresh != 0; fresh &= fresh - 1) {
+        const int bit = __builtin_ctzll(fresh);
+        fine[c * VoxelLookup::kBlockVoxels + static_cast<std::size_t>((x << 6) | bit)] =
+            static_cast<uint8_t>(distance);
+        any = true;
+      }
+    }
+  }
+  return any;
+}
+
 }  // namespace
 
-void VoxelLookup::compute_fine_clearance() {
-  // The set of voxels within Chebyshev distance k of a non-free voxel is the
-  // non-free set dilated k times by the 3×3×3 cube, which is separable: one
-  // voxel along z, then y, then x. Done on bit masks, block by block, over
-  // the near blocks; a voxel gets k at the dilation that first reaches it.
-  // Blocks farther than kFineBlocks are never reached within kFineCap steps
-  // (and a dilation's intermediate voxels are within one voxel of what it
-  // reaches), so leaving them out is exact. Voxels not reached keep kFineCap + 1.
-  constexpr uint8_t kFar = kFineCap + 1;
-  clearance_code_.assign(clearance_.size(), -1);
-  fine_.clear();
-  std::vector<Eigen::Vector3i> near;  // block coordinates of the near blocks, by code
-  std::vector<BlockBits> reached;     // per near block
+void VoxelLookup::find_near_blocks(std::vector<Eigen::Vector3i>& near,
+                                   std::vector<std::array<uint64_t, kBlockEdge>>& non_free) {
   for (int x = 0; x < block_count_.x(); ++x) {
     for (int y = 0; y < block_count_.y(); ++y) {
       for (int z = 0; z < block_count_.z(); ++z) {
@@ -142,20 +209,19 @@ void VoxelLookup::compute_fine_clearance() {
         BlockBits bits{};
         const int32_t code = block_code_[index];
         for (int n = 0; n < kBlockVoxels; ++n) {
-          const bool non_free =
+          const bool non_free_voxel =
               code >= 0 ? states_[static_cast<std::size_t>(code) * kBlockVoxels + n] != 0
                         : code != uniform_code(VoxelState::kFree);
-          if (non_free) bits[n >> 6] |= uint64_t{1} << (n & 63);
+          if (non_free_voxel) bits[n >> 6] |= uint64_t{1} << (n & 63);
         }
-        reached.push_back(bits);
+        non_free.push_back(bits);
       }
     }
   }
-  fine_.assign(near.size() * kBlockVoxels, kFar);
-  for (std::size_t c = 0; c < near.size(); ++c)
-    for (int n = 0; n < kBlockVoxels; ++n)
-      if ((reached[c][n >> 6] >> (n & 63)) & 1) fine_[c * kBlockVoxels + n] = 0;
+}
 
+std::vector<std::array<int32_t, 6>> VoxelLookup::face_neighbours(
+    const std::vector<Eigen::Vector3i>& near) const {
   // The code of the face neighbour of near block c along an axis, −1 if none.
   const auto neighbour = [&](std::size_t c, int axis, int step) -> int32_t {
     Eigen::Vector3i b = near[c];
@@ -163,65 +229,39 @@ void VoxelLookup::compute_fine_clearance() {
     if ((b.array() < 0).any() || (b.array() >= block_count_.array()).any()) return -1;
     return clearance_code_[block_index_of_block(b)];
   };
-  std::vector<std::array<int32_t, 6>> faces(near.size());
+  FaceNeighbours faces(near.size());
   for (std::size_t c = 0; c < near.size(); ++c)
     for (int axis = 0; axis < 3; ++axis)
       for (int side = 0; side < 2; ++side)
         faces[c][2 * axis + side] = neighbour(c, axis, side == 0 ? -1 : 1);
-  const auto face = [&](const std::vector<BlockBits>& bits, std::size_t c, int axis, int side) {
-    const int32_t n = faces[c][2 * axis + side];
-    return n >= 0 ? &bits[static_cast<std::size_t>(n)] : nullptr;
-  };
+  return faces;
+}
 
+void VoxelLookup::compute_fine_clearance() {
+  // The set of voxels within Chebyshev distance k of a non-free voxel is the
+  // non-free set dilated k times by the 3×3×3 cube, which is separable: one
+  // voxel along z, then y, then x. Done on bit masks, block by block, over
+  // the near blocks; a voxel gets k at the dilation that first reaches it.
+  // Blocks farther than kFineBlocks are never reached within kFineCap steps
+  // (and a dilation's intermediate voxels are within one voxel of what it
+  // reaches), so leaving them out is exact. Voxels not reached keep kFineCap + 1.
+  constexpr uint8_t kFar = kFineCap + 1;
+  clearance_code_.assign(clearance_.size(), -1);
+  fine_.clear();
+  std::vector<Eigen::Vector3i> near;  // block coordinates of the near blocks, by code
+  std::vector<BlockBits> reached;     // per near block
+  find_near_blocks(near, reached);
+  fine_.assign(near.size() * kBlockVoxels, kFar);
+  for (std::size_t c = 0; c < near.size(); ++c)
+    for (int n = 0; n < kBlockVoxels; ++n)
+      if ((reached[c][n >> 6] >> (n & 63)) & 1) fine_[c * kBlockVoxels + n] = 0;
+
+  const FaceNeighbours faces = face_neighbours(near);
   std::vector<BlockBits> along_z(near.size()), along_y(near.size()), grown(near.size());
   for (int distance = 1; distance <= kFineCap; ++distance) {
-    for (std::size_t c = 0; c < near.size(); ++c) {
-      const BlockBits& w = reached[c];
-      const BlockBits* below = face(reached, c, 2, 0);
-      const BlockBits* above = face(reached, c, 2, 1);
-      for (int x = 0; x < kBlockEdge; ++x) {
-        uint64_t d = w[x] | ((w[x] << 1) & ~kZFirst) | ((w[x] >> 1) & ~kZLast);
-        if (below) d |= ((*below)[x] & kZLast) >> 7;
-        if (above) d |= ((*above)[x] & kZFirst) << 7;
-        along_z[c][x] = d;
-      }
-    }
-    for (std::size_t c = 0; c < near.size(); ++c) {
-      const BlockBits& w = along_z[c];
-      const BlockBits* below = face(along_z, c, 1, 0);
-      const BlockBits* above = face(along_z, c, 1, 1);
-      for (int x = 0; x < kBlockEdge; ++x) {
-        uint64_t d = w[x] | (w[x] << 8) | (w[x] >> 8);
-        if (below) d |= (*below)[x] >> kYLastShift;
-        if (above) d |= ((*above)[x] & kYFirst) << kYLastShift;
-        along_y[c][x] = d;
-      }
-    }
-    bool any = false;
-    for (std::size_t c = 0; c < near.size(); ++c) {
-      const BlockBits& w = along_y[c];
-      const BlockBits* below = face(along_y, c, 0, 0);
-      const BlockBits* above = face(along_y, c, 0, 1);
-      for (int x = 0; x < kBlockEdge; ++x) {
-        uint64_t d = w[x];
-        if (x > 0)
-          d |= w[x - 1];
-        else if (below)
-          d |= (*below)[kBlockEdge - 1];
-        if (x < kBlockEdge - 1)
-          d |= w[x + 1];
-        else if (above)
-          d |= (*above)[0];
-        grown[c][x] = d;
-        // Voxels first reached by this dilation.
-        for (uint64_t fresh = d & ~reached[c][x]; fresh != 0; fresh &= fresh - 1) {
-          const int bit = __builtin_ctzll(fresh);
-          fine_[c * kBlockVoxels + static_cast<std::size_t>((x << 6) | bit)] =
-              static_cast<uint8_t>(distance);
-          any = true;
-        }
-      }
-    }
+    dilate_along_z(reached, faces, along_z);
+    dilate_along_y(along_z, faces, along_y);
+    const bool any = dilate_along_x(along_y, faces, reached, distance, grown, fine_);
     reached.swap(grown);
     if (!any) break;
   }

@@ -9,6 +9,7 @@
 // state byte per voxel, and for the signed-distance variant one float).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -170,6 +171,15 @@ class VoxelLookup {
   double clearance_outside(const Vec3& world) const;
   void compute_block_clearance();
   void compute_fine_clearance();
+  /// Sets clearance_code_ of every block and lists the blocks within
+  /// kFineBlocks of a non-free one (block coordinates) with their non-free
+  /// voxels as bits (word x, bit 8y + z), in block order.
+  void find_near_blocks(std::vector<Eigen::Vector3i>& near,
+                        std::vector<std::array<uint64_t, kBlockEdge>>& non_free);
+  /// Per near block, the clearance codes of its six face neighbours
+  /// (index 2 axis + side, side 0 towards −axis), −1 outside the arrays.
+  std::vector<std::array<int32_t, 6>> face_neighbours(
+      const std::vector<Eigen::Vector3i>& near) const;
   std::size_t block_index_of_block(const Eigen::Vector3i& b) const {
     return (static_cast<std::size_t>(b.x()) * block_count_.y() + static_cast<std::size_t>(b.y())) *
                block_count_.z() +
