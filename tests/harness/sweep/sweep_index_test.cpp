@@ -6,17 +6,12 @@
 #include <fstream>
 #include <string>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-fs::path index_scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_sweep_index_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 void write_summary(const fs::path& folder, const std::string& runs) {
   fs::create_directories(folder);
@@ -26,7 +21,8 @@ void write_summary(const fs::path& folder, const std::string& runs) {
 }  // namespace
 
 TEST_CASE("a job's state on disk follows the budgets in its summary") {
-  const fs::path dir = index_scratch("state");
+  const hb::test::ScratchDir scratch("sweep_index_state");
+  const fs::path& dir = scratch.path();
   write_summary(dir / "pass",
                 R"([{"budgets": [{"name": "nonfinite", "pass": true}]}, {"budgets": []}])");
   write_summary(dir / "fail", R"([{"budgets": [{"name": "a", "pass": true}]},
@@ -41,7 +37,8 @@ TEST_CASE("a job's state on disk follows the budgets in its summary") {
 }
 
 TEST_CASE("sweep.json lists every job with its grid values and status") {
-  const fs::path dir = index_scratch("listing");
+  const hb::test::ScratchDir scratch("sweep_index_listing");
+  const fs::path& dir = scratch.path();
   hb::SweepSpec spec;
   spec.path = (dir / "grid.json").string();
   spec.name = "grid";

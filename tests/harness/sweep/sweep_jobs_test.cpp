@@ -11,18 +11,12 @@
 #include "hapticbench/input_error.h"
 #include "harness/sweep/job_name.h"
 #include "harness/sweep/sweep_spec.h"
+#include "tests/support/scratch_dir.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-fs::path jobs_scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_sweep_jobs_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 void write_file(const fs::path& path, const std::string& text) {
   fs::create_directories(path.parent_path());
@@ -80,7 +74,8 @@ hb::Scenario job_scenario(const hb::SweepSpec& spec, const hb::SweepJob& job) {
 }
 
 TEST_CASE("jobs are scenarios x grid values, scenarios first, the last grid key fastest") {
-  const fs::path dir = jobs_scratch("order");
+  const hb::test::ScratchDir scratch("sweep_jobs_order");
+  const fs::path& dir = scratch.path();
   const std::vector<int> k_t = {1000, 2000};
   const std::vector<int> stiffness = {10, 20, 30};
   const std::string path = write_sweep(
@@ -116,7 +111,8 @@ TEST_CASE("jobs are scenarios x grid values, scenarios first, the last grid key 
 }
 
 TEST_CASE("a sweep without a grid has one job per scenario, named as the scenario") {
-  const fs::path dir = jobs_scratch("no_grid");
+  const hb::test::ScratchDir scratch("sweep_jobs_no_grid");
+  const fs::path& dir = scratch.path();
   const std::vector<hb::SweepJob> jobs =
       expand(write_sweep(dir, {press_scenario("a"), press_scenario("b")}, {{"name", "plain"}}));
   REQUIRE(jobs.size() == 2);
@@ -125,7 +121,8 @@ TEST_CASE("a sweep without a grid has one job per scenario, named as the scenari
 }
 
 TEST_CASE("a missing last key of an existing object is added: a new parameter") {
-  const fs::path dir = jobs_scratch("new_leaf");
+  const hb::test::ScratchDir scratch("sweep_jobs_new_leaf");
+  const fs::path& dir = scratch.path();
   const std::vector<hb::SweepJob> jobs = expand(write_sweep(
       dir, {press_scenario("a")},
       {{"name", "leaf"}, {"grid", {{"/algorithms/0/params/proxy_mass_kg", {0.1, 0.3}}}}}));
@@ -137,7 +134,8 @@ TEST_CASE("a missing last key of an existing object is added: a new parameter") 
 }
 
 TEST_CASE("a section with documented defaults that the scenario omits is created for a grid key") {
-  const fs::path dir = jobs_scratch("defaulted_section");
+  const hb::test::ScratchDir scratch("sweep_jobs_defaulted_section");
+  const fs::path& dir = scratch.path();
   Json scenario = press_scenario("a");
   scenario.erase("coupling");
   const std::vector<hb::SweepJob> jobs = expand(
@@ -154,7 +152,8 @@ TEST_CASE("a section with documented defaults that the scenario omits is created
 }
 
 TEST_CASE("every bad grid key and label is reported at once") {
-  const fs::path dir = jobs_scratch("all_errors");
+  const hb::test::ScratchDir scratch("sweep_jobs_all_errors");
+  const fs::path& dir = scratch.path();
   const std::string path =
       write_sweep(dir, {press_scenario("a")},
                   {{"name", "bad"},
@@ -174,7 +173,8 @@ TEST_CASE("every bad grid key and label is reported at once") {
 }
 
 TEST_CASE("a grid key whose parent is missing names the sweep file, the key and the scenario") {
-  const fs::path dir = jobs_scratch("missing_parent");
+  const hb::test::ScratchDir scratch("sweep_jobs_missing_parent");
+  const fs::path& dir = scratch.path();
   struct Case {
     std::string pointer;
     std::string location;  // the grid key's JSON pointer in the sweep file
@@ -206,7 +206,8 @@ TEST_CASE("a grid key whose parent is missing names the sweep file, the key and 
 }
 
 TEST_CASE("only_algorithms keeps the listed labels, after the grid is applied") {
-  const fs::path dir = jobs_scratch("only");
+  const hb::test::ScratchDir scratch("sweep_jobs_only");
+  const fs::path& dir = scratch.path();
   const std::vector<hb::SweepJob> jobs =
       expand(write_sweep(dir, {press_scenario("a")},
                          {{"name", "only"},
@@ -222,7 +223,8 @@ TEST_CASE("only_algorithms keeps the listed labels, after the grid is applied") 
 }
 
 TEST_CASE("an only_algorithms label found in no scenario is named") {
-  const fs::path dir = jobs_scratch("only_missing");
+  const hb::test::ScratchDir scratch("sweep_jobs_only_missing");
+  const fs::path& dir = scratch.path();
   const std::string path = write_sweep(dir, {press_scenario("a")},
                                        {{"name", "only"}, {"only_algorithms", {"soft", "sotf"}}});
   try {
@@ -247,7 +249,8 @@ TEST_CASE("job names are folder-safe and two jobs may not share one") {
   CHECK_FALSE(hb::is_safe_folder_name("a/b"));
   CHECK_FALSE(hb::is_safe_folder_name(std::string(256, 'a')));
 
-  const fs::path dir = jobs_scratch("collision");
+  const hb::test::ScratchDir scratch("sweep_jobs_collision");
+  const fs::path& dir = scratch.path();
   const std::string path =
       write_sweep(dir, {press_scenario("a")},
                   {{"name", "collide"}, {"grid", {{"/algorithms/0/label", {"x y", "xy"}}}}});
@@ -261,7 +264,8 @@ TEST_CASE("job names are folder-safe and two jobs may not share one") {
 }
 
 TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's folder") {
-  const fs::path dir = jobs_scratch("paths");
+  const hb::test::ScratchDir scratch("sweep_jobs_paths");
+  const fs::path& dir = scratch.path();
   const fs::path data = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/harness/scenario/data";
   fs::create_directories(dir / "scenarios" / "assets");
   fs::copy_file(data / "cube_2units.off", dir / "scenarios" / "assets" / "cube.off");
@@ -292,7 +296,8 @@ TEST_CASE("mesh and trace paths become absolute, resolved against the scenario's
 }
 
 TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors name source_path") {
-  const fs::path dir = jobs_scratch("base_dir");
+  const hb::test::ScratchDir scratch("sweep_jobs_base_dir");
+  const fs::path& dir = scratch.path();
   const fs::path data = fs::path(HAPTICBENCH_SOURCE_DIR) / "tests/harness/scenario/data";
   fs::copy_file(data / "line_trace.csv", dir / "line.csv");
   const std::string text = R"({
@@ -318,7 +323,8 @@ TEST_CASE("load_scenario_json resolves relative paths against base_dir, errors n
 }
 
 TEST_CASE("a job whose values the scenario rejects names the sweep, the job and the field") {
-  const fs::path dir = jobs_scratch("bad_value");
+  const hb::test::ScratchDir scratch("sweep_jobs_bad_value");
+  const fs::path& dir = scratch.path();
   const std::string path = write_sweep(
       dir, {press_scenario("a")}, {{"name", "bad"}, {"grid", {{"/coupling/k_t", {1000, -5}}}}});
   const hb::SweepSpec spec = hb::load_sweep_spec(path);
@@ -336,7 +342,8 @@ TEST_CASE("a job whose values the scenario rejects names the sweep, the job and 
 }
 
 TEST_CASE("a malformed scenario file is named, with the sweep entry that lists it") {
-  const fs::path dir = jobs_scratch("malformed_scenario");
+  const hb::test::ScratchDir scratch("sweep_jobs_malformed_scenario");
+  const fs::path& dir = scratch.path();
   write_file(dir / "scenarios" / "broken.json", "{\n  \"name\": \"broken\",\n}");
   write_file(dir / "sweeps" / "grid.json",
              R"({"name": "g", "scenarios": ["../scenarios/broken.json"]})");

@@ -9,17 +9,12 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-fs::path table_scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_sweep_table_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 /// A job's summary with one run: force error `force_n`, penetration 1 mm,
 /// step p50 800 ns and p99 3000 ns, stable unless `failed` names a check.
@@ -39,7 +34,8 @@ void write_job(const fs::path& folder, double force_n, const std::string& failed
 }  // namespace
 
 TEST_CASE("the sweep table orders jobs by grid value as numbers and reads each summary") {
-  const fs::path dir = table_scratch("order");
+  const hb::test::ScratchDir scratch("sweep_table_order");
+  const fs::path& dir = scratch.path();
   hb::SweepSpec spec;
   spec.path = (dir / "grid.json").string();
   spec.name = "grid";

@@ -10,23 +10,19 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/scratch_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path pool_scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("hb_worker_pool_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 hb::WorkerLaunch shell(const std::string& script) { return {{"/bin/sh", "-c", script}}; }
 
 }  // namespace
 
 TEST_CASE("a worker's end is its exit code, or the signal that killed it") {
-  const fs::path dir = pool_scratch("ends");
+  const hb::test::ScratchDir scratch("worker_pool_ends");
+  const fs::path& dir = scratch.path();
   const std::vector<hb::WorkerResult> results = hb::run_worker_processes(
       {shell("exit 0"), shell("exit 3"), shell("kill -SEGV $$"), shell("echo out; echo err >&2")},
       2, dir, {});
@@ -45,7 +41,8 @@ TEST_CASE("a worker's end is its exit code, or the signal that killed it") {
 }
 
 TEST_CASE("no more than N workers run at a time, and results come in launch order") {
-  const fs::path dir = pool_scratch("limit");
+  const hb::test::ScratchDir scratch("worker_pool_limit");
+  const fs::path& dir = scratch.path();
   const fs::path running = dir / "running";
   fs::create_directories(running);
   // Each worker marks itself running, counts the marks it sees, unmarks.
@@ -76,7 +73,8 @@ TEST_CASE("no more than N workers run at a time, and results come in launch orde
 }
 
 TEST_CASE("a program that cannot start is an error, not a silent success") {
-  const fs::path dir = pool_scratch("missing");
+  const hb::test::ScratchDir scratch("worker_pool_missing");
+  const fs::path& dir = scratch.path();
   CHECK_THROWS_AS(hb::run_worker_processes({{{"/nonexistent/program"}}}, 1, dir, {}),
                   std::runtime_error);
 }
