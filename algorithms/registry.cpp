@@ -108,13 +108,15 @@ std::unique_ptr<Renderer> create_renderer(const std::string& name, const RenderC
     params.reject_unknown();
     return renderer;
   }
+  throw InputError("", field, unknown_algorithm_message(name));
+}
+
+std::string unknown_algorithm_message(std::string_view name) {
   std::string known;
   for (const AlgorithmEntry& entry : table().rows)
     known += (known.empty() ? "" : ", ") + std::string(entry.name);
-  throw InputError("", field,
-                   "unknown algorithm \"" + name + "\" (known: " + known +
-                       "; a renderer built outside hapticbench loads with --plugin PATH.so, "
-                       "docs/plugins.md)");
+  return "unknown algorithm \"" + std::string(name) + "\" (known: " + known +
+         "; a renderer built outside hapticbench loads with --plugin PATH.so, docs/plugins.md)";
 }
 
 }  // namespace hb

@@ -21,6 +21,10 @@ std::span<const AlgorithmEntry> algorithm_table();
 /// The entry named `name`, or nullptr.
 const AlgorithmEntry* find_algorithm(std::string_view name);
 
+/// "unknown algorithm \"NAME\" (known: ...; a renderer built outside
+/// hapticbench loads with --plugin PATH.so, docs/plugins.md)".
+std::string unknown_algorithm_message(std::string_view name);
+
 /// Where an algorithm comes from: "" for a built-in one, else the plugin's
 /// origin as given to register_algorithms.
 std::string algorithm_origin(std::string_view name);

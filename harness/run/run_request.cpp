@@ -1,6 +1,5 @@
 #include "harness/run/run_request.h"
 
-#include <algorithm>
 
 #include "algorithms/registry.h"
 #include "hapticbench/input_error.h"
@@ -15,19 +14,6 @@ namespace hb {
 namespace {
 
 constexpr const char* kScenarioFile = "a scenario file (.json)";
-
-std::string known_algorithm_names() {
-  std::string known;
-  for (const AlgorithmEntry& entry : algorithm_table())
-    known += (known.empty() ? "" : ", ") + std::string(entry.name);
-  return known;
-}
-
-bool is_registered(const std::string& name) {
-  const auto table = algorithm_table();
-  return std::any_of(table.begin(), table.end(),
-                     [&](const AlgorithmEntry& entry) { return entry.name == name; });
-}
 
 // The scenario's text with the edits made; the text itself when there are none.
 std::string edited_text(const std::string& text, const RunRequest& request) {
@@ -74,18 +60,14 @@ void load_plugins_and_check_algorithms(Scenario& scenario) {
   std::vector<std::string> unchecked;  // warnings, said first
   std::vector<AlgorithmSpec> checked;
   for (AlgorithmSpec& spec : scenario.algorithms) {
-    if (is_registered(spec.name)) {
+    if (find_algorithm(spec.name) != nullptr) {
       checked.push_back(std::move(spec));
     } else if (plugins_not_loaded) {
       unchecked.push_back(spec.pointer + "/name: algorithm \"" + spec.name +
                           "\" is not checked: it is not built in, and the scenario's plugins, "
                           "which may register it, are not loaded here (they would run code)");
     } else {
-      throw InputError(scenario.path, spec.pointer + "/name",
-                       "unknown algorithm \"" + spec.name +
-                           "\" (known: " + known_algorithm_names() +
-                           "; a renderer built outside hapticbench loads with --plugin PATH.so, "
-                           "docs/plugins.md)");
+      throw InputError(scenario.path, spec.pointer + "/name", unknown_algorithm_message(spec.name));
     }
   }
   scenario.algorithms = std::move(checked);
